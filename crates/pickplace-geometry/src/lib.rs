@@ -1,0 +1,12 @@
+//! Geometry for pick-and-place planning: meshes, surface clustering (Harada et al., §III-A,
+//! Algorithm 1), cluster geometry and the cluster database.
+//!
+//! This crate knows no robot and no planner.
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod math;
+pub mod mesh;
+pub mod shapes;
+
+pub use error::{Error, Result};

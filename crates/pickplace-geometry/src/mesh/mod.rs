@@ -1,0 +1,372 @@
+//! Triangle meshes: welding, degenerate-triangle removal, edge adjacency.
+//!
+//! A [`TriMesh`] is built from a triangle soup (positions and index triples, as a file gives
+//! them). Construction welds vertices closer than a tolerance, drops degenerate triangles and
+//! keeps, for every kept triangle, its index in the input's triangle order
+//! ([`TriMesh::source_triangle`]), so that results (clusters, say) can be reported in the
+//! numbering of the user's file. Open boundaries and non-manifold edges are allowed: they are
+//! counted in the [`MeshReport`] and never make a query panic.
+
+mod topology;
+
+pub use topology::Adjacency;
+
+use crate::error::{Error, MeshErrorKind, Result, memory_path};
+use crate::math::{Point3, Real, Vector3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Options for building a mesh from a file or a triangle soup.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshOptions {
+    /// Factor applied to every coordinate, for files not in metres (default: 1.0).
+    pub scale: Real,
+    /// Vertices closer than this distance (m, after scaling) are merged (default: 1e-7).
+    pub weld_tolerance: Real,
+    /// Triangles whose area is below this value (m²) are dropped as degenerate (default: 1e-14).
+    pub degenerate_area: Real,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        Self { scale: 1.0, weld_tolerance: 1e-7, degenerate_area: 1e-14 }
+    }
+}
+
+/// What construction did to the input.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub struct MeshReport {
+    /// Vertices in the input.
+    pub input_vertices: usize,
+    /// Triangles in the input.
+    pub input_triangles: usize,
+    /// Vertices after welding.
+    pub vertices: usize,
+    /// Triangles kept.
+    pub triangles: usize,
+    /// Triangles dropped because their area was below [`MeshOptions::degenerate_area`]
+    /// (or two of their corners welded together).
+    pub degenerate_triangles: usize,
+    /// Edges used by one triangle only (open boundary).
+    pub boundary_edges: usize,
+    /// Edges shared by more than two triangles.
+    pub non_manifold_edges: usize,
+}
+
+impl MeshReport {
+    /// True when every edge is shared by exactly two triangles.
+    pub fn is_closed(&self) -> bool {
+        self.boundary_edges == 0 && self.non_manifold_edges == 0
+    }
+}
+
+/// An indexed triangle mesh with edge adjacency. Immutable once built.
+#[derive(Debug, Clone)]
+pub struct TriMesh {
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
+    source_triangles: Vec<u32>,
+    adjacency: Adjacency,
+    report: MeshReport,
+}
+
+impl TriMesh {
+    /// Builds a mesh from a triangle soup.
+    ///
+    /// # Arguments
+    /// * `positions`: vertex positions in the input's units (scaled by `options.scale`).
+    /// * `triangles`: index triples into `positions`, in the input's order.
+    ///
+    /// # Errors
+    /// [`MeshErrorKind::Empty`], [`MeshErrorKind::NonFiniteCoordinate`],
+    /// [`MeshErrorKind::IndexOutOfRange`], [`MeshErrorKind::ZeroArea`] or
+    /// [`MeshErrorKind::InvalidScale`], with the path `<memory>`; the file loaders replace it
+    /// with the file's path.
+    pub fn from_soup(
+        positions: &[Point3],
+        triangles: &[[u32; 3]],
+        options: &MeshOptions,
+    ) -> Result<Self> {
+        Self::from_soup_inner(positions, triangles, options)
+            .map_err(|kind| Error::Mesh { path: memory_path(), kind })
+    }
+
+    pub(crate) fn from_soup_inner(
+        positions: &[Point3],
+        triangles: &[[u32; 3]],
+        options: &MeshOptions,
+    ) -> std::result::Result<Self, MeshErrorKind> {
+        if !(options.scale.is_finite() && options.scale > 0.0) {
+            return Err(MeshErrorKind::InvalidScale { scale: options.scale });
+        }
+        if triangles.is_empty() {
+            return Err(MeshErrorKind::Empty);
+        }
+        for (vertex, p) in positions.iter().enumerate() {
+            if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+                return Err(MeshErrorKind::NonFiniteCoordinate { vertex });
+            }
+        }
+        for (triangle, t) in triangles.iter().enumerate() {
+            for &index in t {
+                if index as usize >= positions.len() {
+                    return Err(MeshErrorKind::IndexOutOfRange {
+                        triangle,
+                        index: u64::from(index),
+                        vertex_count: positions.len(),
+                    });
+                }
+            }
+        }
+        let scaled: Vec<Point3> = positions.iter().map(|p| p * options.scale).collect();
+        let (vertices, remap) = weld(&scaled, options.weld_tolerance);
+
+        let mut kept = Vec::with_capacity(triangles.len());
+        let mut source_triangles = Vec::with_capacity(triangles.len());
+        for (i, t) in triangles.iter().enumerate() {
+            let w = t.map(|v| remap[v as usize]);
+            if w[0] == w[1] || w[1] == w[2] || w[0] == w[2] {
+                continue;
+            }
+            let area = triangle_area(&vertices, w);
+            if !(area >= options.degenerate_area) {
+                continue;
+            }
+            kept.push(w);
+            source_triangles.push(i as u32);
+        }
+        if kept.is_empty() {
+            return Err(MeshErrorKind::ZeroArea { triangles: triangles.len() });
+        }
+        // Drop vertices no kept triangle uses, keeping first-use order stable.
+        let mut used = vec![u32::MAX; vertices.len()];
+        let mut compact = Vec::with_capacity(vertices.len());
+        for t in &mut kept {
+            for v in t.iter_mut() {
+                if used[*v as usize] == u32::MAX {
+                    used[*v as usize] = compact.len() as u32;
+                    compact.push(vertices[*v as usize]);
+                }
+                *v = used[*v as usize];
+            }
+        }
+        let adjacency = Adjacency::new(&kept, compact.len());
+        let report = MeshReport {
+            input_vertices: positions.len(),
+            input_triangles: triangles.len(),
+            vertices: compact.len(),
+            triangles: kept.len(),
+            degenerate_triangles: triangles.len() - kept.len(),
+            boundary_edges: adjacency.boundary_edges(),
+            non_manifold_edges: adjacency.non_manifold_edges(),
+        };
+        Ok(Self { vertices: compact, triangles: kept, source_triangles, adjacency, report })
+    }
+
+    /// Vertex positions (m).
+    pub fn vertices(&self) -> &[Point3] {
+        &self.vertices
+    }
+
+    /// Triangles as index triples into [`TriMesh::vertices`], counter-clockwise seen from outside.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Index, in the input's triangle order, of the kept triangle `triangle`.
+    pub fn source_triangle(&self, triangle: usize) -> u32 {
+        self.source_triangles[triangle]
+    }
+
+    /// For every kept triangle its index in the input's triangle order.
+    pub fn source_triangles(&self) -> &[u32] {
+        &self.source_triangles
+    }
+
+    /// Edge adjacency between triangles.
+    pub fn adjacency(&self) -> &Adjacency {
+        &self.adjacency
+    }
+
+    /// What construction did (welded vertices, dropped triangles, open and non-manifold edges).
+    pub fn report(&self) -> &MeshReport {
+        &self.report
+    }
+
+    /// The three corners of a triangle.
+    pub fn triangle_points(&self, triangle: usize) -> [Point3; 3] {
+        self.triangles[triangle].map(|v| self.vertices[v as usize])
+    }
+
+    /// Non-normalised normal of a triangle (length = twice its area).
+    pub fn triangle_scaled_normal(&self, triangle: usize) -> Vector3 {
+        let [a, b, c] = self.triangle_points(triangle);
+        (b - a).cross(&(c - a))
+    }
+
+    /// Unit outward normal of a triangle (counter-clockwise winding).
+    pub fn triangle_normal(&self, triangle: usize) -> Vector3 {
+        self.triangle_scaled_normal(triangle).normalize()
+    }
+
+    /// Area of a triangle (m²).
+    pub fn triangle_area(&self, triangle: usize) -> Real {
+        0.5 * self.triangle_scaled_normal(triangle).norm()
+    }
+
+    /// Total surface area (m²).
+    pub fn area(&self) -> Real {
+        (0..self.triangles.len()).map(|t| self.triangle_area(t)).sum()
+    }
+
+    /// Axis-aligned bounds `(min, max)`.
+    pub fn aabb(&self) -> (Point3, Point3) {
+        let mut lo = self.vertices[0];
+        let mut hi = self.vertices[0];
+        for p in &self.vertices {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        (lo, hi)
+    }
+
+    /// A copy transformed by `pose` (vertex positions only; indices and mapping are kept).
+    pub fn transformed(&self, pose: &crate::math::Isometry3) -> Self {
+        let mut out = self.clone();
+        for p in &mut out.vertices {
+            *p = pose * *p;
+        }
+        out
+    }
+}
+
+fn triangle_area(vertices: &[Point3], t: [u32; 3]) -> Real {
+    let [a, b, c] = t.map(|v| vertices[v as usize]);
+    0.5 * (b - a).cross(&(c - a)).norm()
+}
+
+/// Merges vertices closer than `tolerance`; returns the merged positions and, for each input
+/// vertex, its merged index. Deterministic: a vertex joins the first earlier representative
+/// found within the tolerance, scanning a uniform grid of cell size `tolerance`.
+fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
+    let mut out: Vec<Point3> = Vec::with_capacity(positions.len());
+    let mut remap = Vec::with_capacity(positions.len());
+    if tolerance <= 0.0 || !tolerance.is_finite() {
+        let mut exact: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
+        for p in positions {
+            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let id = *exact.entry(key).or_insert_with(|| {
+                out.push(*p);
+                (out.len() - 1) as u32
+            });
+            remap.push(id);
+        }
+        return (out, remap);
+    }
+    let inv = 1.0 / tolerance;
+    let cell_of = |p: &Point3| -> [i64; 3] {
+        [(p.x * inv).floor() as i64, (p.y * inv).floor() as i64, (p.z * inv).floor() as i64]
+    };
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(positions.len());
+    let tol2 = tolerance * tolerance;
+    for p in positions {
+        let c = cell_of(p);
+        let mut found: Option<u32> = None;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                        continue;
+                    };
+                    for &id in list {
+                        if (out[id as usize] - p).norm_squared() <= tol2
+                            && found.is_none_or(|f| id < f)
+                        {
+                            found = Some(id);
+                        }
+                    }
+                }
+            }
+        }
+        let id = match found {
+            Some(id) => id,
+            None => {
+                out.push(*p);
+                let id = (out.len() - 1) as u32;
+                grid.entry(c).or_default().push(id);
+                id
+            }
+        };
+        remap.push(id);
+    }
+    (out, remap)
+}
+
+/// Loads a mesh file; see the file loaders for the formats read.
+pub fn load(path: &Path, options: &MeshOptions) -> Result<TriMesh> {
+    let _ = (path, options);
+    Err(Error::Mesh {
+        path: path.to_path_buf(),
+        kind: MeshErrorKind::UnsupportedFormat {
+            extension: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad() -> (Vec<Point3>, Vec<[u32; 3]>) {
+        // Two triangles as a soup (6 vertices), sharing the diagonal.
+        let p = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        (p, vec![[0, 1, 2], [3, 4, 5]])
+    }
+
+    #[test]
+    fn welds_shared_corners_and_finds_the_neighbour() {
+        let (p, t) = quad();
+        let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid quad");
+        assert_eq!(mesh.vertices().len(), 4);
+        assert_eq!(mesh.report().boundary_edges, 4);
+        assert_eq!(mesh.adjacency().neighbours(0), &[1]);
+        assert!((mesh.area() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn drops_degenerate_triangles_and_keeps_file_order() {
+        let (mut p, mut t) = quad();
+        p.push(Point3::new(2.0, 0.0, 0.0));
+        t.insert(0, [0, 1, 6]); // collinear: zero area
+        let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid");
+        assert_eq!(mesh.report().degenerate_triangles, 1);
+        assert_eq!(mesh.source_triangles(), &[1, 2]);
+    }
+
+    #[test]
+    fn rejects_bad_input_with_a_reason() {
+        let (mut p, t) = quad();
+        let err = TriMesh::from_soup(&p, &[[0, 1, 9]], &MeshOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("refers to vertex 9"), "{err}");
+        p[2].x = f64::NAN;
+        let err = TriMesh::from_soup(&p, &t, &MeshOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("non-finite"), "{err}");
+        let err = TriMesh::from_soup(&p, &[], &MeshOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("no triangles"), "{err}");
+        let flat = [Point3::origin(); 3];
+        let err = TriMesh::from_soup(&flat, &[[0, 1, 2]], &MeshOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("degenerate"), "{err}");
+    }
+}

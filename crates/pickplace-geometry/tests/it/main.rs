@@ -1,0 +1,3 @@
+//! Integration tests of pickplace-geometry.
+
+mod mesh;
