@@ -4,6 +4,7 @@
 //! This crate knows no kinematics and no robot.
 #![warn(missing_docs)]
 
+pub mod collide;
 pub mod error;
 pub mod resting;
 
