@@ -12,6 +12,8 @@ use pickplace_geometry::mesh::TriMesh;
 #[derive(Debug, Clone)]
 pub struct CollisionMesh {
     shape: ParryTriMesh,
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
 }
 
 impl CollisionMesh {
@@ -27,7 +29,7 @@ impl CollisionMesh {
                 .map_err(|e| crate::Error::DegenerateHull {
                     reason: format!("collision mesh: {e:?}"),
                 })?;
-        Ok(Self { shape })
+        Ok(Self { shape, vertices: mesh.vertices().to_vec(), triangles: mesh.triangles().to_vec() })
     }
 
     /// Whether the object, at `world_from_object` moved by `lift` (m, world frame), has its
@@ -51,6 +53,39 @@ impl CollisionMesh {
         )
         .map(|hit| hit.intersecting)
         .unwrap_or(true)
+    }
+
+    /// Points where `object`, at `world_from_object`, is within `reach` (m) of this mesh: one
+    /// point per pair of nearby triangles (the midpoint of their closest points), world frame.
+    pub fn touching_points(
+        &self,
+        object: &CollisionMesh,
+        world_from_object: &Isometry3,
+        _deeper: &Isometry3,
+        reach: Real,
+    ) -> Vec<Point3> {
+        use parry3d_f64::bounding_volume::Aabb;
+        use parry3d_f64::shape::Triangle;
+        let identity = Pose::IDENTITY;
+        let mut out = Vec::new();
+        for t in &object.triangles {
+            let [a, b, c] = t.map(|i| world_from_object * object.vertices[i as usize]);
+            let lo = a.inf(&b).inf(&c);
+            let hi = a.sup(&b).sup(&c);
+            let aabb = Aabb::new(
+                PVector::new(lo.x - reach, lo.y - reach, lo.z - reach),
+                PVector::new(hi.x + reach, hi.y + reach, hi.z + reach),
+            );
+            let tri = Triangle::new(to_parry_point(&a), to_parry_point(&b), to_parry_point(&c));
+            for j in self.shape.bvh().intersect_aabb(&aabb) {
+                let env_tri = self.shape.triangle(j);
+                if let Ok(Some(contact)) = parry3d_f64::query::contact(&identity, &tri, &identity, &env_tri, reach) {
+                    let m = (contact.point1 + contact.point2) * 0.5;
+                    out.push(Point3::new(m.x, m.y, m.z));
+                }
+            }
+        }
+        out
     }
 
     /// Distance from a world point to this mesh's surface (m).
