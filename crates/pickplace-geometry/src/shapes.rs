@@ -36,7 +36,8 @@ impl MeshBuilder {
     pub fn append(&mut self, other: &MeshBuilder) {
         let base = self.positions.len() as u32;
         self.positions.extend_from_slice(&other.positions);
-        self.triangles.extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
     }
 
     /// Builds the mesh (welding coincident vertices).
@@ -130,8 +131,14 @@ mod tests {
         assert!(c.report().is_closed());
         assert_eq!(c.triangle_count(), 64 * 4);
         for t in 0..b.triangle_count() {
-            let centroid = b.triangle_points(t).iter().fold(Point3::origin(), |s, p| s + p.coords / 3.0);
-            assert!(b.triangle_normal(t).dot(&centroid.coords) > 0.0, "outward winding");
+            let centroid = b
+                .triangle_points(t)
+                .iter()
+                .fold(Point3::origin(), |s, p| s + p.coords / 3.0);
+            assert!(
+                b.triangle_normal(t).dot(&centroid.coords) > 0.0,
+                "outward winding"
+            );
         }
     }
 }
