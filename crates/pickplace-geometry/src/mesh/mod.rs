@@ -156,7 +156,11 @@ impl TriMesh {
                 continue;
             }
             let area = triangle_area(&vertices, w);
-            if !(area >= options.degenerate_area) {
+            // Also drops NaN areas (and everything when the threshold is NaN).
+            if !matches!(
+                area.partial_cmp(&options.degenerate_area),
+                Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+            ) {
                 continue;
             }
             kept.push(w);
