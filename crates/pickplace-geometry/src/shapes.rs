@@ -323,7 +323,7 @@ pub fn dented_slab_builder(
         if !(d.depth > 0.0 && d.depth < thickness) {
             return Err(invalid("dent.depth", d.depth, "must be in (0, thickness)"));
         }
-        for axis in 0..2 {
+        for (axis, half_size) in half.into_iter().enumerate() {
             let (lo, hi) = (
                 d.center[axis] - d.size[axis] / 2.0,
                 d.center[axis] + d.size[axis] / 2.0,
@@ -335,7 +335,7 @@ pub fn dented_slab_builder(
                     "must be positive and finite",
                 ));
             }
-            if !(lo >= -half[axis] && hi <= half[axis]) {
+            if !(lo >= -half_size && hi <= half_size) {
                 return Err(invalid(
                     "dent.center",
                     d.center[axis],
@@ -368,13 +368,10 @@ pub fn dented_slab_builder(
         .collect();
     // Levels of the cells around grid vertex (i, j).
     let column = |i: usize, j: usize| -> Vec<Real> {
-        let mut out = Vec::with_capacity(4);
-        for ci in i.saturating_sub(1)..(i + 1).min(nx) {
-            for cj in j.saturating_sub(1)..(j + 1).min(ny) {
-                out.push(level[ci][cj]);
-            }
-        }
-        out
+        level[i.saturating_sub(1)..(i + 1).min(nx)]
+            .iter()
+            .flat_map(|cells| cells[j.saturating_sub(1)..(j + 1).min(ny)].iter().copied())
+            .collect()
     };
     let mut b = MeshBuilder::default();
     for i in 0..nx {
@@ -424,17 +421,16 @@ pub fn dented_slab_builder(
             }
         }
     };
-    for i in 0..nx {
-        wall(&mut b, (i, 0), (i + 1, 0), 0.0, level[i][0]);
-        wall(&mut b, (i + 1, ny), (i, ny), 0.0, level[i][ny - 1]);
+    for (i, cells) in level.iter().enumerate() {
+        wall(&mut b, (i, 0), (i + 1, 0), 0.0, cells[0]);
+        wall(&mut b, (i + 1, ny), (i, ny), 0.0, cells[ny - 1]);
     }
-    for j in 0..ny {
-        wall(&mut b, (0, j + 1), (0, j), 0.0, level[0][j]);
-        wall(&mut b, (nx, j), (nx, j + 1), 0.0, level[nx - 1][j]);
+    for (j, (&first, &last)) in level[0].iter().zip(&level[nx - 1]).enumerate() {
+        wall(&mut b, (0, j + 1), (0, j), 0.0, first);
+        wall(&mut b, (nx, j), (nx, j + 1), 0.0, last);
     }
-    for i in 1..nx {
-        for j in 0..ny {
-            let (left, right) = (level[i - 1][j], level[i][j]);
+    for (column_pair, i) in level.windows(2).zip(1..) {
+        for (j, (&left, &right)) in column_pair[0].iter().zip(&column_pair[1]).enumerate() {
             if left > right {
                 wall(&mut b, (i, j), (i, j + 1), right, left);
             } else if right > left {
@@ -442,9 +438,9 @@ pub fn dented_slab_builder(
             }
         }
     }
-    for j in 1..ny {
-        for i in 0..nx {
-            let (front, back) = (level[i][j - 1], level[i][j]);
+    for (i, cells) in level.iter().enumerate() {
+        for (pair, j) in cells.windows(2).zip(1..) {
+            let (front, back) = (pair[0], pair[1]);
             if front > back {
                 wall(&mut b, (i + 1, j), (i, j), back, front);
             } else if back > front {

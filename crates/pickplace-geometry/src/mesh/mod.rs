@@ -156,7 +156,11 @@ impl TriMesh {
                 continue;
             }
             let area = triangle_area(&vertices, w);
-            if !(area >= options.degenerate_area) {
+            // Also drops NaN areas (and everything when the threshold is NaN).
+            if !matches!(
+                area.partial_cmp(&options.degenerate_area),
+                Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+            ) {
                 continue;
             }
             kept.push(w);
@@ -321,7 +325,13 @@ fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                    // Saturating: coordinates beyond ±9.2e11 tolerances share the extreme cells.
+                    let cell = [
+                        c[0].saturating_add(dx),
+                        c[1].saturating_add(dy),
+                        c[2].saturating_add(dz),
+                    ];
+                    let Some(list) = grid.get(&cell) else {
                         continue;
                     };
                     for &id in list {
@@ -555,6 +565,18 @@ mod tests {
         let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid");
         assert_eq!(mesh.report().degenerate_triangles, 1);
         assert_eq!(mesh.source_triangles(), &[1, 2]);
+    }
+
+    #[test]
+    fn welding_huge_coordinates_does_not_overflow() {
+        // Regression: cell indices saturate at i64::MAX and the neighbour scan overflowed.
+        let p = [
+            Point3::new(1e30, 0.0, 0.0),
+            Point3::new(-1e30, 1.0, 0.0),
+            Point3::new(0.0, 1e30, 0.0),
+        ];
+        let mesh = TriMesh::from_soup(&p, &[[0, 1, 2]], &MeshOptions::default()).expect("valid");
+        assert_eq!(mesh.vertices().len(), 3);
     }
 
     #[test]

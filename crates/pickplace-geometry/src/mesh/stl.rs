@@ -6,9 +6,10 @@
 //!
 //! Binary layout: 80-byte header, little-endian `u32` triangle count, then 50 bytes per
 //! triangle (normal and three corners as `f32`, a `u16` attribute). A file is read as binary
-//! when its size matches the declared count exactly, or when it does not start with `solid`;
-//! otherwise as ASCII (`solid … facet normal … outer loop vertex x y z … endloop endfacet …
-//! endsolid`). The stored normals are ignored: the winding defines the outside.
+//! when its size matches the declared count exactly, when it does not start with `solid`, or
+//! when it holds a NUL byte; otherwise as ASCII (`solid … facet normal … outer loop vertex x y
+//! z … endloop endfacet … endsolid`). The stored normals are ignored: the winding defines the
+//! outside.
 
 use super::{Soup, TriangleSource, fan_triangulate};
 use crate::error::{Error, MeshErrorKind, Result};
@@ -46,7 +47,10 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
             .and_then(|b| b.checked_add(HEADER_LEN + 4))
             == Some(bytes.len())
     });
-    if !exact_binary && starts_with_solid(bytes) {
+    // ASCII STL never holds a NUL byte; binary STL nearly always does (attribute words, high
+    // bytes of the count), so a binary file whose header starts with `solid` but whose size is
+    // wrong is still reported as a truncated binary file.
+    if !exact_binary && starts_with_solid(bytes) && !bytes.contains(&0) {
         return parse_ascii(bytes);
     }
     parse_binary(bytes, declared)
@@ -374,6 +378,10 @@ endsolid t
         let err = parse(&bytes[..bytes.len() - 10]).unwrap_err();
         assert!(err.to_string().contains("declares 4 triangles"), "{err}");
         assert!(err.to_string().contains("3 complete"), "{err}");
+        let mut solid = bytes.clone();
+        solid[..5].copy_from_slice(b"solid");
+        let err = parse(&solid[..solid.len() - 50]).unwrap_err();
+        assert!(err.to_string().contains("truncated binary STL"), "{err}");
         let err = parse(&bytes[..40]).unwrap_err();
         assert!(err.to_string().contains("truncated binary STL"), "{err}");
     }

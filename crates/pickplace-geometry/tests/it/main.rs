@@ -1,3 +1,4 @@
 //! Integration tests of pickplace-geometry.
 
+mod loaders;
 mod mesh;
