@@ -323,17 +323,11 @@ impl<'a> Engine<'a> {
         self.clusters[x as usize].closed = true;
     }
 
-    /// Step-1 clusters in seed order: decreasing area, then increasing id.
+    /// Step-1 clusters in seed order: mesh order of their first triangle, i.e. their ids.
+    /// (Ordering by area was tried: equal-area facets then come in an order set by rounding
+    /// noise, which fragments a tessellated cylinder into uneven strips.)
     pub fn seed_order(&self) -> Vec<u32> {
-        let mut order: Vec<u32> = (0..self.clusters.len() as u32).collect();
-        order.sort_by(|&a, &b| {
-            self.clusters[b as usize]
-                .moments
-                .area
-                .total_cmp(&self.clusters[a as usize].moments.area)
-                .then(a.cmp(&b))
-        });
-        order
+        (0..self.clusters.len() as u32).collect()
     }
 
     /// First surface crossing of the ray `origin + t·dir` (t > 0) where the ray leaves the

@@ -17,7 +17,7 @@
 //!   distance between the planes and the overlap of the two regions; every Step-1 cluster not
 //!   yet used becomes a seed in turn, so the pairs cover the object.
 //!
-//! Everything is deterministic: seeds are taken by decreasing Step-1 area then index,
+//! Everything is deterministic: seeds are the Step-1 clusters in mesh order,
 //! neighbours by decreasing normal agreement then index.
 //!
 //! # Example

@@ -7,7 +7,7 @@ use crate::polygon::{self, Polygon};
 
 /// Grows clusters seed by seed and pairs each with the cluster grown at its antipode.
 ///
-/// For each seed (an open Step-1 cluster, by decreasing area then index): grow it with Step 2
+/// For each seed (an open Step-1 cluster, in mesh order): grow it with Step 2
 /// into `C_x`; cast a ray from its centroid along `-n_x` and take the first triangle where the
 /// ray leaves the object. If that triangle's cluster is still open and faces opposite
 /// (`n·n_x ≤ opposite_dot`), grow it towards `-n_x` keeping its normal opposite; if it was

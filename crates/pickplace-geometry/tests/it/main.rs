@@ -1,3 +1,5 @@
 //! Integration tests of pickplace-geometry.
 
+mod cluster;
+mod support;
 mod mesh;
