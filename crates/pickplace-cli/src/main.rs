@@ -1,6 +1,8 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod placements;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -18,6 +20,9 @@ enum Command {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
     },
+    /// Stable placements of an object on an environment (Algorithm 2), best first; without
+    /// `--on`, its resting poses on a horizontal plane.
+    Placements(placements::PlacementsArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,7 +36,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
     }
@@ -44,5 +49,25 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Placements(args) => placements::run(&args),
     }
+}
+
+/// The error and its causes on one line, each cause once: library errors already quote their
+/// source in their message, so a cause whose text the previous message contains is skipped.
+fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    let mut previous = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if previous.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+        previous = text;
+    }
+    out
 }
