@@ -317,6 +317,12 @@ pub fn candidates(
             if !supporting(object, o) {
                 continue;
             }
+            if object_region.support.len() < 3 {
+                // Only a line of the region touches its plane (a strip of a tessellated
+                // cylinder): the object would roll on it, face-face or edge-face.
+                counts.unstable += 1;
+                continue;
+            }
             let found = if include_bounding_box(object_region, env_region) {
                 search_face_face(object, object_region, env, env_region, target, options, &mut counts)
             } else {
@@ -521,7 +527,8 @@ fn search_edge_face(
     options: &PlacementOptions,
     counts: &mut Rejections,
 ) -> Vec<Placement> {
-    let hull = &o.hull;
+    // The segments are those of the hull of the points really on the contact plane.
+    let hull = &o.support;
     if hull.len() < 3 {
         return Vec::new();
     }
@@ -565,9 +572,20 @@ fn search_edge_face(
             counts.unstable += 1;
             continue;
         }
-        let tilt_limit = options.max_tilt.min(cy.atan2(ch));
+        // Tilted by t, the object tips about the segment once it rotates a further
+        // atan2(cy, ch) - t: stability needs t <= atan2(cy, ch) - min_tipping_angle, so no
+        // angle past that is worth a collision test.
+        let tilt_limit = options.max_tilt.min(cy.atan2(ch) - options.min_tipping_angle);
+        if tilt_limit <= 0.0 {
+            counts.unstable += 1;
+            continue;
+        }
         for p in &positions {
             for &yaw in &yaws {
+                // The line contact lies on the environment region: both ends inside it.
+                if !e.polygon.contains(&e_point2(p, yaw, -len * 0.5)) || !e.polygon.contains(&e_point2(p, yaw, len * 0.5)) {
+                    continue;
+                }
                 let pose_at = |tilt: Real| {
                     // Interior side (+y of the segment frame) maps to -y by the flip; rotating
                     // by -tilt about x lifts it off the plane.
@@ -645,6 +663,11 @@ fn search_edge_face(
         }
     }
     out
+}
+
+/// A point along the segment laid at `p` with `yaw`, in plane coordinates.
+fn e_point2(p: &Point2, yaw: Real, along: Real) -> Point2 {
+    Point2::new(p.x + along * yaw.cos(), p.y + along * yaw.sin())
 }
 
 /// A point on the environment plane along the segment laid at `p` with `yaw` (plane coords).
