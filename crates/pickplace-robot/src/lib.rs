@@ -20,7 +20,7 @@
 //!   are read; virtual joints and sphere approximations are ignored.
 #![warn(missing_docs)]
 
-// pub mod collision;
+pub mod collision;
 pub mod error;
 pub mod gripper;
 pub mod ik;
@@ -45,6 +45,6 @@ mod tests {
         check::<super::RobotModel>();
         check::<super::Semantics>();
         check::<super::IkSolver>();
-        // check::<super::collision::CollisionWorld>();
+        check::<super::collision::CollisionWorld>();
     }
 }
