@@ -43,6 +43,15 @@ pub enum Error {
         /// What is wrong.
         kind: MeshProblem,
     },
+    /// An environment mesh file could not be read.
+    #[error("{}: environment mesh: {source}", path.display())]
+    EnvironmentMesh {
+        /// The mesh file.
+        path: PathBuf,
+        /// What the geometry crate reported.
+        #[source]
+        source: pickplace_geometry::Error,
+    },
     /// An SRDF file is malformed or refers to things the URDF does not have.
     #[error("{}: {kind}", path.display())]
     Srdf {

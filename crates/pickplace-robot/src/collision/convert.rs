@@ -1,15 +1,18 @@
 //! The one place where nalgebra (our math) meets glam (parry's math since parry 0.26).
 
-use pickplace_geometry::math::{Isometry3, Point3, Vector3};
 use parry3d_f64::glamx::glam::{DQuat, DVec3};
 use parry3d_f64::math::Pose;
+use pickplace_geometry::math::{Isometry3, Point3, Vector3};
 
 /// nalgebra isometry → parry pose.
 #[inline]
 pub(crate) fn pose(iso: &Isometry3) -> Pose {
     let q = iso.rotation.coords;
     let t = iso.translation.vector;
-    Pose::from_parts(DVec3::new(t.x, t.y, t.z), DQuat::from_xyzw(q.x, q.y, q.z, q.w))
+    Pose::from_parts(
+        DVec3::new(t.x, t.y, t.z),
+        DQuat::from_xyzw(q.x, q.y, q.z, q.w),
+    )
 }
 
 /// nalgebra vector → parry vector.
@@ -45,6 +48,9 @@ mod tests {
         let ours = iso * p;
         let theirs = pose(&iso).transform_point(point(&p));
         assert!((to_point(theirs) - ours).norm() < 1e-14);
-        assert_eq!(vector(&Vector3::new(1.0, 2.0, 3.0)), DVec3::new(1.0, 2.0, 3.0));
+        assert_eq!(
+            vector(&Vector3::new(1.0, 2.0, 3.0)),
+            DVec3::new(1.0, 2.0, 3.0)
+        );
     }
 }

@@ -16,7 +16,7 @@
 mod acm;
 pub(crate) mod convert;
 
-pub use acm::AllowedCollisionMatrix;
+pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
 
 use crate::error::{Error, Result};
 use crate::model::{RobotModel, Shape};
@@ -26,7 +26,8 @@ use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::SharedShape;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
-use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::mesh::{MeshOptions, TriMesh};
+use std::path::Path;
 
 /// A shape for the environment or an attached object.
 #[derive(Debug, Clone)]
@@ -43,7 +44,9 @@ impl CollisionShape {
         for &h in half_extents.iter() {
             positive("box half extent", h)?;
         }
-        Ok(Self { shape: SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z) })
+        Ok(Self {
+            shape: SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
+        })
     }
 
     /// A sphere.
@@ -51,7 +54,9 @@ impl CollisionShape {
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-positive or non-finite radius.
     pub fn ball(radius: Real) -> Result<Self> {
-        Ok(Self { shape: SharedShape::ball(positive("sphere radius", radius)?) })
+        Ok(Self {
+            shape: SharedShape::ball(positive("sphere radius", radius)?),
+        })
     }
 
     /// A capsule along z (URDF convention): a segment of `length` with radius `radius`.
@@ -76,12 +81,53 @@ impl CollisionShape {
     /// [`Error::InvalidParameter`] when parry rejects the mesh (no triangles).
     pub fn mesh(mesh: &TriMesh) -> Result<Self> {
         let vertices = mesh.vertices().iter().map(convert::point).collect();
-        let shape = SharedShape::trimesh(vertices, mesh.triangles().to_vec()).map_err(|_| Error::InvalidParameter {
-            name: "mesh",
-            value: mesh.triangle_count() as Real,
-            reason: "the collision library rejected the triangle mesh",
+        let shape = SharedShape::trimesh(vertices, mesh.triangles().to_vec()).map_err(|_| {
+            Error::InvalidParameter {
+                name: "mesh",
+                value: mesh.triangle_count() as Real,
+                reason: "the collision library rejected the triangle mesh",
+            }
         })?;
         Ok(Self { shape })
+    }
+
+    /// The convex hull of a triangle mesh's vertices (in the mesh's frame).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] when the vertices span no volume.
+    pub fn convex_hull(mesh: &TriMesh) -> Result<Self> {
+        let vertices: Vec<_> = mesh.vertices().iter().map(convert::point).collect();
+        let shape = SharedShape::convex_hull(&vertices).ok_or(Error::InvalidParameter {
+            name: "mesh",
+            value: mesh.vertices().len() as Real,
+            reason: "the mesh's vertices span no volume: no convex hull",
+        })?;
+        Ok(Self { shape })
+    }
+
+    /// A triangle mesh read from a file (STL, OBJ or PLY) through `pickplace-geometry`, for a
+    /// static environment object.
+    ///
+    /// # Errors
+    /// [`Error::EnvironmentMesh`] naming the file when it cannot be read;
+    /// [`Error::InvalidParameter`] when it has no triangle.
+    pub fn mesh_file(path: &Path, options: &MeshOptions) -> Result<Self> {
+        let mesh = pickplace_geometry::mesh::load(path, options).map_err(|source| {
+            Error::EnvironmentMesh {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
+        Self::mesh(&mesh)
+    }
+
+    /// The local bounding box of the shape.
+    pub fn local_aabb(&self) -> (Vector3, Vector3) {
+        let aabb = self.shape.compute_local_aabb();
+        (
+            Vector3::new(aabb.mins.x, aabb.mins.y, aabb.mins.z),
+            Vector3::new(aabb.maxs.x, aabb.maxs.y, aabb.maxs.z),
+        )
     }
 
     /// The shape of a URDF geometry, with the pose correction for parry's conventions
@@ -90,17 +136,33 @@ impl CollisionShape {
         Ok(match shape {
             Shape::Box { half_extents } => (Self::cuboid(*half_extents)?, Isometry3::identity()),
             Shape::Sphere { radius } => (Self::ball(*radius)?, Isometry3::identity()),
-            Shape::Capsule { radius, length } => (Self::capsule_z(*radius, *length)?, Isometry3::identity()),
+            Shape::Capsule { radius, length } => {
+                (Self::capsule_z(*radius, *length)?, Isometry3::identity())
+            }
             Shape::Cylinder { radius, length } => {
                 let r = positive("cylinder radius", *radius)?;
                 let half = positive("cylinder length", *length)? / 2.0;
                 let y_to_z = Isometry3::from_parts(
                     Translation3::identity(),
-                    UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2),
+                    UnitQuaternion::from_axis_angle(
+                        &Vector3::x_axis(),
+                        std::f64::consts::FRAC_PI_2,
+                    ),
                 );
-                (Self { shape: SharedShape::cylinder(half, r) }, y_to_z)
+                (
+                    Self {
+                        shape: SharedShape::cylinder(half, r),
+                    },
+                    y_to_z,
+                )
             }
-            Shape::Mesh { mesh, .. } => (Self::mesh(mesh)?, Isometry3::identity()),
+            // Robot links are checked as convex shapes: a link mesh becomes its convex hull
+            // (conservative, and one GJK query instead of a triangle traversal); a flat mesh
+            // with no hull stays a triangle mesh.
+            Shape::Mesh { mesh, .. } => (
+                Self::convex_hull(mesh).or_else(|_| Self::mesh(mesh))?,
+                Isometry3::identity(),
+            ),
         })
     }
 }
@@ -109,7 +171,11 @@ fn positive(name: &'static str, value: Real) -> Result<Real> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::InvalidParameter { name, value, reason: "must be positive and finite" })
+        Err(Error::InvalidParameter {
+            name,
+            value,
+            reason: "must be positive and finite",
+        })
     }
 }
 
@@ -251,7 +317,11 @@ impl CollisionWorld {
         for a in 0..self.robot_shapes.len() {
             for b in a + 1..self.robot_shapes.len() {
                 let (la, lb) = (self.robot_shapes[a].link, self.robot_shapes[b].link);
-                if la != lb && !self.acm.is_allowed(&self.link_names[la], &self.link_names[lb]) {
+                if la != lb
+                    && !self
+                        .acm
+                        .is_allowed(&self.link_names[la], &self.link_names[lb])
+                {
                     self.self_pairs.push((a as u32, b as u32));
                 }
             }
@@ -280,13 +350,19 @@ impl CollisionWorld {
                 allowed[l] |= *a;
             }
             self.attached[i].allowed_links = allowed;
-            self.attached[i].allowed_environment =
-                self.environment.iter().map(|e| self.acm.is_allowed(&name, &e.name)).collect();
+            self.attached[i].allowed_environment = self
+                .environment
+                .iter()
+                .map(|e| self.acm.is_allowed(&name, &e.name))
+                .collect();
         }
     }
 
     fn allowed_links_for(&self, name: &str) -> Vec<bool> {
-        self.link_names.iter().map(|l| self.acm.is_allowed(l, name)).collect()
+        self.link_names
+            .iter()
+            .map(|l| self.acm.is_allowed(l, name))
+            .collect()
     }
 
     /// Where the robot's root link sits in the world (default identity).
@@ -300,7 +376,12 @@ impl CollisionWorld {
     }
 
     /// Adds a static object; returns its [`BodyId::Environment`] index.
-    pub fn add_environment(&mut self, name: &str, shape: CollisionShape, world_from_shape: &Isometry3) -> usize {
+    pub fn add_environment(
+        &mut self,
+        name: &str,
+        shape: CollisionShape,
+        world_from_shape: &Isometry3,
+    ) -> usize {
         let pose = convert::pose(world_from_shape);
         let aabb = shape.shape.compute_aabb(&pose);
         self.environment.push(EnvironmentObject {
@@ -312,7 +393,8 @@ impl CollisionWorld {
         self.environment_aabbs.push(aabb);
         self.environment_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.environment_aabbs);
         for a in &mut self.attached {
-            a.allowed_environment.push(self.acm.is_allowed(&a.name, name));
+            a.allowed_environment
+                .push(self.acm.is_allowed(&a.name, name));
         }
         self.environment.len() - 1
     }
@@ -332,7 +414,10 @@ impl CollisionWorld {
         touch_links: &[&str],
     ) -> Result<usize> {
         let index = |n: &str| {
-            self.link_names.iter().position(|l| l == n).ok_or_else(|| Error::UnknownLink { name: n.to_owned() })
+            self.link_names
+                .iter()
+                .position(|l| l == n)
+                .ok_or_else(|| Error::UnknownLink { name: n.to_owned() })
         };
         let link = index(link)?;
         let mut allowed_links = self.allowed_links_for(name);
@@ -348,7 +433,11 @@ impl CollisionWorld {
             link_from_object: *link_from_object,
             local_aabb,
             allowed_links,
-            allowed_environment: self.environment.iter().map(|e| self.acm.is_allowed(name, &e.name)).collect(),
+            allowed_environment: self
+                .environment
+                .iter()
+                .map(|e| self.acm.is_allowed(name, &e.name))
+                .collect(),
         });
         Ok(self.attached.len() - 1)
     }
@@ -368,14 +457,30 @@ impl CollisionWorld {
     }
 
     /// Runs FK and fills the scratch's poses and boxes.
-    fn prepare(&self, model: &RobotModel, q: &[Real], scratch: &mut CollisionScratch, margin: Real) -> Result<()> {
+    fn prepare(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        margin: Real,
+    ) -> Result<()> {
         if q.len() != self.variable_count || model.links().len() != self.link_names.len() {
-            return Err(Error::WrongLength { what: "joint values", expected: self.variable_count, found: q.len() });
+            return Err(Error::WrongLength {
+                what: "joint values",
+                expected: self.variable_count,
+                found: q.len(),
+            });
         }
         if !(margin.is_finite() && margin >= 0.0) {
-            return Err(Error::InvalidParameter { name: "margin", value: margin, reason: "must be finite and >= 0" });
+            return Err(Error::InvalidParameter {
+                name: "margin",
+                value: margin,
+                reason: "must be finite and >= 0",
+            });
         }
-        scratch.link_poses.resize(self.link_names.len(), Isometry3::identity());
+        scratch
+            .link_poses
+            .resize(self.link_names.len(), Isometry3::identity());
         model.forward_kinematics(q, &mut scratch.link_poses)?;
         self.prepare_shapes(scratch, margin);
         Ok(())
@@ -385,15 +490,23 @@ impl CollisionWorld {
         scratch.shape_poses.clear();
         scratch.shape_aabbs.clear();
         for s in &self.robot_shapes {
-            let pose = convert::pose(&(self.world_from_root * scratch.link_poses[s.link] * s.link_from_shape));
-            scratch.shape_aabbs.push(s.local_aabb.transform_by(&pose).loosened(margin));
+            let pose = convert::pose(
+                &(self.world_from_root * scratch.link_poses[s.link] * s.link_from_shape),
+            );
+            scratch
+                .shape_aabbs
+                .push(s.local_aabb.transform_by(&pose).loosened(margin));
             scratch.shape_poses.push(pose);
         }
         scratch.attached_poses.clear();
         scratch.attached_aabbs.clear();
         for a in &self.attached {
-            let pose = convert::pose(&(self.world_from_root * scratch.link_poses[a.link] * a.link_from_object));
-            scratch.attached_aabbs.push(a.local_aabb.transform_by(&pose).loosened(margin));
+            let pose = convert::pose(
+                &(self.world_from_root * scratch.link_poses[a.link] * a.link_from_object),
+            );
+            scratch
+                .attached_aabbs
+                .push(a.local_aabb.transform_by(&pose).loosened(margin));
             scratch.attached_poses.push(pose);
         }
     }
@@ -413,10 +526,15 @@ impl CollisionWorld {
             Error::UnsupportedCollisionPair { first, second }
         };
         if margin == 0.0 {
-            Ok(query::intersection_test(pose1, &*shape1.0, pose2, &*shape2.0).map_err(unsupported)?.intersecting)
+            Ok(
+                query::intersection_test(pose1, &*shape1.0, pose2, &*shape2.0)
+                    .map_err(unsupported)?
+                    .intersecting,
+            )
         } else {
             Ok(!matches!(
-                query::closest_points(pose1, &*shape1.0, pose2, &*shape2.0, margin).map_err(unsupported)?,
+                query::closest_points(pose1, &*shape1.0, pose2, &*shape2.0, margin)
+                    .map_err(unsupported)?,
                 ClosestPoints::Disjoint
             ))
         }
@@ -432,16 +550,23 @@ impl CollisionWorld {
         // Robot against environment.
         for (i, s) in self.robot_shapes.iter().enumerate() {
             scratch.candidates.clear();
-            scratch.candidates.extend(self.environment_bvh.intersect_aabb(&scratch.shape_aabbs[i]));
+            scratch
+                .candidates
+                .extend(self.environment_bvh.intersect_aabb(&scratch.shape_aabbs[i]));
             for c in 0..scratch.candidates.len() {
                 let e = scratch.candidates[c] as usize;
                 let env = &self.environment[e];
                 if env.allowed_links[s.link] {
                     continue;
                 }
-                if self.touching(&scratch.shape_poses[i], &s.shape, &env.world_from_shape, &env.shape, margin, || {
-                    (self.link_names[s.link].clone(), env.name.clone())
-                })? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
+                if self.touching(
+                    &scratch.shape_poses[i],
+                    &s.shape,
+                    &env.world_from_shape,
+                    &env.shape,
+                    margin,
+                    || (self.link_names[s.link].clone(), env.name.clone()),
+                )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
                     return Ok(());
                 }
@@ -454,9 +579,19 @@ impl CollisionWorld {
                 continue;
             }
             let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
-            if self.touching(&scratch.shape_poses[a], &sa.shape, &scratch.shape_poses[b], &sb.shape, margin, || {
-                (self.link_names[sa.link].clone(), self.link_names[sb.link].clone())
-            })? && !visit(BodyId::Link(sa.link), BodyId::Link(sb.link))
+            if self.touching(
+                &scratch.shape_poses[a],
+                &sa.shape,
+                &scratch.shape_poses[b],
+                &sb.shape,
+                margin,
+                || {
+                    (
+                        self.link_names[sa.link].clone(),
+                        self.link_names[sb.link].clone(),
+                    )
+                },
+            )? && !visit(BodyId::Link(sa.link), BodyId::Link(sb.link))
             {
                 return Ok(());
             }
@@ -464,27 +599,42 @@ impl CollisionWorld {
         // Attached objects against robot and environment.
         for (k, a) in self.attached.iter().enumerate() {
             for (i, s) in self.robot_shapes.iter().enumerate() {
-                if a.allowed_links[s.link] || !scratch.attached_aabbs[k].intersects(&scratch.shape_aabbs[i]) {
+                if a.allowed_links[s.link]
+                    || !scratch.attached_aabbs[k].intersects(&scratch.shape_aabbs[i])
+                {
                     continue;
                 }
-                if self.touching(&scratch.attached_poses[k], &a.shape, &scratch.shape_poses[i], &s.shape, margin, || {
-                    (a.name.clone(), self.link_names[s.link].clone())
-                })? && !visit(BodyId::Attached(k), BodyId::Link(s.link))
+                if self.touching(
+                    &scratch.attached_poses[k],
+                    &a.shape,
+                    &scratch.shape_poses[i],
+                    &s.shape,
+                    margin,
+                    || (a.name.clone(), self.link_names[s.link].clone()),
+                )? && !visit(BodyId::Attached(k), BodyId::Link(s.link))
                 {
                     return Ok(());
                 }
             }
             scratch.candidates.clear();
-            scratch.candidates.extend(self.environment_bvh.intersect_aabb(&scratch.attached_aabbs[k]));
+            scratch.candidates.extend(
+                self.environment_bvh
+                    .intersect_aabb(&scratch.attached_aabbs[k]),
+            );
             for c in 0..scratch.candidates.len() {
                 let e = scratch.candidates[c] as usize;
                 if a.allowed_environment[e] {
                     continue;
                 }
                 let env = &self.environment[e];
-                if self.touching(&scratch.attached_poses[k], &a.shape, &env.world_from_shape, &env.shape, margin, || {
-                    (a.name.clone(), env.name.clone())
-                })? && !visit(BodyId::Attached(k), BodyId::Environment(e))
+                if self.touching(
+                    &scratch.attached_poses[k],
+                    &a.shape,
+                    &env.world_from_shape,
+                    &env.shape,
+                    margin,
+                    || (a.name.clone(), env.name.clone()),
+                )? && !visit(BodyId::Attached(k), BodyId::Environment(e))
                 {
                     return Ok(());
                 }
@@ -547,29 +697,56 @@ impl CollisionWorld {
     ///
     /// # Errors
     /// As [`CollisionWorld::in_collision`].
-    pub fn min_distance(&self, model: &RobotModel, q: &[Real], scratch: &mut CollisionScratch) -> Result<Option<DistanceReport>> {
+    pub fn min_distance(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+    ) -> Result<Option<DistanceReport>> {
         self.prepare(model, q, scratch, 0.0)?;
         let mut best: Option<DistanceReport> = None;
         let mut consider = |d: Real, first: BodyId, second: BodyId| {
             if best.is_none_or(|b| d < b.distance) {
-                best = Some(DistanceReport { distance: d, first, second });
+                best = Some(DistanceReport {
+                    distance: d,
+                    first,
+                    second,
+                });
             }
         };
-        let distance = |p1: &Pose, s1: &SharedShape, p2: &Pose, s2: &SharedShape, first: &str, second: &str| {
+        let distance = |p1: &Pose,
+                        s1: &SharedShape,
+                        p2: &Pose,
+                        s2: &SharedShape,
+                        first: &str,
+                        second: &str| {
             query::distance(p1, &*s1.0, p2, &*s2.0)
                 .map(|d| d.distance)
-                .map_err(|_| Error::UnsupportedCollisionPair { first: first.to_owned(), second: second.to_owned() })
+                .map_err(|_| Error::UnsupportedCollisionPair {
+                    first: first.to_owned(),
+                    second: second.to_owned(),
+                })
         };
         for (i, s) in self.robot_shapes.iter().enumerate() {
             for (e, env) in self.environment.iter().enumerate() {
                 if !env.allowed_links[s.link] {
-                    let d = distance(&scratch.shape_poses[i], &s.shape, &env.world_from_shape, &env.shape, &self.link_names[s.link], &env.name)?;
+                    let d = distance(
+                        &scratch.shape_poses[i],
+                        &s.shape,
+                        &env.world_from_shape,
+                        &env.shape,
+                        &self.link_names[s.link],
+                        &env.name,
+                    )?;
                     consider(d, BodyId::Link(s.link), BodyId::Environment(e));
                 }
             }
         }
         for &(a, b) in &self.self_pairs {
-            let (sa, sb) = (&self.robot_shapes[a as usize], &self.robot_shapes[b as usize]);
+            let (sa, sb) = (
+                &self.robot_shapes[a as usize],
+                &self.robot_shapes[b as usize],
+            );
             let d = distance(
                 &scratch.shape_poses[a as usize],
                 &sa.shape,
@@ -583,13 +760,27 @@ impl CollisionWorld {
         for (k, a) in self.attached.iter().enumerate() {
             for (i, s) in self.robot_shapes.iter().enumerate() {
                 if !a.allowed_links[s.link] {
-                    let d = distance(&scratch.attached_poses[k], &a.shape, &scratch.shape_poses[i], &s.shape, &a.name, &self.link_names[s.link])?;
+                    let d = distance(
+                        &scratch.attached_poses[k],
+                        &a.shape,
+                        &scratch.shape_poses[i],
+                        &s.shape,
+                        &a.name,
+                        &self.link_names[s.link],
+                    )?;
                     consider(d, BodyId::Attached(k), BodyId::Link(s.link));
                 }
             }
             for (e, env) in self.environment.iter().enumerate() {
                 if !a.allowed_environment[e] {
-                    let d = distance(&scratch.attached_poses[k], &a.shape, &env.world_from_shape, &env.shape, &a.name, &env.name)?;
+                    let d = distance(
+                        &scratch.attached_poses[k],
+                        &a.shape,
+                        &env.world_from_shape,
+                        &env.shape,
+                        &a.name,
+                        &env.name,
+                    )?;
                     consider(d, BodyId::Attached(k), BodyId::Environment(e));
                 }
             }
@@ -603,9 +794,17 @@ impl CollisionWorld {
     ///
     /// # Errors
     /// [`Error::WrongLength`] for the poses; [`Error::UnsupportedCollisionPair`].
-    pub fn colliding_link_pairs_all(&self, root_from_links: &[Isometry3], scratch: &mut CollisionScratch) -> Result<Vec<(usize, usize)>> {
+    pub fn colliding_link_pairs_all(
+        &self,
+        root_from_links: &[Isometry3],
+        scratch: &mut CollisionScratch,
+    ) -> Result<Vec<(usize, usize)>> {
         if root_from_links.len() != self.link_names.len() {
-            return Err(Error::WrongLength { what: "link poses", expected: self.link_names.len(), found: root_from_links.len() });
+            return Err(Error::WrongLength {
+                what: "link poses",
+                expected: self.link_names.len(),
+                found: root_from_links.len(),
+            });
         }
         scratch.link_poses.clear();
         scratch.link_poses.extend_from_slice(root_from_links);
@@ -614,12 +813,23 @@ impl CollisionWorld {
         for a in 0..self.robot_shapes.len() {
             for b in a + 1..self.robot_shapes.len() {
                 let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
-                if sa.link == sb.link || !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
+                if sa.link == sb.link || !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                {
                     continue;
                 }
-                if self.touching(&scratch.shape_poses[a], &sa.shape, &scratch.shape_poses[b], &sb.shape, 0.0, || {
-                    (self.link_names[sa.link].clone(), self.link_names[sb.link].clone())
-                })? {
+                if self.touching(
+                    &scratch.shape_poses[a],
+                    &sa.shape,
+                    &scratch.shape_poses[b],
+                    &sb.shape,
+                    0.0,
+                    || {
+                        (
+                            self.link_names[sa.link].clone(),
+                            self.link_names[sb.link].clone(),
+                        )
+                    },
+                )? {
                     pairs.push((sa.link.min(sb.link), sa.link.max(sb.link)));
                 }
             }

@@ -1,5 +1,6 @@
 //! Integration tests of pickplace-robot.
 
+mod collision;
 mod common;
 mod fk;
 mod ik;
