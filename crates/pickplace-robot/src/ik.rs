@@ -1,5 +1,6 @@
 //! Inverse kinematics of a group's TCP: damped least squares with adaptive
-//! (Levenberg–Marquardt) damping, joint limits, seeded random restarts and an optional free
+//! (Levenberg–Marquardt) damping, joint limits (clamping plus an active set: a joint held at
+//! a limit leaves the system), a per-step trust region, seeded random restarts and an optional free
 //! rotation about a tool axis (a parallel gripper's symmetry).
 //!
 //! The pick-and-place planner (Harada et al., §IV: "the inverse kinematics is solved for
@@ -24,7 +25,7 @@ pub struct IkOptions {
     pub orientation_tolerance: Real,
     /// Iterations per attempt (default: 60).
     pub max_iterations: usize,
-    /// Random restarts after the attempt from the seed (default: 40).
+    /// Random restarts after the attempt from the seed (default: 100).
     pub max_restarts: usize,
     /// Seed of the random restarts (default: 0).
     pub seed: u64,
@@ -44,7 +45,7 @@ impl Default for IkOptions {
             position_tolerance: 1e-4,
             orientation_tolerance: 1e-3,
             max_iterations: 60,
-            max_restarts: 40,
+            max_restarts: 100,
             seed: 0,
             orientation_weight: 0.3,
             free_axis: None,
@@ -323,13 +324,39 @@ impl IkSolver {
             }
             // Adaptive damping (Sugihara 2011): λ = ½‖e‖² + λ₀.
             let lambda = 0.5 * e.norm_squared() + 1e-6;
-            let mut a: Matrix6<Real> = &*j * j.transpose();
-            for i in 0..6 {
-                a[(i, i)] += lambda;
+            // Active set: a joint at a limit whose step would push it further out is
+            // taken out of the system (its column zeroed) and the step solved again, so
+            // the other joints do the work instead of losing it to the clamp.
+            let mut dq = None;
+            for _ in 0..3 {
+                let mut a: Matrix6<Real> = &*j * j.transpose();
+                for i in 0..6 {
+                    a[(i, i)] += lambda;
+                }
+                let Some(cholesky) = a.cholesky() else { break };
+                let step = j.transpose() * cholesky.solve(&e);
+                let mut locked_any = false;
+                for (c, &v) in self.chain.variables().iter().enumerate() {
+                    let (lower, upper) = self.limits[c];
+                    let outward =
+                        (q[v] <= lower && step[c] < 0.0) || (q[v] >= upper && step[c] > 0.0);
+                    if outward && j.column(c).iter().any(|x| *x != 0.0) {
+                        j.column_mut(c).fill(0.0);
+                        locked_any = true;
+                    }
+                }
+                dq = Some(step);
+                if !locked_any {
+                    break;
+                }
             }
-            let Some(cholesky) = a.cholesky() else { break };
-            let y = cholesky.solve(&e);
-            let dq = j.transpose() * y;
+            let Some(mut dq) = dq else { break };
+            // Keep each step within a trust region (rad or m per joint) so that a far
+            // target does not throw the joints across their range in one step.
+            let largest = dq.amax();
+            if largest > MAX_STEP {
+                dq *= MAX_STEP / largest;
+            }
             for (c, &v) in self.chain.variables().iter().enumerate() {
                 let (lower, upper) = self.limits[c];
                 q[v] = (q[v] + dq[c]).clamp(lower, upper);
@@ -354,6 +381,9 @@ impl IkSolver {
         )
     }
 }
+
+/// Largest change of one joint in one iteration (rad or m).
+const MAX_STEP: Real = 0.5;
 
 #[derive(Debug)]
 struct Workspace {

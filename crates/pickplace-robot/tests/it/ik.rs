@@ -15,7 +15,8 @@ fn right_arm_with_waist_round_trips_from_a_far_seed() {
         .apply_state(model, "home", &mut home)
         .expect("state");
     let options = IkOptions::default();
-    let trials = 200;
+    // The bar (99.5 %) on 1 000 poses here; 10 000 in the release bench.
+    let trials = 1_000;
     let mut solved = 0;
     for _ in 0..trials {
         let q = random_configuration(model, &mut rng);
@@ -41,7 +42,7 @@ fn right_arm_with_waist_round_trips_from_a_far_seed() {
         }
     }
     assert!(
-        solved as f64 >= 0.98 * trials as f64,
+        solved as f64 >= 0.995 * trials as f64,
         "solved {solved}/{trials}"
     );
 }
