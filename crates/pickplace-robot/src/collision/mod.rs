@@ -167,6 +167,15 @@ impl CollisionShape {
     }
 }
 
+/// The distance between two boxes (0 when they overlap): a lower bound of the distance
+/// between the shapes inside them.
+fn aabb_gap(a: &Aabb, b: &Aabb) -> Real {
+    let gap = (a.mins - b.maxs)
+        .max(b.mins - a.maxs)
+        .max(parry3d_f64::math::Vector::ZERO);
+    gap.length()
+}
+
 fn positive(name: &'static str, value: Real) -> Result<Real> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
@@ -270,6 +279,8 @@ pub struct CollisionWorld {
     environment: Vec<EnvironmentObject>,
     environment_aabbs: Vec<Aabb>,
     environment_bvh: Bvh,
+    /// The union of the environment's boxes (empty when there is no environment).
+    environment_bounds: Aabb,
     attached: Vec<AttachedObject>,
 }
 
@@ -306,6 +317,7 @@ impl CollisionWorld {
             environment: Vec::new(),
             environment_aabbs: Vec::new(),
             environment_bvh: Bvh::new(),
+            environment_bounds: Aabb::new_invalid(),
             attached: Vec::new(),
         };
         world.rebuild_self_pairs();
@@ -391,6 +403,7 @@ impl CollisionWorld {
             allowed_links: self.allowed_links_for(name),
         });
         self.environment_aabbs.push(aabb);
+        self.environment_bounds.merge(&aabb);
         self.environment_bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.environment_aabbs);
         for a in &mut self.attached {
             a.allowed_environment
@@ -489,10 +502,13 @@ impl CollisionWorld {
     fn prepare_shapes(&self, scratch: &mut CollisionScratch, margin: Real) {
         scratch.shape_poses.clear();
         scratch.shape_aabbs.clear();
+        if self.world_from_root != Isometry3::identity() {
+            for pose in &mut scratch.link_poses {
+                *pose = self.world_from_root * *pose;
+            }
+        }
         for s in &self.robot_shapes {
-            let pose = convert::pose(
-                &(self.world_from_root * scratch.link_poses[s.link] * s.link_from_shape),
-            );
+            let pose = convert::pose(&(scratch.link_poses[s.link] * s.link_from_shape));
             scratch
                 .shape_aabbs
                 .push(s.local_aabb.transform_by(&pose).loosened(margin));
@@ -501,9 +517,7 @@ impl CollisionWorld {
         scratch.attached_poses.clear();
         scratch.attached_aabbs.clear();
         for a in &self.attached {
-            let pose = convert::pose(
-                &(self.world_from_root * scratch.link_poses[a.link] * a.link_from_object),
-            );
+            let pose = convert::pose(&(scratch.link_poses[a.link] * a.link_from_object));
             scratch
                 .attached_aabbs
                 .push(a.local_aabb.transform_by(&pose).loosened(margin));
@@ -547,31 +561,6 @@ impl CollisionWorld {
         margin: Real,
         visit: &mut dyn FnMut(BodyId, BodyId) -> bool,
     ) -> Result<()> {
-        // Robot against environment.
-        for (i, s) in self.robot_shapes.iter().enumerate() {
-            scratch.candidates.clear();
-            scratch
-                .candidates
-                .extend(self.environment_bvh.intersect_aabb(&scratch.shape_aabbs[i]));
-            for c in 0..scratch.candidates.len() {
-                let e = scratch.candidates[c] as usize;
-                let env = &self.environment[e];
-                if env.allowed_links[s.link] {
-                    continue;
-                }
-                if self.touching(
-                    &scratch.shape_poses[i],
-                    &s.shape,
-                    &env.world_from_shape,
-                    &env.shape,
-                    margin,
-                    || (self.link_names[s.link].clone(), env.name.clone()),
-                )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
-                {
-                    return Ok(());
-                }
-            }
-        }
         // Self-collision.
         for &(a, b) in &self.self_pairs {
             let (a, b) = (a as usize, b as usize);
@@ -594,6 +583,36 @@ impl CollisionWorld {
             )? && !visit(BodyId::Link(sa.link), BodyId::Link(sb.link))
             {
                 return Ok(());
+            }
+        }
+        // Robot against environment.
+        for (i, s) in self.robot_shapes.iter().enumerate() {
+            // Most link boxes are far from every environment object: one box test, no BVH
+            // traversal.
+            if !self.environment_bounds.intersects(&scratch.shape_aabbs[i]) {
+                continue;
+            }
+            scratch.candidates.clear();
+            scratch
+                .candidates
+                .extend(self.environment_bvh.intersect_aabb(&scratch.shape_aabbs[i]));
+            for c in 0..scratch.candidates.len() {
+                let e = scratch.candidates[c] as usize;
+                let env = &self.environment[e];
+                if env.allowed_links[s.link] {
+                    continue;
+                }
+                if self.touching(
+                    &scratch.shape_poses[i],
+                    &s.shape,
+                    &env.world_from_shape,
+                    &env.shape,
+                    margin,
+                    || (self.link_names[s.link].clone(), env.name.clone()),
+                )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
+                {
+                    return Ok(());
+                }
             }
         }
         // Attached objects against robot and environment.
@@ -705,7 +724,27 @@ impl CollisionWorld {
     ) -> Result<Option<DistanceReport>> {
         self.prepare(model, q, scratch, 0.0)?;
         let mut best: Option<DistanceReport> = None;
-        let mut consider = |d: Real, first: BodyId, second: BodyId| {
+        // Each pair is skipped when the gap between its boxes, a lower bound of its
+        // distance, is already no better than the best found; the cheap primitive pairs
+        // (self-collision) go first so that the bound is tight before the meshes.
+        let mut visit = |aabb1: &Aabb,
+                         p1: &Pose,
+                         s1: &SharedShape,
+                         aabb2: &Aabb,
+                         p2: &Pose,
+                         s2: &SharedShape,
+                         first: BodyId,
+                         second: BodyId|
+         -> Result<()> {
+            if best.is_some_and(|b| aabb_gap(aabb1, aabb2) >= b.distance) {
+                return Ok(());
+            }
+            let d = query::distance(p1, &*s1.0, p2, &*s2.0)
+                .map_err(|_| Error::UnsupportedCollisionPair {
+                    first: self.body_name(first).to_owned(),
+                    second: self.body_name(second).to_owned(),
+                })?
+                .distance;
             if best.is_none_or(|b| d < b.distance) {
                 best = Some(DistanceReport {
                     distance: d,
@@ -713,75 +752,67 @@ impl CollisionWorld {
                     second,
                 });
             }
+            Ok(())
         };
-        let distance = |p1: &Pose,
-                        s1: &SharedShape,
-                        p2: &Pose,
-                        s2: &SharedShape,
-                        first: &str,
-                        second: &str| {
-            query::distance(p1, &*s1.0, p2, &*s2.0)
-                .map(|d| d.distance)
-                .map_err(|_| Error::UnsupportedCollisionPair {
-                    first: first.to_owned(),
-                    second: second.to_owned(),
-                })
-        };
-        for (i, s) in self.robot_shapes.iter().enumerate() {
-            for (e, env) in self.environment.iter().enumerate() {
-                if !env.allowed_links[s.link] {
-                    let d = distance(
-                        &scratch.shape_poses[i],
-                        &s.shape,
-                        &env.world_from_shape,
-                        &env.shape,
-                        &self.link_names[s.link],
-                        &env.name,
-                    )?;
-                    consider(d, BodyId::Link(s.link), BodyId::Environment(e));
-                }
-            }
-        }
         for &(a, b) in &self.self_pairs {
-            let (sa, sb) = (
-                &self.robot_shapes[a as usize],
-                &self.robot_shapes[b as usize],
-            );
-            let d = distance(
-                &scratch.shape_poses[a as usize],
+            let (a, b) = (a as usize, b as usize);
+            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+            visit(
+                &scratch.shape_aabbs[a],
+                &scratch.shape_poses[a],
                 &sa.shape,
-                &scratch.shape_poses[b as usize],
+                &scratch.shape_aabbs[b],
+                &scratch.shape_poses[b],
                 &sb.shape,
-                &self.link_names[sa.link],
-                &self.link_names[sb.link],
+                BodyId::Link(sa.link),
+                BodyId::Link(sb.link),
             )?;
-            consider(d, BodyId::Link(sa.link), BodyId::Link(sb.link));
         }
         for (k, a) in self.attached.iter().enumerate() {
             for (i, s) in self.robot_shapes.iter().enumerate() {
                 if !a.allowed_links[s.link] {
-                    let d = distance(
+                    visit(
+                        &scratch.attached_aabbs[k],
                         &scratch.attached_poses[k],
                         &a.shape,
+                        &scratch.shape_aabbs[i],
                         &scratch.shape_poses[i],
                         &s.shape,
-                        &a.name,
-                        &self.link_names[s.link],
+                        BodyId::Attached(k),
+                        BodyId::Link(s.link),
                     )?;
-                    consider(d, BodyId::Attached(k), BodyId::Link(s.link));
                 }
             }
+        }
+        for (i, s) in self.robot_shapes.iter().enumerate() {
             for (e, env) in self.environment.iter().enumerate() {
-                if !a.allowed_environment[e] {
-                    let d = distance(
-                        &scratch.attached_poses[k],
-                        &a.shape,
+                if !env.allowed_links[s.link] {
+                    visit(
+                        &scratch.shape_aabbs[i],
+                        &scratch.shape_poses[i],
+                        &s.shape,
+                        &self.environment_aabbs[e],
                         &env.world_from_shape,
                         &env.shape,
-                        &a.name,
-                        &env.name,
+                        BodyId::Link(s.link),
+                        BodyId::Environment(e),
                     )?;
-                    consider(d, BodyId::Attached(k), BodyId::Environment(e));
+                }
+            }
+        }
+        for (k, a) in self.attached.iter().enumerate() {
+            for (e, env) in self.environment.iter().enumerate() {
+                if !a.allowed_environment[e] {
+                    visit(
+                        &scratch.attached_aabbs[k],
+                        &scratch.attached_poses[k],
+                        &a.shape,
+                        &self.environment_aabbs[e],
+                        &env.world_from_shape,
+                        &env.shape,
+                        BodyId::Attached(k),
+                        BodyId::Environment(e),
+                    )?;
                 }
             }
         }
