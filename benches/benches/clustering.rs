@@ -16,29 +16,11 @@ fn mug() -> TriMesh {
     let (r_out, r_in, height, floor, seg) = (0.04, 0.036, 0.1, 0.006, 96usize);
     let mut b = MeshBuilder::default();
     let ring = |b: &mut MeshBuilder, r: Real, z: Real| -> Vec<u32> {
-        (0..seg)
-            .map(|i| {
-                b.vertex(Point3::new(
-                    r * (TAU * i as Real / seg as Real).cos(),
-                    r * (TAU * i as Real / seg as Real).sin(),
-                    z,
-                ))
-            })
-            .collect()
+        (0..seg).map(|i| b.vertex(Point3::new(r * (TAU * i as Real / seg as Real).cos(), r * (TAU * i as Real / seg as Real).sin(), z))).collect()
     };
     let levels = 8;
-    let outer: Vec<Vec<u32>> = (0..=levels)
-        .map(|k| ring(&mut b, r_out, height * k as Real / levels as Real))
-        .collect();
-    let inner: Vec<Vec<u32>> = (0..=levels)
-        .map(|k| {
-            ring(
-                &mut b,
-                r_in,
-                floor + (height - floor) * k as Real / levels as Real,
-            )
-        })
-        .collect();
+    let outer: Vec<Vec<u32>> = (0..=levels).map(|k| ring(&mut b, r_out, height * k as Real / levels as Real)).collect();
+    let inner: Vec<Vec<u32>> = (0..=levels).map(|k| ring(&mut b, r_in, floor + (height - floor) * k as Real / levels as Real)).collect();
     let bottom = b.vertex(Point3::new(0.0, 0.0, 0.0));
     let inner_floor = b.vertex(Point3::new(0.0, 0.0, floor));
     for i in 0..seg {
@@ -47,12 +29,7 @@ fn mug() -> TriMesh {
             b.quad(outer[k][i], outer[k][j], outer[k + 1][j], outer[k + 1][i]);
             b.quad(inner[k][j], inner[k][i], inner[k + 1][i], inner[k + 1][j]);
         }
-        b.quad(
-            outer[levels][i],
-            outer[levels][j],
-            inner[levels][j],
-            inner[levels][i],
-        );
+        b.quad(outer[levels][i], outer[levels][j], inner[levels][j], inner[levels][i]);
         b.triangle(bottom, outer[0][j], outer[0][i]);
         b.triangle(inner_floor, inner[0][i], inner[0][j]);
     }
@@ -62,19 +39,11 @@ fn mug() -> TriMesh {
     let mut ids = vec![vec![0u32; around]; along + 1];
     for (a, row) in ids.iter_mut().enumerate() {
         let phi = -TAU / 4.0 + (TAU / 2.0) * a as Real / along as Real;
-        let centre = Point3::new(
-            r_out + major * phi.cos() * 0.5,
-            0.0,
-            height / 2.0 + major * phi.sin(),
-        );
+        let centre = Point3::new(r_out + major * phi.cos() * 0.5, 0.0, height / 2.0 + major * phi.sin());
         for (k, id) in row.iter_mut().enumerate() {
             let t = TAU * k as Real / around as Real;
             let radial = pickplace_geometry::math::Vector3::new(phi.cos(), 0.0, phi.sin());
-            *id = b.vertex(
-                centre
-                    + radial * (minor * t.cos())
-                    + pickplace_geometry::math::Vector3::y() * (minor * t.sin()),
-            );
+            *id = b.vertex(centre + radial * (minor * t.cos()) + pickplace_geometry::math::Vector3::y() * (minor * t.sin()));
         }
     }
     for a in 0..along {
@@ -96,11 +65,7 @@ fn sphere_100k() -> TriMesh {
         let theta = std::f64::consts::PI * i as Real / rings as Real;
         for (j, id) in row.iter_mut().enumerate() {
             let phi = TAU * j as Real / seg as Real;
-            *id = b.vertex(Point3::new(
-                r * theta.sin() * phi.cos(),
-                r * theta.sin() * phi.sin(),
-                r * theta.cos(),
-            ));
+            *id = b.vertex(Point3::new(r * theta.sin() * phi.cos(), r * theta.sin() * phi.sin(), r * theta.cos()));
         }
     }
     for i in 0..rings {
@@ -115,26 +80,16 @@ fn sphere_100k() -> TriMesh {
 
 fn clustering(c: &mut Criterion) {
     let _ = cylinder_builder;
-    let meshes = [
-        ("can", cylinder(0.033, 0.12, 64)),
-        ("mug", mug()),
-        ("sphere_100k", sphere_100k()),
-    ];
+    let meshes = [("can", cylinder(0.033, 0.12, 64)), ("mug", mug()), ("sphere_100k", sphere_100k())];
     let mut group = c.benchmark_group("clustering");
     for (name, mesh) in &meshes {
         group.throughput(Throughput::Elements(mesh.triangle_count() as u64));
         group.bench_function(format!("env/{name}"), |b| {
-            b.iter(|| {
-                cluster_surface(black_box(mesh), &ClusterParams::environment())
-                    .map(|c| c.clusters.len())
-            })
+            b.iter(|| cluster_surface(black_box(mesh), &ClusterParams::environment()).map(|c| c.clusters.len()))
         });
         if *name != "sphere_100k" {
             group.bench_function(format!("finger/{name}"), |b| {
-                b.iter(|| {
-                    cluster_surface(black_box(mesh), &ClusterParams::finger())
-                        .map(|c| c.pairs.len())
-                })
+                b.iter(|| cluster_surface(black_box(mesh), &ClusterParams::finger()).map(|c| c.pairs.len()))
             });
         }
     }
@@ -148,20 +103,12 @@ fn database(c: &mut Criterion) {
     let hash = mesh_hash(&can);
     for params in [ClusterParams::environment(), ClusterParams::finger()] {
         let path = dir.join(format!("can-{}.ppdb", params.mode.name()));
-        ClusterDatabase::build(&can, &params)
-            .expect("valid")
-            .save(&path)
-            .expect("written");
+        ClusterDatabase::build(&can, &params).expect("valid").save(&path).expect("written");
         c.bench_function(&format!("database/load_can_{}", params.mode.name()), |b| {
-            b.iter(|| {
-                ClusterDatabase::load(black_box(&path), hash, &params)
-                    .map(|d| d.clustering.clusters.len())
-            })
+            b.iter(|| ClusterDatabase::load(black_box(&path), hash, &params).map(|d| d.clustering.clusters.len()))
         });
     }
-    c.bench_function("database/mesh_hash_can", |b| {
-        b.iter(|| mesh_hash(black_box(&can)))
-    });
+    c.bench_function("database/mesh_hash_can", |b| b.iter(|| mesh_hash(black_box(&can))));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
