@@ -1,6 +1,8 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod robot;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -17,6 +19,11 @@ enum Command {
     MeshInfo {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
+    },
+    /// Robot model: check a URDF/SRDF, forward and inverse kinematics.
+    Robot {
+        #[command(subcommand)]
+        command: robot::RobotCommand,
     },
 }
 
@@ -44,5 +51,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Robot { command } => robot::run(command),
     }
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum Error {
     /// A file could not be read.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: cannot read the file", path.display())]
     Io {
         /// The file.
         path: PathBuf,
@@ -44,7 +44,7 @@ pub enum Error {
         kind: MeshProblem,
     },
     /// An environment mesh file could not be read.
-    #[error("{}: environment mesh: {source}", path.display())]
+    #[error("{}: cannot read the environment mesh", path.display())]
     EnvironmentMesh {
         /// The mesh file.
         path: PathBuf,
@@ -291,6 +291,9 @@ pub enum SrdfErrorKind {
         /// What the parser reported.
         detail: String,
     },
+    /// The text has no `<robot>` element: not an SRDF.
+    #[error("no <robot> element: not an SRDF file")]
+    NoRobotElement,
     /// An element lacks a required attribute.
     #[error("<{element}> lacks attribute {attribute:?}")]
     MissingAttribute {

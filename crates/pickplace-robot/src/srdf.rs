@@ -197,6 +197,7 @@ impl Srdf {
         let mut open = Open::None;
         let mut depth_of_open = 0usize;
         let mut depth = 0usize;
+        let mut saw_robot = false;
         loop {
             let event = reader.read_event().map_err(|err| SrdfErrorKind::Xml {
                 position: reader.error_position(),
@@ -227,6 +228,7 @@ impl Srdf {
             let result: std::result::Result<(), SrdfErrorKind> = (|| {
                 match (name_bytes.as_slice(), &open) {
                     (b"robot", _) => {
+                        saw_robot = true;
                         srdf.robot_name = attribute(e, "robot", "name")?.unwrap_or_default();
                     }
                     (b"group", Open::None) => {
@@ -334,6 +336,9 @@ impl Srdf {
                 Ok(())
             })();
             result.map_err(with_position)?;
+        }
+        if !saw_robot {
+            return Err(SrdfErrorKind::NoRobotElement);
         }
         Ok(srdf)
     }
