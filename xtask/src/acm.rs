@@ -34,7 +34,7 @@ pub fn run(robot_dir: &Path) -> anyhow::Result<()> {
     // The result must still resolve against the model before it replaces the file.
     let semantics = Semantics::resolve(
         &model,
-        &pickplace_robot::Srdf::from_str(&updated)?,
+        &pickplace_robot::Srdf::from_xml_str(&updated)?,
         &srdf_path,
     )?;
     std::fs::write(&srdf_path, updated)

@@ -48,9 +48,9 @@ pub enum Error {
     EnvironmentMesh {
         /// The mesh file.
         path: PathBuf,
-        /// What the geometry crate reported.
+        /// What the geometry crate reported (boxed: it is large).
         #[source]
-        source: pickplace_geometry::Error,
+        source: Box<pickplace_geometry::Error>,
     },
     /// An SRDF file is malformed or refers to things the URDF does not have.
     #[error("{}: {kind}", path.display())]
@@ -274,9 +274,15 @@ pub enum MeshProblem {
         /// Its extension.
         extension: String,
     },
-    /// The geometry crate could not read it.
+    /// The geometry crate could not read it (boxed: it is large).
     #[error(transparent)]
-    Geometry(#[from] pickplace_geometry::Error),
+    Geometry(Box<pickplace_geometry::Error>),
+}
+
+impl From<pickplace_geometry::Error> for MeshProblem {
+    fn from(error: pickplace_geometry::Error) -> Self {
+        Self::Geometry(Box::new(error))
+    }
 }
 
 /// What is wrong with an SRDF.

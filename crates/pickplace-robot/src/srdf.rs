@@ -178,7 +178,7 @@ impl Srdf {
     ///
     /// # Errors
     /// [`Error::Srdf`] with the path `<memory>`.
-    pub fn from_str(text: &str) -> Result<Self> {
+    pub fn from_xml_str(text: &str) -> Result<Self> {
         Self::parse(text).map_err(|kind| Error::Srdf {
             path: memory_path(),
             kind,

@@ -115,7 +115,7 @@ impl CollisionShape {
         let mesh = pickplace_geometry::mesh::load(path, options).map_err(|source| {
             Error::EnvironmentMesh {
                 path: path.to_path_buf(),
-                source,
+                source: Box::new(source),
             }
         })?;
         Self::mesh(&mesh)

@@ -53,7 +53,7 @@ fn parse_and_write_round_trip() {
   <disable_collisions link1="a" link2="b" reason="Adjacent"/>
   <disable_collisions link1="a" link2="c" reason="Because"/>
 </robot>"#;
-    let srdf = Srdf::from_str(text).expect("valid");
+    let srdf = Srdf::from_xml_str(text).expect("valid");
     assert_eq!(srdf.groups.len(), 2);
     assert_eq!(srdf.groups[1].subgroups, ["g"]);
     assert_eq!(srdf.group_states[0].values, [("j".to_owned(), 0.5)]);
@@ -62,14 +62,14 @@ fn parse_and_write_round_trip() {
         DisableReason::Custom("Because".into())
     );
     assert_eq!(srdf.end_effectors[0].parent_group, None);
-    let again = Srdf::from_str(&srdf.to_xml()).expect("round trip");
+    let again = Srdf::from_xml_str(&srdf.to_xml()).expect("round trip");
     assert_eq!(again, srdf);
 }
 
 #[test]
 fn bad_srdf_errors_name_the_problem() {
     let (model, _) = nx();
-    let unknown = Srdf::from_str(
+    let unknown = Srdf::from_xml_str(
         r#"<robot><group name="g"><chain base_link="WAIST" tip_link="NOSE"/></group></robot>"#,
     )
     .expect("xml ok");
@@ -79,7 +79,7 @@ fn bad_srdf_errors_name_the_problem() {
         "{e:?}"
     );
     assert!(e.to_string().contains("x.srdf"));
-    let backwards = Srdf::from_str(
+    let backwards = Srdf::from_xml_str(
         r#"<robot><group name="g"><chain base_link="RARM_TCP" tip_link="WAIST"/></group></robot>"#,
     )
     .expect("xml");
@@ -90,7 +90,7 @@ fn bad_srdf_errors_name_the_problem() {
             ..
         })
     ));
-    let recursive = Srdf::from_str(r#"<robot><group name="g"><group name="h"/></group><group name="h"><group name="g"/></group></robot>"#).expect("xml");
+    let recursive = Srdf::from_xml_str(r#"<robot><group name="g"><group name="h"/></group><group name="h"><group name="g"/></group></robot>"#).expect("xml");
     assert!(matches!(
         Semantics::resolve(model, &recursive, Path::new("x")),
         Err(Error::Srdf {
@@ -99,11 +99,11 @@ fn bad_srdf_errors_name_the_problem() {
         })
     ));
     assert!(matches!(
-        Srdf::from_str("<robot><group></robot>"),
+        Srdf::from_xml_str("<robot><group></robot>"),
         Err(Error::Srdf { .. })
     ));
     assert!(matches!(
-        Srdf::from_str(
+        Srdf::from_xml_str(
             r#"<robot><group name="g"/><group_state name="s" group="g"><joint name="j" value="x"/></group_state></robot>"#
         ),
         Err(Error::Srdf {
