@@ -221,3 +221,38 @@ fn primitive_geometry_is_read() {
     let e = load(r#"<link name="a"><collision><geometry><sphere radius="-1"/></geometry></collision></link>"#).expect_err("negative");
     assert!(e.to_string().contains("sphere"), "{e}");
 }
+
+#[test]
+fn package_mesh_resolves_through_package_dirs_with_scale() {
+    // `meshes/` of this repository stands in for a ROS package named "meshes".
+    let repo = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let link = r#"<link name="a"><collision><geometry><mesh filename="package://meshes/box.stl" scale="2 2 2"/></geometry></collision></link>"#;
+    let options = LoadOptions {
+        package_dirs: vec![repo],
+        ..LoadOptions::default()
+    };
+    let model = RobotModel::from_urdf_str(&urdf(link), Path::new("/nonexistent"), &options)
+        .expect("package resolves");
+    let shape = &model.links()[0].collisions[0].shape;
+    let pickplace_robot::model::Shape::Mesh { path, mesh, .. } = shape else {
+        panic!("{shape:?}")
+    };
+    assert!(path.ends_with("meshes/box.stl"), "{path:?}");
+    // box.stl is 0.06 × 0.04 × 0.10 m; scaled by 2.
+    let (lo, hi) =
+        mesh.vertices()
+            .iter()
+            .fold(([f64::MAX; 3], [f64::MIN; 3]), |(mut lo, mut hi), p| {
+                for i in 0..3 {
+                    lo[i] = lo[i].min(p[i]);
+                    hi[i] = hi[i].max(p[i]);
+                }
+                (lo, hi)
+            });
+    for (i, size) in [0.12, 0.08, 0.20].into_iter().enumerate() {
+        assert!(
+            (hi[i] - lo[i] - size).abs() < 1e-6,
+            "axis {i}: {lo:?} {hi:?}"
+        );
+    }
+}
