@@ -1,5 +1,6 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
+mod acm;
 mod gen_meshes;
 
 use std::path::PathBuf;
@@ -8,6 +9,7 @@ fn main() -> anyhow::Result<()> {
     let task = std::env::args().nth(1);
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
+        Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
         _ => {
             eprintln!(
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \

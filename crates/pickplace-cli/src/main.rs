@@ -2,6 +2,7 @@
 //! 2 bad input or usage.
 
 mod placements;
+mod robot;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -23,6 +24,11 @@ enum Command {
     /// Stable placements of an object on an environment (Algorithm 2), best first; without
     /// `--on`, its resting poses on a horizontal plane.
     Placements(placements::PlacementsArgs),
+    /// Robot model: check a URDF/SRDF, forward and inverse kinematics.
+    Robot {
+        #[command(subcommand)]
+        command: robot::RobotCommand,
+    },
 }
 
 fn main() -> ExitCode {
@@ -50,6 +56,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Placements(args) => placements::run(&args),
+        Command::Robot { command } => robot::run(command),
     }
 }
 
