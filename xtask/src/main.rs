@@ -1,6 +1,7 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
 mod gen_meshes;
+mod precompute;
 
 use std::path::PathBuf;
 
@@ -8,10 +9,16 @@ fn main() -> anyhow::Result<()> {
     let task = std::env::args().nth(1);
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
+        Some("precompute") => {
+            let force = std::env::args().skip(2).any(|a| a == "--force");
+            precompute::run(&repo_root(), force)
+        }
         _ => {
             eprintln!(
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
-                 (meshes/*.stl) from pickplace_geometry::shapes"
+                 (meshes/*.stl) from pickplace_geometry::shapes\n  \
+                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
+                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
             );
             std::process::exit(2);
         }

@@ -1,6 +1,8 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod clusters;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -18,6 +20,10 @@ enum Command {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
     },
+    /// Cluster a mesh's surface into planar contact regions (paper §III-A, Algorithm 1).
+    Clusters(clusters::ClustersArgs),
+    /// Build the cluster databases of meshes (both contact modes unless --mode is given).
+    Precompute(clusters::PrecomputeArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,5 +50,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Clusters(args) => clusters::run_clusters(args),
+        Command::Precompute(args) => clusters::run_precompute(args),
     }
 }

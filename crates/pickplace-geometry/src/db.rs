@@ -13,8 +13,39 @@ use crate::codec;
 use crate::error::{Error, Result};
 use crate::export::write_atomic;
 use crate::hash::mesh_hash;
+use crate::hash::ContentHasher;
 use crate::mesh::TriMesh;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// File extension of cluster databases.
+pub const DATABASE_EXTENSION: &str = "ppdb";
+
+/// Where the database of the mesh file `mesh_path` built with `params` lives in the cache
+/// folder `dir`: `<dir>/<file stem>.<mode>.<parameter hash>.ppdb`, e.g.
+/// `target/pickplace-cache/can.finger.1f0c…e2.ppdb`.
+///
+/// The name carries the mesh file's stem and a hash of every parameter, so each mesh and
+/// parameter set gets its own file. The mesh's content is not in the name: it is checked
+/// when the file is read ([`ClusterDatabase::load`]), so an edited mesh (or two meshes with
+/// the same stem in different folders) makes [`ClusterDatabase::load_or_build`] rebuild the
+/// file, never reuse it.
+pub fn cache_path(dir: &Path, mesh_path: &Path, params: &ClusterParams) -> PathBuf {
+    let stem = mesh_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "mesh".to_owned());
+    let mut h = ContentHasher::default();
+    h.bytes(params.mode.name().as_bytes());
+    h.word(params.h_max.to_bits());
+    h.word(params.max_facet_angle.to_bits());
+    h.word(params.opposite_dot.to_bits());
+    dir.join(format!(
+        "{stem}.{}.{:016x}.{DATABASE_EXTENSION}",
+        params.mode.name(),
+        h.finish()
+    ))
+}
 
 /// Clusters of one mesh, with what they were built from.
 #[derive(Debug, Clone, PartialEq)]
