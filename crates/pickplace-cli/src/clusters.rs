@@ -50,10 +50,10 @@ pub struct ClustersArgs {
     #[arg(long, value_enum, default_value = "env")]
     pub mode: ModeArg,
     /// Maximum cluster thickness h_max in metres (default: 0.001 env, 0.005 finger).
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub h_max: Option<f64>,
     /// Factor applied to the mesh's coordinates, for files not in metres.
-    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    #[arg(long, value_name = "S", default_value_t = 1.0, allow_negative_numbers = true)]
     pub scale: f64,
     /// Print the clusters as JSON on stdout (format `pickplace.clusters.v1`).
     #[arg(long)]
@@ -77,7 +77,7 @@ pub struct PrecomputeArgs {
     #[arg(long, value_enum)]
     pub mode: Option<ModeArg>,
     /// h_max in metres for the chosen --mode (default: the paper's value for that mode).
-    #[arg(long, value_name = "M", requires = "mode")]
+    #[arg(long, value_name = "M", requires = "mode", allow_negative_numbers = true)]
     pub h_max: Option<f64>,
     /// Folder for the databases (default: $PICKPLACE_CACHE, else `target/pickplace-cache`).
     #[arg(long, value_name = "DIR")]

@@ -1,0 +1,6 @@
+//! End-to-end tests of the `pickplace` binary.
+
+mod bad_input;
+mod clusters;
+mod precompute;
+mod support;
