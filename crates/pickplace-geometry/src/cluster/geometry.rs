@@ -100,7 +100,9 @@ pub(super) fn finish_cluster(engine: &Engine<'_>, old: u32, id: u32) -> Cluster 
     let hull_input: Vec<Point2> = if region.outer.is_empty() {
         w.triangles.iter().flat_map(|&t| mesh.triangles()[t as usize]).map(|v| frame.to_2d(&mesh.vertices()[v as usize])).collect()
     } else {
-        region.outer.clone()
+        // Holes lie inside the outer boundary on a consistent mesh; on a folded triangle soup
+        // one may stick out, and the hull (hence the rectangle) still covers it.
+        region.points().copied().collect()
     };
     let hull = polygon::convex_hull(&hull_input);
     let bounding_rect = polygon::min_area_rect(&hull)

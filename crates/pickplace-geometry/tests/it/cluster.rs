@@ -4,9 +4,17 @@ use crate::support::{Rng, height_field, subdivided_box};
 use pickplace_geometry::cluster::{ClusterParams, Clustering, ClustersJson, ContactMode, cluster_surface};
 use pickplace_geometry::math::{Point3, Real};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
+use pickplace_geometry::polygon;
 use pickplace_geometry::shapes::{box_mesh, cylinder};
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
 use std::collections::VecDeque;
+use std::path::Path;
+
+/// Area a polygon encloses under the overlay's even-odd rule (its shoelace area when simple).
+fn enclosed_area(p: &polygon::Polygon) -> Real {
+    polygon::total_area(&polygon::union(&[], std::slice::from_ref(p)))
+}
 
 /// Checks the invariants every clustering must satisfy; returns a description of the first
 /// violation.
@@ -72,7 +80,10 @@ fn check_invariants(mesh: &TriMesh, c: &Clustering) -> Result<(), String> {
         if (area - cl.area).abs() > 1e-9 * area.max(1.0) {
             return Err(format!("cluster {} area {} vs {area}", cl.id, cl.area));
         }
-        if cl.region.outer.len() < 3 || cl.bounding_rect.area() + 1e-12 < cl.region.area() * 0.999 {
+        // The region lies inside the bounding rectangle. Its area is taken under the overlay's
+        // even-odd rule: in a soup with inconsistent winding or overlapping triangles a
+        // boundary loop may cross itself, and then its shoelace area is not what it encloses.
+        if cl.region.outer.len() < 3 || cl.bounding_rect.area() * 1.001 + 1e-12 < enclosed_area(&cl.region) {
             return Err(format!("cluster {} region/rect inconsistent", cl.id));
         }
     }
@@ -81,7 +92,8 @@ fn check_invariants(mesh: &TriMesh, c: &Clustering) -> Result<(), String> {
         if a.normal.dot(&b.normal) > p.opposite_dot {
             return Err(format!("pair {}-{} is not opposite", pair.first, pair.second));
         }
-        if pair.overlap_area <= 0.0 || pair.overlap_area > a.region.area() + 1e-9 {
+        // The overlap lies inside the first region.
+        if pair.overlap_area <= 0.0 || pair.overlap_area > enclosed_area(&a.region) + 1e-9 {
             return Err(format!("pair {}-{} overlap {}", pair.first, pair.second, pair.overlap_area));
         }
     }
@@ -234,7 +246,12 @@ fn invalid_parameters_are_rejected() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        // Fixed seed: every run tests the same cases.
+        rng_seed: RngSeed::Fixed(0x5eed_c1a5),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn subdivided_boxes_give_six_clusters_and_three_pairs(
@@ -267,16 +284,27 @@ proptest! {
         let discrete = segments.div_ceil(facets_per_strip(radius, segments, h_max));
         let strips = side_strips(&c);
         if finger {
-            // Antipodal clusters grow under the extra "stay opposite" constraint, so the strip
-            // count is not the free one; the caps always pair.
+            // The caps always pair.
             let caps = c.pairs.iter().filter(|p| c.clusters[p.first as usize].normal.z.abs() > 0.99).count();
             prop_assert_eq!(caps, 1);
+            // Antipodal clusters grow under the extra "stay opposite" constraint and start
+            // from the antipode of a strip's centroid, which need not fall on a strip
+            // boundary; the leftover facets between pairs make up to two extra strips. When
+            // the free strip angle exceeds the opposite tolerance (2 × 18°) the constrained
+            // strips are narrower still and the count is not bounded by h_max alone.
+            if theta < 30f64.to_radians() {
+                prop_assert!(
+                    strips + 1 >= discrete && strips <= discrete + 2,
+                    "finger: {} strips, {} expected", strips, discrete
+                );
+            }
             return Ok(());
         }
         prop_assert!(strips.abs_diff(discrete) <= 1, "{} strips, {} expected", strips, discrete);
-        // Facets quantise the strip angle by up to one facet per strip: compare with the
-        // continuous count where that error stays below one strip in total.
-        if segments as f64 >= continuous * continuous {
+        // Facets quantise the strip angle by up to two facets (2Δ) per strip, so the count
+        // may exceed the continuous one by about 2π/(θ - 2Δ) - 2π/θ ≈ 2·continuous²/segments,
+        // plus one for the last, partial strip: compare where the first term is at most 1/2.
+        if segments as f64 >= 4.0 * continuous * continuous {
             prop_assert!((strips as f64 - continuous).abs() <= 1.5, "{} strips, continuous {}", strips, continuous);
         }
     }
@@ -290,5 +318,81 @@ proptest! {
         let params = if finger { ClusterParams::finger() } else { ClusterParams::environment() };
         let c = cluster_surface(&mesh, &params).expect("valid");
         prop_assert_eq!(check_invariants(&mesh, &c), Ok(()));
+    }
+}
+
+/// Every shipped mesh, in both modes.
+#[test]
+fn shipped_meshes_satisfy_the_invariants() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes");
+    for name in ["can.stl", "mug.stl", "box.stl", "pallet.stl", "table.stl"] {
+        let mesh = pickplace_geometry::mesh::load(&dir.join(name), &MeshOptions::default()).expect("shipped mesh");
+        for params in [ClusterParams::environment(), ClusterParams::finger()] {
+            let c = cluster_surface(&mesh, &params).expect("valid");
+            if let Err(e) = check_invariants(&mesh, &c) {
+                panic!("{name} ({}): {e}", params.mode.name());
+            }
+        }
+    }
+}
+
+/// A random triangle soup on a 1 mm grid: repeated corners (degenerate triangles), collinear
+/// corners, shared edges used by more than two triangles, open boundaries, flipped triangles.
+fn random_soup(seed: u64, points: usize, triangles: usize) -> (Vec<Point3>, Vec<[u32; 3]>) {
+    let mut rng = Rng::new(seed);
+    let mut grid = |n: Real| (rng.range(0.0, n) as i64) as Real * 0.001;
+    let positions: Vec<Point3> = (0..points).map(|_| Point3::new(grid(12.0), grid(12.0), grid(4.0))).collect();
+    let mut rng = Rng::new(seed ^ 0xa5a5);
+    let tris = (0..triangles)
+        .map(|_| {
+            let a = (rng.next_u64() % points as u64) as u32;
+            // Neighbouring indices more often than not, so that triangles share edges.
+            let mut near = || ((a as u64 + rng.next_u64() % 5) % points as u64) as u32;
+            [a, near(), near()]
+        })
+        .collect();
+    (positions, tris)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        rng_seed: RngSeed::Fixed(0x50_0b),
+        ..ProptestConfig::default()
+    })]
+
+    /// Clusters partition exactly the non-degenerate triangles of any soup (in the input's
+    /// numbering), are edge-connected and thin, in both modes; a soup with no area is an
+    /// error, never a panic.
+    #[test]
+    fn random_soups_are_partitioned_into_thin_connected_clusters(
+        seed in any::<u64>(), points in 3usize..40, triangles in 1usize..120, h_max in 0.0..0.004f64,
+    ) {
+        let (positions, tris) = random_soup(seed, points, triangles);
+        // Degenerate by an independent test: repeated corners or (exactly) collinear ones.
+        let kept: Vec<u32> = (0..tris.len() as u32)
+            .filter(|&i| {
+                let [a, b, c] = tris[i as usize].map(|v| positions[v as usize]);
+                (b - a).cross(&(c - a)).norm() * 0.5 >= MeshOptions::default().degenerate_area
+            })
+            .collect();
+        let mesh = match TriMesh::from_soup(&positions, &tris, &MeshOptions::default()) {
+            Ok(mesh) => mesh,
+            Err(e) => {
+                prop_assert!(kept.is_empty(), "{e}");
+                return Ok(());
+            }
+        };
+        prop_assert_eq!(mesh.source_triangles(), &kept[..]);
+        for mode in [ContactMode::Environment, ContactMode::Finger] {
+            let params = ClusterParams { mode, h_max, ..ClusterParams::finger() };
+            let c = cluster_surface(&mesh, &params).expect("valid");
+            prop_assert_eq!(check_invariants(&mesh, &c), Ok(()));
+            let json = ClustersJson::new(&c, &mesh, "soup");
+            let mut all: Vec<u32> = json.clusters.iter().flat_map(|c| c.triangles.iter().copied()).collect();
+            all.sort_unstable();
+            prop_assert_eq!(&all, &kept);
+            prop_assert_eq!(json.triangle_count, tris.len());
+        }
     }
 }
