@@ -18,7 +18,9 @@ use std::path::Path;
 
 /// A shipped mesh, read with the loader.
 fn shipped(name: &str) -> TriMesh {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../meshes").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../meshes")
+        .join(name);
     mesh::load(&path, &MeshOptions::default()).expect("shipped mesh loads")
 }
 
@@ -53,19 +55,27 @@ fn sphere_100k() -> TriMesh {
 }
 
 fn clustering(c: &mut Criterion) {
-    let meshes = [("can", shipped("can.stl")), ("mug", shipped("mug.stl")), ("sphere_100k", sphere_100k())];
+    let meshes = [
+        ("can", shipped("can.stl")),
+        ("mug", shipped("mug.stl")),
+        ("sphere_100k", sphere_100k()),
+    ];
     let mut group = c.benchmark_group("clustering");
     for (name, mesh) in &meshes {
         let n = mesh.triangle_count();
         group.throughput(Throughput::Elements(n as u64));
         group.bench_function(format!("env/{name}_{n}"), |b| {
             b.iter(|| {
-                cluster_surface(black_box(mesh), &ClusterParams::environment()).map(|c| c.clusters.len())
+                cluster_surface(black_box(mesh), &ClusterParams::environment())
+                    .map(|c| c.clusters.len())
             })
         });
         if *name != "sphere_100k" {
             group.bench_function(format!("finger/{name}_{n}"), |b| {
-                b.iter(|| cluster_surface(black_box(mesh), &ClusterParams::finger()).map(|c| c.pairs.len()))
+                b.iter(|| {
+                    cluster_surface(black_box(mesh), &ClusterParams::finger())
+                        .map(|c| c.pairs.len())
+                })
             });
         }
     }
@@ -79,15 +89,21 @@ fn database(c: &mut Criterion) {
     let hash = mesh_hash(&can);
     for params in [ClusterParams::environment(), ClusterParams::finger()] {
         let path = dir.join(format!("can-{}.ppdb", params.mode.name()));
-        ClusterDatabase::build(&can, &params).expect("valid").save(&path).expect("written");
+        ClusterDatabase::build(&can, &params)
+            .expect("valid")
+            .save(&path)
+            .expect("written");
         c.bench_function(&format!("database/load_can_{}", params.mode.name()), |b| {
             b.iter(|| {
-                ClusterDatabase::load(black_box(&path), hash, &params).map(|d| d.clustering.clusters.len())
+                ClusterDatabase::load(black_box(&path), hash, &params)
+                    .map(|d| d.clustering.clusters.len())
             })
         });
     }
     // What a cache lookup costs on top of the load: hashing the loaded mesh.
-    c.bench_function("database/mesh_hash_can", |b| b.iter(|| mesh_hash(black_box(&can))));
+    c.bench_function("database/mesh_hash_can", |b| {
+        b.iter(|| mesh_hash(black_box(&can)))
+    });
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -15,19 +15,33 @@ pub fn run(root: &Path, force: bool) -> Result<()> {
     let meshes_dir = root.join("meshes");
     let out = std::env::var_os("PICKPLACE_CACHE")
         .filter(|v| !v.is_empty())
-        .map_or_else(|| root.join("target").join("pickplace-cache"), PathBuf::from);
+        .map_or_else(
+            || root.join("target").join("pickplace-cache"),
+            PathBuf::from,
+        );
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let mut meshes: Vec<PathBuf> = std::fs::read_dir(&meshes_dir)
         .with_context(|| format!("reading {}", meshes_dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
-            matches!(p.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref(), Some("stl" | "obj" | "ply"))
+            matches!(
+                p.extension()
+                    .and_then(|e| e.to_str())
+                    .map(str::to_ascii_lowercase)
+                    .as_deref(),
+                Some("stl" | "obj" | "ply")
+            )
         })
         .collect();
     meshes.sort();
     let jobs: Vec<(PathBuf, ClusterParams)> = meshes
         .iter()
-        .flat_map(|m| [(m.clone(), ClusterParams::environment()), (m.clone(), ClusterParams::finger())])
+        .flat_map(|m| {
+            [
+                (m.clone(), ClusterParams::environment()),
+                (m.clone(), ClusterParams::finger()),
+            ]
+        })
         .collect();
     let bar = indicatif::ProgressBar::new(jobs.len() as u64);
     bar.set_style(
@@ -42,15 +56,23 @@ pub fn run(root: &Path, force: bool) -> Result<()> {
             let db_path = cache_path(&out, path, params);
             let status = if force {
                 ClusterDatabase::build(&mesh, params)?.save(&db_path)?;
-                CacheStatus::Built { reason: Some("--force".into()) }
+                CacheStatus::Built {
+                    reason: Some("--force".into()),
+                }
             } else {
                 ClusterDatabase::load_or_build(&db_path, &mesh, params)?.1
             };
             bar.inc(1);
-            let rel = db_path.strip_prefix(root).unwrap_or(&db_path).display().to_string();
+            let rel = db_path
+                .strip_prefix(root)
+                .unwrap_or(&db_path)
+                .display()
+                .to_string();
             Ok(format!(
                 "{:<24} {:<6} {} in {:.2} ms -> {rel}",
-                path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
+                path.file_name()
+                    .map(|f| f.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
                 params.mode.name(),
                 match status {
                     CacheStatus::Loaded => "loaded from cache",

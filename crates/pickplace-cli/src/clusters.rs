@@ -53,7 +53,12 @@ pub struct ClustersArgs {
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub h_max: Option<f64>,
     /// Factor applied to the mesh's coordinates, for files not in metres.
-    #[arg(long, value_name = "S", default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
     pub scale: f64,
     /// Print the clusters as JSON on stdout (format `pickplace.clusters.v1`).
     #[arg(long)]
@@ -77,7 +82,12 @@ pub struct PrecomputeArgs {
     #[arg(long, value_enum)]
     pub mode: Option<ModeArg>,
     /// h_max in metres for the chosen --mode (default: the paper's value for that mode).
-    #[arg(long, value_name = "M", requires = "mode", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "M",
+        requires = "mode",
+        allow_negative_numbers = true
+    )]
     pub h_max: Option<f64>,
     /// Folder for the databases (default: $PICKPLACE_CACHE, else `target/pickplace-cache`).
     #[arg(long, value_name = "DIR")]
@@ -95,7 +105,13 @@ pub fn default_cache_dir() -> PathBuf {
 }
 
 fn load_mesh(path: &Path, scale: f64) -> Result<TriMesh> {
-    Ok(mesh::load(path, &MeshOptions { scale, ..MeshOptions::default() })?)
+    Ok(mesh::load(
+        path,
+        &MeshOptions {
+            scale,
+            ..MeshOptions::default()
+        },
+    )?)
 }
 
 /// `" 4 pairs"`-style suffix in finger mode.
@@ -170,11 +186,16 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
         Some(m) => vec![m],
         None => vec![ModeArg::Env, ModeArg::Finger],
     };
-    let params: Vec<ClusterParams> =
-        modes.iter().map(|m| m.params(args.h_max)).collect::<Result<_>>()?;
+    let params: Vec<ClusterParams> = modes
+        .iter()
+        .map(|m| m.params(args.h_max))
+        .collect::<Result<_>>()?;
     // Every mesh is read and checked before any database is written.
-    let meshes: Vec<TriMesh> =
-        args.meshes.iter().map(|p| load_mesh(p, 1.0)).collect::<Result<_>>()?;
+    let meshes: Vec<TriMesh> = args
+        .meshes
+        .iter()
+        .map(|p| load_mesh(p, 1.0))
+        .collect::<Result<_>>()?;
     let out = args.out.clone().unwrap_or_else(default_cache_dir);
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
@@ -192,7 +213,12 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
             let (db, status) = if args.force {
                 let db = ClusterDatabase::build(mesh, p)?;
                 db.save(&db_path)?;
-                (db, CacheStatus::Built { reason: Some("--force".into()) })
+                (
+                    db,
+                    CacheStatus::Built {
+                        reason: Some("--force".into()),
+                    },
+                )
             } else {
                 ClusterDatabase::load_or_build(&db_path, mesh, p)?
             };

@@ -12,8 +12,8 @@ use crate::cluster::{ClusterParams, Clustering, ClustersJson, cluster_surface};
 use crate::codec;
 use crate::error::{Error, Result};
 use crate::export::write_atomic;
-use crate::hash::mesh_hash;
 use crate::hash::ContentHasher;
+use crate::hash::mesh_hash;
 use crate::mesh::TriMesh;
 use std::path::{Path, PathBuf};
 
@@ -77,7 +77,11 @@ impl ClusterDatabase {
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters.
     pub fn build(mesh: &TriMesh, params: &ClusterParams) -> Result<Self> {
-        Ok(Self { mesh_hash: mesh_hash(mesh), triangle_count: mesh.triangle_count(), clustering: cluster_surface(mesh, params)? })
+        Ok(Self {
+            mesh_hash: mesh_hash(mesh),
+            triangle_count: mesh.triangle_count(),
+            clustering: cluster_surface(mesh, params)?,
+        })
     }
 
     /// The database as bytes (see [`crate::codec`]).
@@ -101,8 +105,14 @@ impl ClusterDatabase {
     /// database, has another format version, was built for another mesh or other parameters,
     /// or is corrupt.
     pub fn load(path: &Path, expected_hash: u64, params: &ClusterParams) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-        codec::decode(&bytes, expected_hash, params).map_err(|kind| Error::Database { path: path.to_path_buf(), kind })
+        let bytes = std::fs::read(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        codec::decode(&bytes, expected_hash, params).map_err(|kind| Error::Database {
+            path: path.to_path_buf(),
+            kind,
+        })
     }
 
     /// Loads the database at `path` if it was built for `mesh` and `params`; otherwise builds
@@ -111,7 +121,11 @@ impl ClusterDatabase {
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters, [`Error::Io`] when the file exists
     /// but cannot be read, or cannot be written.
-    pub fn load_or_build(path: &Path, mesh: &TriMesh, params: &ClusterParams) -> Result<(Self, CacheStatus)> {
+    pub fn load_or_build(
+        path: &Path,
+        mesh: &TriMesh,
+        params: &ClusterParams,
+    ) -> Result<(Self, CacheStatus)> {
         params.validate()?;
         let reason = match Self::load(path, mesh_hash(mesh), params) {
             Ok(db) => return Ok((db, CacheStatus::Loaded)),

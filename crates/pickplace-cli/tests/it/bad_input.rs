@@ -32,7 +32,12 @@ fn bad_meshes_fail_clusters_with_status_2() {
     for (name, bytes, what) in bad_meshes() {
         let path = dir.file(name, &bytes);
         for mode in ["env", "finger"] {
-            let o = run_in(dir.path(), args!["clusters", path, "--mode", mode, "--json", "--ply", "out.ply"]);
+            let o = run_in(
+                dir.path(),
+                args![
+                    "clusters", path, "--mode", mode, "--json", "--ply", "out.ply"
+                ],
+            );
             fails_with(&o, &[name, what]);
             assert!(!dir.join("out.ply").exists(), "{name}: no picture written");
         }
@@ -40,7 +45,10 @@ fn bad_meshes_fail_clusters_with_status_2() {
     let o = run_in(dir.path(), args!["clusters", "missing.stl", "--json"]);
     fails_with(&o, &["missing.stl", "No such file"]);
     // The source error is printed once, not repeated by the error chain.
-    assert_eq!(crate::support::stderr(&o).matches("No such file").count(), 1);
+    assert_eq!(
+        crate::support::stderr(&o).matches("No such file").count(),
+        1
+    );
 }
 
 #[test]
@@ -48,7 +56,10 @@ fn a_bad_mesh_among_good_ones_writes_no_database() {
     let dir = Scratch::new("bad-precompute");
     for (name, bytes, what) in bad_meshes() {
         let path = dir.file(name, &bytes);
-        let o = run_in(dir.path(), args!["precompute", mesh("box.stl"), path, "--out", "db"]);
+        let o = run_in(
+            dir.path(),
+            args!["precompute", mesh("box.stl"), path, "--out", "db"],
+        );
         fails_with(&o, &[name, what]);
         assert!(dir.files("db").is_empty(), "{name}: {:?}", dir.files("db"));
     }
@@ -65,14 +76,25 @@ fn bad_parameters_fail_with_status_2() {
         (vec!["--scale", "0"], "scale"),
         (vec!["--mode", "sideways"], "sideways"),
     ] {
-        let mut argv = vec![std::ffi::OsString::from("clusters"), can.clone().into_os_string()];
+        let mut argv = vec![
+            std::ffi::OsString::from("clusters"),
+            can.clone().into_os_string(),
+        ];
         argv.extend(args.iter().map(std::ffi::OsString::from));
         let argv: Vec<&std::ffi::OsStr> = argv.iter().map(|a| a.as_os_str()).collect();
         let o = run_in(dir.path(), &argv);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", crate::support::stderr(&o));
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            crate::support::stderr(&o)
+        );
         assert!(o.stdout.is_empty());
         let err = crate::support::stderr(&o);
-        assert!(err.contains(what) && !err.contains("panicked"), "{args:?}: {err}");
+        assert!(
+            err.contains(what) && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
     }
     // Usage errors come from clap (several lines with a usage hint); still status 2.
     let o = run_in(dir.path(), args!["precompute", "--out", "db"]);
@@ -85,8 +107,18 @@ fn bad_parameters_fail_with_status_2() {
 fn a_foreign_database_fails_with_status_2() {
     let dir = Scratch::new("bad-db");
     let can = mesh("can.stl");
-    ok(&run_in(dir.path(), args!["precompute", can, mesh("box.stl"), "--out", "db"]));
-    let db = |prefix: &str| dir.join("db").join(dir.files("db").into_iter().find(|f| f.starts_with(prefix)).expect("db"));
+    ok(&run_in(
+        dir.path(),
+        args!["precompute", can, mesh("box.stl"), "--out", "db"],
+    ));
+    let db = |prefix: &str| {
+        dir.join("db").join(
+            dir.files("db")
+                .into_iter()
+                .find(|f| f.starts_with(prefix))
+                .expect("db"),
+        )
+    };
     let (can_env, can_finger, box_env) = (db("can.env."), db("can.finger."), db("box.env."));
     let bytes = std::fs::read(&can_env).expect("db");
     let mut other_version = bytes.clone();
@@ -102,18 +134,39 @@ fn a_foreign_database_fails_with_status_2() {
     let not_a_db = dir.file("not-a-db.ppdb", b"hello");
     let cases: Vec<(Vec<&std::ffi::OsStr>, &std::path::Path, &str)> = vec![
         (args!["--db", box_env].to_vec(), &box_env, "mesh hash"),
-        (args!["--mode", "finger", "--db", can_env].to_vec(), &can_env, "mode"),
-        (args!["--mode", "finger", "--h-max", "0.004", "--db", can_finger].to_vec(), &can_finger, "h_max"),
-        (args!["--db", other_version].to_vec(), &other_version, "version 99"),
+        (
+            args!["--mode", "finger", "--db", can_env].to_vec(),
+            &can_env,
+            "mode",
+        ),
+        (
+            args!["--mode", "finger", "--h-max", "0.004", "--db", can_finger].to_vec(),
+            &can_finger,
+            "h_max",
+        ),
+        (
+            args!["--db", other_version].to_vec(),
+            &other_version,
+            "version 99",
+        ),
         (args!["--db", truncated].to_vec(), &truncated, "corrupt"),
         (args!["--db", flipped].to_vec(), &flipped, "corrupt"),
-        (args!["--db", not_a_db].to_vec(), &not_a_db, "not a pickplace cluster database"),
+        (
+            args!["--db", not_a_db].to_vec(),
+            &not_a_db,
+            "not a pickplace cluster database",
+        ),
     ];
     for (extra, file, what) in cases {
-        let mut argv: Vec<&std::ffi::OsStr> = args!["clusters", can, "--json", "--ply", "out.ply"].to_vec();
+        let mut argv: Vec<&std::ffi::OsStr> =
+            args!["clusters", can, "--json", "--ply", "out.ply"].to_vec();
         argv.extend(extra);
         let o = run_in(dir.path(), &argv);
-        let name = file.file_name().expect("name").to_string_lossy().into_owned();
+        let name = file
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
         fails_with(&o, &[&name, what]);
         assert!(!dir.join("out.ply").exists());
     }

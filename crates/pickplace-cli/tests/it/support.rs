@@ -9,7 +9,8 @@ pub struct Scratch(PathBuf);
 
 impl Scratch {
     pub fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("pickplace-cli-it-{}-{name}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("pickplace-cli-it-{}-{name}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("scratch folder");
         Self(dir)
@@ -33,7 +34,11 @@ impl Scratch {
     /// Names of the files in the folder (or in `sub`), sorted.
     pub fn files(&self, sub: &str) -> Vec<String> {
         let mut names: Vec<String> = std::fs::read_dir(self.0.join(sub))
-            .map(|rd| rd.filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+            .map(|rd| {
+                rd.filter_map(|e| e.ok())
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect()
+            })
             .unwrap_or_default();
         names.sort();
         names
@@ -48,7 +53,9 @@ impl Drop for Scratch {
 
 /// A shipped mesh, `meshes/NAME`.
 pub fn mesh(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../meshes")
+        .join(name)
 }
 
 /// Runs `pickplace` with `args` in `cwd`, the cache folder set to `cwd/cache`.
@@ -77,7 +84,12 @@ pub fn stderr(o: &Output) -> String {
 
 /// Asserts success and returns stdout.
 pub fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "status {:?}\nstderr:\n{}", o.status, stderr(o));
+    assert!(
+        o.status.success(),
+        "status {:?}\nstderr:\n{}",
+        o.status,
+        stderr(o)
+    );
     stdout(o)
 }
 
@@ -89,7 +101,11 @@ pub fn fails_with(o: &Output, expected: &[&str]) {
     assert!(o.stdout.is_empty(), "stdout not empty: {}", stdout(o));
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.starts_with("error: "), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "one line expected: {err}"
+    );
     for e in expected {
         assert!(err.contains(e), "{e:?} not in {err:?}");
     }

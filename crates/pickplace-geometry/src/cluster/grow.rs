@@ -28,8 +28,15 @@ impl Moments {
         let scaled = (b - a).cross(&(c - a));
         let area = 0.5 * scaled.norm();
         let s = a + b + c;
-        let second = (s * s.transpose() + a * a.transpose() + b * b.transpose() + c * c.transpose()) * (area / 12.0);
-        Self { area, first: s * (area / 3.0), second, normal_sum: scaled * 0.5 }
+        let second =
+            (s * s.transpose() + a * a.transpose() + b * b.transpose() + c * c.transpose())
+                * (area / 12.0);
+        Self {
+            area,
+            first: s * (area / 3.0),
+            second,
+            normal_sum: scaled * 0.5,
+        }
     }
 
     fn add(&self, o: &Self) -> Self {
@@ -47,7 +54,8 @@ impl Moments {
     pub fn plane(&self) -> (Vector3, Vector3) {
         let c = self.first / self.area;
         let cov = self.second / self.area - c * c.transpose();
-        let n = smallest_eigenvector(&cov, &self.normal_sum).unwrap_or_else(|| self.normal_sum.normalize());
+        let n = smallest_eigenvector(&cov, &self.normal_sum)
+            .unwrap_or_else(|| self.normal_sum.normalize());
         let n = if n.dot(&self.normal_sum) < 0.0 { -n } else { n };
         (n, c)
     }
@@ -184,7 +192,9 @@ impl<'a> Engine<'a> {
         let (lo, hi) = mesh.aabb();
         let origin = Point3::from((lo.coords + hi.coords) * 0.5);
         let points: Vec<Vector3> = mesh.vertices().iter().map(|p| p - origin).collect();
-        let tri_normals = (0..mesh.triangle_count()).map(|t| mesh.triangle_normal(t)).collect();
+        let tri_normals = (0..mesh.triangle_count())
+            .map(|t| mesh.triangle_normal(t))
+            .collect();
         Self {
             mesh,
             points,
@@ -204,8 +214,14 @@ impl<'a> Engine<'a> {
     }
 
     /// Exact extent of a set of triangles along `dir` around `center`.
-    fn exact_extent<'b>(&self, tris: impl Iterator<Item = &'b u32>, dir: Vector3, center: Vector3) -> Extent {
-        let (mut lo, mut hi, mut r2, mut min_dot) = (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real, 1.0 as Real);
+    fn exact_extent<'b>(
+        &self,
+        tris: impl Iterator<Item = &'b u32>,
+        dir: Vector3,
+        center: Vector3,
+    ) -> Extent {
+        let (mut lo, mut hi, mut r2, mut min_dot) =
+            (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real, 1.0 as Real);
         let (mut lo_v, mut hi_v) = (NO_VERTEX, NO_VERTEX);
         let tris_idx = self.mesh.triangles();
         for &t in tris {
@@ -227,11 +243,23 @@ impl<'a> Engine<'a> {
         let mut witnesses = [NO_VERTEX; WITNESSES];
         witnesses[0] = lo_v;
         witnesses[1] = hi_v;
-        Extent { dir, lo, hi, center, radius: r2.sqrt(), spread: min_dot.clamp(-1.0, 1.0).acos(), witnesses }
+        Extent {
+            dir,
+            lo,
+            hi,
+            center,
+            radius: r2.sqrt(),
+            spread: min_dot.clamp(-1.0, 1.0).acos(),
+            witnesses,
+        }
     }
 
     /// The `WITNESSES / 2` lowest and highest distinct vertices of `candidates` along `dir`.
-    fn pick_witnesses<'b>(&self, candidates: impl Iterator<Item = &'b u32>, dir: &Vector3) -> [u32; WITNESSES] {
+    fn pick_witnesses<'b>(
+        &self,
+        candidates: impl Iterator<Item = &'b u32>,
+        dir: &Vector3,
+    ) -> [u32; WITNESSES] {
         // At most two extents' witnesses and two scan results: no allocation.
         let mut buf = [(0.0, NO_VERTEX); 2 * WITNESSES + 2];
         let mut n = 0;
@@ -280,7 +308,15 @@ impl<'a> Engine<'a> {
         for &t in &tris {
             self.cluster_of[t as usize] = id;
         }
-        self.clusters.push(Work { alive: true, closed: false, triangles: tris, moments: m, normal, centroid, extent });
+        self.clusters.push(Work {
+            alive: true,
+            closed: false,
+            triangles: tris,
+            moments: m,
+            normal,
+            centroid,
+            extent,
+        });
         self.stamp.push(0);
         id
     }
@@ -335,7 +371,12 @@ impl<'a> Engine<'a> {
         // Lower bound: the union is at least as thick along `normal` as its witness vertices.
         // When they already exceed h_max the exact scan below would reject the merge too.
         let (mut w_lo, mut w_hi) = (Real::INFINITY, Real::NEG_INFINITY);
-        for &v in ex.witnesses.iter().chain(ea.witnesses.iter()).filter(|&&v| v != NO_VERTEX) {
+        for &v in ex
+            .witnesses
+            .iter()
+            .chain(ea.witnesses.iter())
+            .filter(|&&v| v != NO_VERTEX)
+        {
             let d = normal.dot(&self.points[v as usize]);
             w_lo = w_lo.min(d);
             w_hi = w_hi.max(d);
@@ -351,22 +392,48 @@ impl<'a> Engine<'a> {
         let radius = ex.radius.max((ea.center - ex.center).norm() + ea.radius);
         let spread = ex.spread.max(ea.spread + angle(&ea.dir, &ex.dir));
         let witnesses = [NO_VERTEX; WITNESSES];
-        let mut bound = Extent { dir: ex.dir, lo, hi, center: ex.center, radius, spread, witnesses };
+        let mut bound = Extent {
+            dir: ex.dir,
+            lo,
+            hi,
+            center: ex.center,
+            radius,
+            spread,
+            witnesses,
+        };
         // Along the new normal the thickness grows by at most 2·|n' - n_ref|·R.
         let e_new = (normal - ex.dir).norm();
         let h_bound = (hi - lo) + 2.0 * e_new * radius;
         let spread_bound = spread + angle(&normal, &ex.dir);
         if h_bound <= self.limits.h_max && spread_bound < self.limits.max_facet_angle {
-            bound.witnesses = self.pick_witnesses(ex.witnesses.iter().chain(&ea.witnesses), &normal);
-            return Some(Merged { moments, normal, centroid, extent: bound });
+            bound.witnesses =
+                self.pick_witnesses(ex.witnesses.iter().chain(&ea.witnesses), &normal);
+            return Some(Merged {
+                moments,
+                normal,
+                centroid,
+                extent: bound,
+            });
         }
-        let mut exact = self.exact_extent(cx.triangles.iter().chain(ca.triangles.iter()), normal, centroid);
+        let mut exact = self.exact_extent(
+            cx.triangles.iter().chain(ca.triangles.iter()),
+            normal,
+            centroid,
+        );
         if !self.accepts(&exact) {
             return None;
         }
         let found = [exact.witnesses[0], exact.witnesses[1]];
-        exact.witnesses = self.pick_witnesses(found.iter().chain(&ex.witnesses).chain(&ea.witnesses), &normal);
-        Some(Merged { moments, normal, centroid, extent: exact })
+        exact.witnesses = self.pick_witnesses(
+            found.iter().chain(&ex.witnesses).chain(&ea.witnesses),
+            &normal,
+        );
+        Some(Merged {
+            moments,
+            normal,
+            centroid,
+            extent: exact,
+        })
     }
 
     fn push_neighbours(&mut self, x: u32, tris_from: u32, frontier: &mut Vec<u32>) {
@@ -497,7 +564,10 @@ mod tests {
         let d = Vector3::new(0.0, 1.0, 0.0);
         let m = Moments::triangle(&a, &b, &c).add(&Moments::triangle(&a, &c, &d));
         let (n, centroid) = m.plane();
-        assert!((n - Vector3::new(-1.0, 0.0, 1.0).normalize()).norm() < 1e-12, "{n}");
+        assert!(
+            (n - Vector3::new(-1.0, 0.0, 1.0).normalize()).norm() < 1e-12,
+            "{n}"
+        );
         assert!((centroid - Vector3::new(0.5, 0.5, 0.5)).norm() < 1e-12);
         assert!((m.area - 2.0_f64.sqrt()).abs() < 1e-12);
     }
@@ -507,11 +577,14 @@ mod tests {
         // A curved patch (part of a sphere), a flat one, and near-isotropic matrices.
         let mut state = 0x1234_5678_u64;
         let mut next = || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as Real / (1u64 << 53) as Real - 0.5
         };
         for case in 0..200 {
-            let q = nalgebra::Rotation3::from_euler_angles(next() * 6.0, next() * 6.0, next() * 6.0);
+            let q =
+                nalgebra::Rotation3::from_euler_angles(next() * 6.0, next() * 6.0, next() * 6.0);
             let scale = [1e-2, 1e-4, 1.0][case % 3];
             let l = if case % 5 == 0 {
                 [0.0, 0.3 + next(), 1.0]
@@ -530,9 +603,15 @@ mod tests {
             // the smallest Rayleigh quotient.
             let rayleigh = |v: &Vector3| v.dot(&(m * v)) / scale;
             assert!((v.norm() - 1.0).abs() < 1e-12);
-            assert!(rayleigh(&v) <= rayleigh(&full) + 1e-9, "case {case}: {v} vs {full}");
+            assert!(
+                rayleigh(&v) <= rayleigh(&full) + 1e-9,
+                "case {case}: {v} vs {full}"
+            );
             if l[1] - l[0] > 0.05 {
-                assert!(v.dot(&expected).abs() > 1.0 - 1e-10, "case {case}: {v} vs {expected}");
+                assert!(
+                    v.dot(&expected).abs() > 1.0 - 1e-10,
+                    "case {case}: {v} vs {expected}"
+                );
             }
         }
     }
