@@ -2,6 +2,7 @@
 //! 2 bad input or usage.
 
 mod clusters;
+mod placements;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -28,6 +29,9 @@ enum Command {
     Clusters(clusters::ClustersArgs),
     /// Build the cluster databases of meshes (both contact modes unless --mode is given).
     Precompute(clusters::PrecomputeArgs),
+    /// Stable placements of an object on an environment (Algorithm 2), best first; without
+    /// `--on`, its resting poses on a horizontal plane.
+    Placements(placements::PlacementsArgs),
 }
 
 fn main() -> ExitCode {
@@ -45,7 +49,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {}", error_message(&e));
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
     }
@@ -60,19 +64,25 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         }
         Command::Clusters(args) => clusters::run_clusters(args),
         Command::Precompute(args) => clusters::run_precompute(args),
+        Command::Placements(args) => placements::run(&args),
     }
 }
 
-/// The error and its causes on one line, leaving out a cause whose text the message before it
-/// already contains (library errors often print their source themselves).
-fn error_message(e: &anyhow::Error) -> String {
-    let mut out = e.to_string();
-    for cause in e.chain().skip(1) {
+/// The error and its causes on one line, each cause once: library errors already quote their
+/// source in their message, so a cause whose text the previous message contains is skipped.
+fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    let mut previous = String::new();
+    for cause in e.chain() {
         let text = cause.to_string();
-        if !out.contains(&text) {
-            out.push_str(": ");
-            out.push_str(&text);
+        if previous.contains(&text) {
+            continue;
         }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+        previous = text;
     }
     out
 }
