@@ -2,13 +2,13 @@
 
 use pickplace_geometry::cluster::ClusterParams;
 use pickplace_geometry::codec;
-use pickplace_geometry::db::{CacheStatus, ClusterDatabase};
+use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
 use pickplace_geometry::error::{DatabaseErrorKind, Error};
 use pickplace_geometry::export;
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::shapes::{box_mesh, cylinder};
 use proptest::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -177,4 +177,63 @@ proptest! {
             prop_assert_eq!(back, db);
         }
     }
+}
+
+#[test]
+fn cache_paths_separate_meshes_and_parameters() {
+    let dir = Path::new("cache");
+    let env = ClusterParams::environment();
+    let finger = ClusterParams::finger();
+    let can = cache_path(dir, Path::new("meshes/can.stl"), &env);
+    assert!(can.starts_with(dir));
+    let name = can
+        .file_name()
+        .and_then(|n| n.to_str())
+        .expect("UTF-8 name");
+    assert!(
+        name.starts_with("can.env.") && name.ends_with(".ppdb"),
+        "{name}"
+    );
+    // Same mesh name and parameters: same file, wherever the mesh is.
+    assert_eq!(can, cache_path(dir, Path::new("/elsewhere/can.stl"), &env));
+    let others = [
+        cache_path(dir, Path::new("meshes/mug.stl"), &env),
+        cache_path(dir, Path::new("meshes/can.stl"), &finger),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                h_max: 0.002,
+                ..env
+            },
+        ),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                opposite_dot: -0.9,
+                ..env
+            },
+        ),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                max_facet_angle: 1.0,
+                ..env
+            },
+        ),
+    ];
+    for (i, a) in others.iter().enumerate() {
+        assert_ne!(a, &can);
+        for b in &others[i + 1..] {
+            assert_ne!(a, b);
+        }
+    }
+    // No file name: still a usable path.
+    assert!(
+        cache_path(dir, Path::new(""), &env)
+            .to_string_lossy()
+            .contains("mesh.env.")
+    );
 }
