@@ -2,6 +2,7 @@
 
 mod acm;
 mod gen_meshes;
+mod precompute;
 
 use std::path::PathBuf;
 
@@ -10,10 +11,16 @@ fn main() -> anyhow::Result<()> {
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
         Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
+        Some("precompute") => {
+            let force = std::env::args().skip(2).any(|a| a == "--force");
+            precompute::run(&repo_root(), force)
+        }
         _ => {
             eprintln!(
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
-                 (meshes/*.stl) from pickplace_geometry::shapes"
+                 (meshes/*.stl) from pickplace_geometry::shapes\n  \
+                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
+                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
             );
             std::process::exit(2);
         }

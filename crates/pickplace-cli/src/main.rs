@@ -1,6 +1,7 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod clusters;
 mod placements;
 mod robot;
 
@@ -8,7 +9,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Debug, Parser)]
-#[command(name = "pickplace", version, about = "Pick-and-place planning for dual-arm robots")]
+#[command(
+    name = "pickplace",
+    version,
+    about = "Pick-and-place planning for dual-arm robots"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -21,6 +26,10 @@ enum Command {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
     },
+    /// Cluster a mesh's surface into planar contact regions (paper §III-A, Algorithm 1).
+    Clusters(clusters::ClustersArgs),
+    /// Build the cluster databases of meshes (both contact modes unless --mode is given).
+    Precompute(clusters::PrecomputeArgs),
     /// Stable placements of an object on an environment (Algorithm 2), best first; without
     /// `--on`, its resting poses on a horizontal plane.
     Placements(placements::PlacementsArgs),
@@ -36,7 +45,11 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => {
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
         }
     };
     match run(cli) {
@@ -55,6 +68,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Clusters(args) => clusters::run_clusters(args),
+        Command::Precompute(args) => clusters::run_precompute(args),
         Command::Placements(args) => placements::run(&args),
         Command::Robot { command } => robot::run(command),
     }

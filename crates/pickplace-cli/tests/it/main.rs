@@ -1,6 +1,10 @@
 //! End-to-end tests of the `pickplace` command on the shipped meshes.
 
+mod bad_input;
+mod clusters;
 mod placements;
+mod precompute;
+mod support;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
