@@ -9,6 +9,7 @@ use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::{Cuboid, TriMesh as ParryTriMesh, TriMeshFlags};
 use pickplace_geometry::math::{Isometry3, Point3, Real, UnitQuaternion, Vector3};
+use pickplace_geometry::math::nalgebra::Rotation3;
 use pickplace_geometry::mesh::TriMesh;
 
 /// The object prepared for collision queries: a parry triangle mesh whose BVH and pseudo-normals
@@ -34,7 +35,8 @@ impl ObjectCollider {
     /// `object_from_tcp` overlaps the object: its surface crosses the object's surface, or its
     /// centre lies inside the object (a box buried in the solid crosses no surface).
     pub fn hits(&self, object_from_tcp: &Isometry3, body: &GripperBox, inflate: Real) -> bool {
-        let rotation = UnitQuaternion::from_matrix(&body.tcp_from_box);
+        // Gripper box axes are orthonormal (checked when the gripper is validated).
+        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(body.tcp_from_box));
         let tcp_from_box = Isometry3::from_parts(body.center.coords.into(), rotation);
         let object_from_box = object_from_tcp * tcp_from_box;
         let h = body.half_extents.add_scalar(inflate);

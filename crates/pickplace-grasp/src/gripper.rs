@@ -74,7 +74,7 @@ pub struct GripperParams {
 pub struct GripperBox {
     /// Centre (m).
     pub center: Point3,
-    /// Rotation from the box's own axes to the TCP frame.
+    /// Rotation from the box's own axes to the TCP frame (orthonormal, determinant 1).
     pub tcp_from_box: Matrix3,
     /// Half side lengths along the box's own axes (m).
     pub half_extents: Vector3,

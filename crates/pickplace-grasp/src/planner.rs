@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::gripper::{GripperBox, GripperParams};
 use crate::quality::{self, GraspQuality, ScoreModel};
 use pickplace_geometry::cluster::{Cluster, ClusterPair, Clustering};
+use pickplace_geometry::math::nalgebra::Rotation3;
 use pickplace_geometry::math::{Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::polygon::Polygon;
@@ -379,7 +380,11 @@ impl Context<'_> {
         }
         // Pose: the canonical axes (lateral, closing, approach) go to the object-frame axes.
         let object_from_canonical = Matrix3::from_columns(&[lateral, closing, approach]);
-        let rotation = UnitQuaternion::from_matrix(&(object_from_canonical * self.tcp_from_canonical.transpose()));
+        // Both factors are orthonormal by construction; `from_matrix` (iterative) would stall on
+        // rotations of 180°.
+        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+            object_from_canonical * self.tcp_from_canonical.transpose(),
+        ));
         let object_from_tcp = Isometry3::from_parts(Translation3::from(tcp.coords), rotation);
         // Collision: fingers open by the clearance on each side and grown by it along their
         // other axes; the palm grown by it everywhere.
@@ -457,6 +462,10 @@ mod tests {
             let c = &clustering.clusters[g.positive_cluster as usize];
             assert!(c.plane_distance(&pad).abs() < 1e-9);
             assert!(y.dot(&c.normal) > 0.999);
+            // Regression: half-turn rotations were once returned as the identity.
+            let first = &clustering.clusters[clustering.pairs[g.pair].first as usize];
+            let expected = first.frame.u * g.approach_angle.cos() + first.frame.v * g.approach_angle.sin();
+            assert!((g.object_from_tcp.rotation * Vector3::z() - expected).norm() < 1e-9);
         }
         // The best grasp holds the box across its 4 cm side near the centre of gravity.
         let best = &set.grasps[0];
