@@ -1,6 +1,8 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod grasps;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -18,6 +20,8 @@ enum Command {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
     },
+    /// Plan parallel-gripper grasps of an object (ranked, with rejection counts).
+    Grasps(grasps::GraspsArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,5 +48,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Grasps(args) => grasps::run(&args),
     }
 }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum Error {
     /// A gripper configuration file could not be read.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: cannot read the gripper configuration", path.display())]
     Io {
         /// The file.
         path: PathBuf,
@@ -17,7 +17,7 @@ pub enum Error {
         source: std::io::Error,
     },
     /// A gripper configuration is not valid TOML or does not have the expected fields.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: invalid gripper configuration", path.display())]
     GripperSyntax {
         /// The file, or `<memory>`.
         path: PathBuf,
@@ -56,7 +56,7 @@ pub enum Error {
         count: usize,
     },
     /// The object mesh could not be turned into a collision mesh.
-    #[error("the object mesh cannot be used for collision tests: {source}")]
+    #[error("the object mesh cannot be used for collision tests")]
     CollisionMesh {
         /// What parry reported.
         #[source]

@@ -38,6 +38,7 @@
 pub mod collide;
 pub mod error;
 pub mod gripper;
+pub mod json;
 pub mod planner;
 pub mod quality;
 

@@ -18,6 +18,11 @@ fn missing_file_and_missing_key_name_the_file() {
     assert!(e.to_string().contains("/nonexistent/gripper.toml"), "{e}");
     let text = include_str!("../data/gripper.toml").replace("pad_width = 0.02\n", "");
     let e = GripperParams::from_toml_str(&text, Path::new("robots/x/gripper.toml")).expect_err("missing key");
-    let message = e.to_string();
+    let mut message = e.to_string();
+    let mut source = std::error::Error::source(&e);
+    while let Some(inner) = source {
+        message = format!("{message}: {inner}");
+        source = inner.source();
+    }
     assert!(message.starts_with("robots/x/gripper.toml:") && message.contains("pad_width"), "{message}");
 }
