@@ -5,18 +5,31 @@
 
 use crate::error::{Error, Result};
 use crate::gripper::GripperBox;
-use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::{Cuboid, TriMesh as ParryTriMesh, TriMeshFlags};
-use pickplace_geometry::math::{Isometry3, Point3, Real, UnitQuaternion, Vector3};
-use pickplace_geometry::math::nalgebra::Rotation3;
+use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
 
 /// The object prepared for collision queries: a parry triangle mesh whose BVH and pseudo-normals
-/// are built once.
+/// are built once, and the vertices of its convex hull.
 #[derive(Debug, Clone)]
 pub struct ObjectCollider {
     shape: ParryTriMesh,
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
+    /// Vertices of the convex hull (all vertices when the hull cannot be built).
+    hull: Vec<Point3>,
+}
+
+/// A box in the object frame.
+#[derive(Debug, Clone, Copy)]
+struct Obb {
+    center: Point3,
+    /// Columns: the box axes in the object frame.
+    axes: Matrix3,
+    half: Vector3,
 }
 
 impl ObjectCollider {
@@ -25,27 +38,58 @@ impl ObjectCollider {
     /// # Errors
     /// [`Error::CollisionMesh`] when parry rejects the mesh (it has no triangle).
     pub fn new(mesh: &TriMesh) -> Result<Self> {
-        let vertices: Vec<PVector> = mesh.vertices().iter().map(to_parry_point).collect();
-        let shape = ParryTriMesh::with_flags(vertices, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)
+        let points: Vec<PVector> = mesh.vertices().iter().map(to_parry_point).collect();
+        let hull = match parry3d_f64::transformation::try_convex_hull(&points) {
+            Ok((hull, _)) => hull.iter().map(|v| Point3::new(v.x, v.y, v.z)).collect(),
+            // A flat or degenerate object: every vertex serves as well, only slower.
+            Err(_) => mesh.vertices().to_vec(),
+        };
+        let shape = ParryTriMesh::with_flags(points, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)
             .map_err(|source| Error::CollisionMesh { source })?;
-        Ok(Self { shape })
+        Ok(Self { shape, vertices: mesh.vertices().to_vec(), triangles: mesh.triangles().to_vec(), hull })
     }
 
     /// Whether `body` (a gripper box in the TCP frame, grown by `inflate` m on every side) at
-    /// `object_from_tcp` overlaps the object: its surface crosses the object's surface, or its
-    /// centre lies inside the object (a box buried in the solid crosses no surface).
+    /// `object_from_tcp` overlaps the object: its solid touches a triangle, or its centre lies
+    /// inside the object (a box buried in the solid touches no triangle).
+    ///
+    /// # Performance
+    /// A face of the box that separates it from the object's convex hull answers at once;
+    /// otherwise the triangles whose bounding boxes meet the box's (through the BVH) are tested
+    /// with the separating-axis theorem, then the centre's containment (closest point and its
+    /// pseudo-normal).
     pub fn hits(&self, object_from_tcp: &Isometry3, body: &GripperBox, inflate: Real) -> bool {
-        // Gripper box axes are orthonormal (checked when the gripper is validated).
-        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(body.tcp_from_box));
-        let tcp_from_box = Isometry3::from_parts(body.center.coords.into(), rotation);
-        let object_from_box = object_from_tcp * tcp_from_box;
-        let h = body.half_extents.add_scalar(inflate);
-        let cuboid = Cuboid::new(PVector::new(h.x, h.y, h.z));
-        let surface = parry3d_f64::query::intersection_test(&Pose::IDENTITY, &self.shape, &to_parry_pose(&object_from_box), &cuboid)
-            // An unsupported pair never happens for a mesh and a box; treat it as a hit, the safe answer.
-            .map(|hit| hit.intersecting)
-            .unwrap_or(true);
-        surface || self.contains(&Point3::from(object_from_box.translation.vector))
+        let r = object_from_tcp.rotation.to_rotation_matrix().into_inner();
+        let b = Obb {
+            center: object_from_tcp * body.center,
+            axes: r * body.tcp_from_box,
+            half: body.half_extents.add_scalar(inflate),
+        };
+        if self.hull_separated(&b) {
+            return false;
+        }
+        let reach = Vector3::from_fn(|i, _| (0..3).map(|k| b.axes[(i, k)].abs() * b.half[k]).sum::<Real>());
+        let (lo, hi) = (b.center - reach, b.center + reach);
+        let aabb = Aabb::new(PVector::new(lo.x, lo.y, lo.z), PVector::new(hi.x, hi.y, hi.z));
+        let touches = self.shape.bvh().intersect_aabb(&aabb).any(|t| {
+            let [i, j, k] = self.triangles[t as usize];
+            box_touches_triangle(&b, [self.vertices[i as usize], self.vertices[j as usize], self.vertices[k as usize]])
+        });
+        touches || self.contains(&b.center)
+    }
+
+    /// Whether one of the box's face planes has the whole convex hull on its outer side.
+    fn hull_separated(&self, b: &Obb) -> bool {
+        (0..3).any(|k| {
+            let axis: Vector3 = b.axes.column(k).into();
+            let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+            for p in &self.hull {
+                let d = axis.dot(&(p - b.center));
+                lo = lo.min(d);
+                hi = hi.max(d);
+            }
+            lo > b.half[k] || hi < -b.half[k]
+        })
     }
 
     /// Whether `p` (object frame) is inside the object (by the pseudo-normal of its closest
@@ -55,20 +99,47 @@ impl ObjectCollider {
     }
 }
 
-fn to_parry_point(p: &Point3) -> PVector {
-    PVector::new(p.x, p.y, p.z)
+/// Separating-axis test of a solid box and a triangle: the three box axes, the triangle's
+/// normal and the nine cross products of box axes and triangle edges. Touching counts as
+/// overlapping.
+fn box_touches_triangle(b: &Obb, tri: [Point3; 3]) -> bool {
+    // Triangle in the box frame.
+    let to_box = b.axes.transpose();
+    let v = tri.map(|p| to_box * (p - b.center));
+    let h = b.half;
+    for k in 0..3 {
+        let (lo, hi) = (v[0][k].min(v[1][k]).min(v[2][k]), v[0][k].max(v[1][k]).max(v[2][k]));
+        if lo > h[k] || hi < -h[k] {
+            return false;
+        }
+    }
+    let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
+    let separated = |axis: Vector3| {
+        let r = h.x * axis.x.abs() + h.y * axis.y.abs() + h.z * axis.z.abs();
+        let p = [axis.dot(&v[0]), axis.dot(&v[1]), axis.dot(&v[2])];
+        p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r
+    };
+    if separated(e[0].cross(&e[1])) {
+        return false;
+    }
+    for edge in &e {
+        for unit in [Vector3::x(), Vector3::y(), Vector3::z()] {
+            if separated(unit.cross(edge)) {
+                return false;
+            }
+        }
+    }
+    true
 }
 
-fn to_parry_pose(iso: &Isometry3) -> Pose {
-    let q = iso.rotation.quaternion();
-    let t: Vector3 = iso.translation.vector;
-    Pose::from_parts(PVector::new(t.x, t.y, t.z), Rotation::from_xyzw(q.i, q.j, q.k, q.w))
+fn to_parry_point(p: &Point3) -> PVector {
+    PVector::new(p.x, p.y, p.z)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pickplace_geometry::math::{Matrix3, Translation3};
+    use pickplace_geometry::math::{Translation3, UnitQuaternion};
     use pickplace_geometry::shapes;
 
     fn cube(center: Point3, half: Real) -> GripperBox {
