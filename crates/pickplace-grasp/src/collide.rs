@@ -78,17 +78,22 @@ impl ObjectCollider {
         touches || self.contains(&b.center)
     }
 
-    /// Whether one of the box's face planes has the whole convex hull on its outer side.
+    /// Whether one of the box's face planes has the whole convex hull on its outer side. The
+    /// scan of an axis stops at the first pair of hull vertices on both sides of the slab.
     fn hull_separated(&self, b: &Obb) -> bool {
         (0..3).any(|k| {
             let axis: Vector3 = b.axes.column(k).into();
-            let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
+            let (offset, h) = (axis.dot(&b.center.coords), b.half[k]);
+            let (mut above, mut below) = (true, true);
             for p in &self.hull {
-                let d = axis.dot(&(p - b.center));
-                lo = lo.min(d);
-                hi = hi.max(d);
+                let d = axis.dot(&p.coords) - offset;
+                above &= d > h;
+                below &= d < -h;
+                if !(above || below) {
+                    return false;
+                }
             }
-            lo > b.half[k] || hi < -b.half[k]
+            true
         })
     }
 
