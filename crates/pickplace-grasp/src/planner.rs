@@ -332,87 +332,109 @@ impl Context<'_> {
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
             let angle = TAU * k as Real / self.options.approach_count as Real;
-            for &flip in flips {
-                out.push(self.evaluate(site, pair, first, second, tcp, width, angle, flip));
+            let candidate = Candidate { site, pair, first, second, tcp, width, angle };
+            match self.shared_checks(&candidate) {
+                Ok(contact_area) => out.extend(flips.iter().map(|&flip| self.finish(&candidate, contact_area, flip))),
+                Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
             }
         }
         out
     }
 
-    fn evaluate(
-        &self,
-        site: &Site,
-        pair: &ClusterPair,
-        first: &Cluster,
-        second: &Cluster,
-        tcp: Point3,
-        width: Real,
-        angle: Real,
-        flip: Real,
-    ) -> std::result::Result<Grasp, Rejection> {
+    /// The checks a 180° turn about the approach axis does not change (the pads and the fingers
+    /// are symmetric under it): local width, pad tilt, contact area, finger collision. Returns
+    /// the contact area.
+    fn shared_checks(&self, c: &Candidate<'_>) -> std::result::Result<Real, Rejection> {
         let (g, o) = (self.gripper, self.options);
-        if !(width.is_finite() && width >= g.opening_min && width <= g.opening_max - 2.0 * o.clearance) {
+        if !(c.width.is_finite() && c.width >= g.opening_min && c.width <= g.opening_max - 2.0 * o.clearance) {
             return Err(Rejection::Width);
         }
-        let (cos, sin) = (angle.cos(), angle.sin());
-        let n1 = first.normal;
-        let approach = first.frame.u * cos + first.frame.v * sin;
-        let closing = n1 * flip;
-        let lateral = closing.cross(&approach);
+        let (approach, lateral) = c.axes(1.0);
         // Pad 2 lies on the plane through `tcp − n1·w/2` parallel to S1; its corners must stay
         // within h_max of S2 for the flexible sheet to conform.
         let h_max = self.clustering.params.h_max;
-        let pad2 = tcp - n1 * (0.5 * width);
+        let pad2 = c.tcp - c.first.normal * (0.5 * c.width);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
         for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
             let corner = pad2 + lateral * (a * hw) + approach * (b * hd);
-            if second.plane_distance(&corner).abs() > h_max + 1e-9 {
+            if c.second.plane_distance(&corner).abs() > h_max + 1e-9 {
                 return Err(Rejection::PadTilt);
             }
         }
         // Contact: the pad (on S1, in the first frame) against the overlap region.
-        let approach_2d = Vector2::new(cos, sin);
-        let lateral_2d = Vector2::new(lateral.dot(&first.frame.u), lateral.dot(&first.frame.v));
-        let window = quality::rectangle(site.on_first, lateral_2d, approach_2d, hw, hd);
-        let contact_area = quality::clipped_area(&window, &pair.overlap);
+        let approach_2d = Vector2::new(c.angle.cos(), c.angle.sin());
+        let lateral_2d = Vector2::new(lateral.dot(&c.first.frame.u), lateral.dot(&c.first.frame.v));
+        let window = quality::rectangle(c.site.on_first, lateral_2d, approach_2d, hw, hd);
+        let contact_area = quality::clipped_area(&window, &c.pair.overlap);
         if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
             return Err(Rejection::Contact);
         }
-        // Pose: the canonical axes (lateral, closing, approach) go to the object-frame axes.
-        let object_from_canonical = Matrix3::from_columns(&[lateral, closing, approach]);
+        // Fingers open by the clearance on each side and grown by it along their other axes.
+        let object_from_tcp = self.pose(c, 1.0);
+        for mut finger in g.fingers(c.width + 2.0 * o.clearance) {
+            finger.half_extents += Vector3::new(o.clearance, 0.0, o.clearance);
+            if self.planner.collider.hits(&object_from_tcp, &finger, 0.0) {
+                return Err(Rejection::Finger);
+            }
+        }
+        Ok(contact_area)
+    }
+
+    /// The TCP pose of a candidate: the canonical axes (lateral, closing, approach) go to the
+    /// object-frame axes.
+    fn pose(&self, c: &Candidate<'_>, flip: Real) -> Isometry3 {
+        let (approach, lateral) = c.axes(flip);
+        let object_from_canonical = Matrix3::from_columns(&[lateral, c.first.normal * flip, approach]);
         // Both factors are orthonormal by construction; `from_matrix` (iterative) would stall on
         // rotations of 180°.
         let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
             object_from_canonical * self.tcp_from_canonical.transpose(),
         ));
-        let object_from_tcp = Isometry3::from_parts(Translation3::from(tcp.coords), rotation);
-        // Collision: fingers open by the clearance on each side and grown by it along their
-        // other axes; the palm grown by it everywhere.
-        let collider = &self.planner.collider;
-        for mut finger in g.fingers(width + 2.0 * o.clearance) {
-            finger.half_extents += Vector3::new(o.clearance, 0.0, o.clearance);
-            if collider.hits(&object_from_tcp, &finger, 0.0) {
-                return Err(Rejection::Finger);
-            }
-        }
-        let palm: GripperBox = g.palm_box();
-        if collider.hits(&object_from_tcp, &palm, o.clearance) {
+        Isometry3::from_parts(Translation3::from(c.tcp.coords), rotation)
+    }
+
+    /// The palm check and the quality of one orientation of a candidate.
+    fn finish(&self, c: &Candidate<'_>, contact_area: Real, flip: Real) -> std::result::Result<Grasp, Rejection> {
+        let object_from_tcp = self.pose(c, flip);
+        let palm: GripperBox = self.gripper.palm_box();
+        if self.planner.collider.hits(&object_from_tcp, &palm, self.options.clearance) {
             return Err(Rejection::Palm);
         }
-        let torque_arm = (self.planner.center_of_mass - tcp).cross(&n1).norm();
-        let boundary_margin = quality::boundary_margin(&site.on_first, &pair.overlap);
+        let torque_arm = (self.planner.center_of_mass - c.tcp).cross(&c.first.normal).norm();
+        let boundary_margin = quality::boundary_margin(&c.site.on_first, &c.pair.overlap);
         let quality = GraspQuality { contact_area, torque_arm, boundary_margin };
-        let (positive_cluster, negative_cluster) = if flip > 0.0 { (first.id, second.id) } else { (second.id, first.id) };
+        let (positive_cluster, negative_cluster) =
+            if flip > 0.0 { (c.first.id, c.second.id) } else { (c.second.id, c.first.id) };
         Ok(Grasp {
             object_from_tcp,
-            width,
+            width: c.width,
             score: self.score.score(&quality),
-            pair: site.pair,
+            pair: c.site.pair,
             positive_cluster,
             negative_cluster,
-            approach_angle: angle,
+            approach_angle: c.angle,
             quality,
         })
+    }
+}
+
+/// A grasp centre with one approach direction, before the closing direction is chosen.
+struct Candidate<'a> {
+    site: &'a Site,
+    pair: &'a ClusterPair,
+    first: &'a Cluster,
+    second: &'a Cluster,
+    tcp: Point3,
+    width: Real,
+    angle: Real,
+}
+
+impl Candidate<'_> {
+    /// Approach and lateral axes (object frame) for the closing direction `flip · n1`.
+    fn axes(&self, flip: Real) -> (Vector3, Vector3) {
+        let approach = self.first.frame.u * self.angle.cos() + self.first.frame.v * self.angle.sin();
+        let lateral = (self.first.normal * flip).cross(&approach);
+        (approach, lateral)
     }
 }
 
