@@ -144,6 +144,7 @@ fn to_parry_point(p: &Point3) -> PVector {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
     use pickplace_geometry::math::{Translation3, UnitQuaternion};
     use pickplace_geometry::shapes;
 
@@ -166,5 +167,40 @@ mod tests {
         // The pose moves the box.
         let away = Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.2), UnitQuaternion::identity());
         assert!(!object.hits(&away, &cube(Point3::origin(), 0.01), 0.0));
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 400, ..ProptestConfig::default() })]
+
+        /// The separating-axis test agrees with parry's support-map query.
+        #[test]
+        fn sat_agrees_with_parry(
+            c in prop::array::uniform3(-0.5..0.5f64), angles in prop::array::uniform3(-3.2..3.2f64),
+            half in prop::array::uniform3(0.05..0.6f64), tri in prop::array::uniform9(-1.0..1.0f64),
+        ) {
+            use parry3d_f64::math::{Pose, Rotation};
+            use parry3d_f64::shape::{Cuboid, Triangle};
+            let rotation = UnitQuaternion::from_euler_angles(angles[0], angles[1], angles[2]);
+            let b = Obb {
+                center: Point3::from(c),
+                axes: rotation.to_rotation_matrix().into_inner(),
+                half: Vector3::from(half),
+            };
+            let t = [Point3::new(tri[0], tri[1], tri[2]), Point3::new(tri[3], tri[4], tri[5]), Point3::new(tri[6], tri[7], tri[8])];
+            prop_assume!((t[1] - t[0]).cross(&(t[2] - t[0])).norm() > 1e-3);
+            let q = rotation.quaternion();
+            let pose = Pose::from_parts(PVector::new(c[0], c[1], c[2]), Rotation::from_xyzw(q.i, q.j, q.k, q.w));
+            let triangle = Triangle::new(to_parry_point(&t[0]), to_parry_point(&t[1]), to_parry_point(&t[2]));
+            let expected = parry3d_f64::query::intersection_test(&Pose::IDENTITY, &triangle, &pose, &Cuboid::new(PVector::new(half[0], half[1], half[2])))
+                .expect("supported").intersecting;
+            let got = box_touches_triangle(&b, t);
+            if got != expected {
+                // Only grazing contacts may differ: shrinking or growing the box by 1e-9 decides.
+                let shrunk = Obb { half: b.half.add_scalar(-1e-9), ..b };
+                let grown = Obb { half: b.half.add_scalar(1e-9), ..b };
+                prop_assert!(!box_touches_triangle(&shrunk, t) || box_touches_triangle(&grown, t));
+                prop_assert!(box_touches_triangle(&grown, t) != box_touches_triangle(&shrunk, t), "disagree: sat {got} parry {expected}");
+            }
+        }
     }
 }

@@ -1,8 +1,9 @@
-//! Independent checks: an exact box-triangle separating-axis test and a winding-number
-//! containment test, written apart from the crate's parry-based collider.
+//! Independent checks: parry's generic box-mesh query and a winding-number containment test,
+//! apart from the crate's own collider.
 
 use pickplace_geometry::cluster::{ClusterParams, Clustering, cluster_surface};
-use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, Vector3};
+use pickplace_geometry::math::nalgebra::Rotation3;
+use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::TriMesh;
 use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet, GripperBox, GripperParams};
 use std::path::Path;
@@ -35,30 +36,18 @@ pub fn obb(object_from_tcp: &Isometry3, b: &GripperBox) -> Obb {
     Obb { center: object_from_tcp * b.center, axes: r * b.tcp_from_box, half: b.half_extents }
 }
 
-/// Separating-axis test of a solid box and a triangle (13 axes). Touching counts as a hit.
-pub fn box_hits_triangle(b: &Obb, tri: [Point3; 3]) -> bool {
-    let v: Vec<Vector3> = tri.iter().map(|p| p - b.center).collect();
-    let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
-    let a: [Vector3; 3] = [b.axes.column(0).into(), b.axes.column(1).into(), b.axes.column(2).into()];
-    let mut axes: Vec<Vector3> = a.to_vec();
-    axes.push(e[0].cross(&e[1]));
-    for ai in &a {
-        for ei in &e {
-            axes.push(ai.cross(ei));
-        }
-    }
-    for axis in axes {
-        if axis.norm() < 1e-12 {
-            continue;
-        }
-        let r = (0..3).map(|k| b.half[k] * a[k].dot(&axis).abs()).sum::<Real>();
-        let p: Vec<Real> = v.iter().map(|x| x.dot(&axis)).collect();
-        let (lo, hi) = (p.iter().copied().fold(Real::INFINITY, Real::min), p.iter().copied().fold(Real::NEG_INFINITY, Real::max));
-        if lo > r || hi < -r {
-            return false;
-        }
-    }
-    true
+/// Whether a box touches the object's surface, by parry's generic (support-map) query: a
+/// different algorithm from the crate's own separating-axis test.
+pub fn box_hits_surface(mesh: &TriMesh, b: &Obb) -> bool {
+    use parry3d_f64::math::{Pose, Rotation, Vector};
+    use parry3d_f64::shape::{Cuboid, TriMesh as ParryTriMesh};
+    let vertices: Vec<Vector> = mesh.vertices().iter().map(|p| Vector::new(p.x, p.y, p.z)).collect();
+    let shape = ParryTriMesh::new(vertices, mesh.triangles().to_vec()).expect("valid mesh");
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(b.axes));
+    let q = q.quaternion();
+    let pose = Pose::from_parts(Vector::new(b.center.x, b.center.y, b.center.z), Rotation::from_xyzw(q.i, q.j, q.k, q.w));
+    let cuboid = Cuboid::new(Vector::new(b.half.x, b.half.y, b.half.z));
+    parry3d_f64::query::intersection_test(&Pose::IDENTITY, &shape, &pose, &cuboid).expect("supported pair").intersecting
 }
 
 /// Generalised winding number of a closed mesh at `p` (about 1 inside each shell, 0 outside).
@@ -76,7 +65,7 @@ pub fn winding_number(mesh: &TriMesh, p: &Point3) -> Real {
 
 /// Whether a gripper box overlaps the object (surface crossing or buried in the solid).
 pub fn body_hits(mesh: &TriMesh, b: &Obb) -> bool {
-    (0..mesh.triangle_count()).any(|t| box_hits_triangle(b, mesh.triangle_points(t))) || winding_number(mesh, &b.center) > 0.5
+    box_hits_surface(mesh, b) || winding_number(mesh, &b.center) > 0.5
 }
 
 /// The gripper bodies of a grasp as checked by the planner without the growth: fingers open by
