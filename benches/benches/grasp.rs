@@ -27,6 +27,7 @@ fn grasps(c: &mut Criterion) {
         group.bench_function(format!("plan/{name}"), |b| {
             b.iter(|| planner.plan(black_box(&clustering), &gripper, &options).map(|s| s.grasps.len()))
         });
+        group.throughput(Throughput::Elements(mesh.triangle_count() as u64));
         group.bench_function(format!("prepare/{name}"), |b| b.iter(|| GraspPlanner::new(black_box(&mesh)).map(|p| p.center_of_mass())));
     }
     group.finish();
