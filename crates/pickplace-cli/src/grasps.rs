@@ -37,7 +37,11 @@ pub struct GraspsArgs {
 
 /// The gripper configuration named by `--robot`: the file itself, or `DIR/gripper.toml`.
 fn gripper_path(robot: &Path) -> PathBuf {
-    if robot.is_dir() { robot.join("gripper.toml") } else { robot.to_path_buf() }
+    if robot.is_dir() {
+        robot.join("gripper.toml")
+    } else {
+        robot.to_path_buf()
+    }
 }
 
 /// Runs the command. Bad input is an `Err` (exit 2); no grasp at all is exit 1.
@@ -45,7 +49,10 @@ pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
     let gripper_file = gripper_path(&args.robot);
     let gripper = GripperParams::load(&gripper_file)?;
     let mesh = pickplace_geometry::mesh::load(&args.mesh, &Default::default())?;
-    let params = ClusterParams { h_max: args.h_max, ..ClusterParams::finger() };
+    let params = ClusterParams {
+        h_max: args.h_max,
+        ..ClusterParams::finger()
+    };
     let clustering = cluster_surface(&mesh, &params).context("--h-max")?;
     let options = GraspOptions {
         grid_step: args.grid_step,
@@ -91,7 +98,9 @@ pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
     }
     // A closed pipe (`| head`) is not an error of ours.
     match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(e).context("writing to stdout"),
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            return Err(e).context("writing to stdout");
+        }
         _ => {}
     }
     if set.grasps.is_empty() {
@@ -120,11 +129,16 @@ mod tests {
 
     #[test]
     fn robot_dir_means_its_gripper_toml_and_bad_input_names_the_file() {
-        let ok = run(&args("meshes/can.stl", "crates/pickplace-grasp/tests/data")).expect("valid input");
+        let ok =
+            run(&args("meshes/can.stl", "crates/pickplace-grasp/tests/data")).expect("valid input");
         assert_eq!(ok, ExitCode::SUCCESS);
         let e = run(&args("meshes/can.stl", "meshes")).expect_err("no gripper.toml in meshes/");
         assert!(format!("{e:#}").contains("meshes/gripper.toml"), "{e:#}");
-        let e = run(&args("meshes/none.stl", "crates/pickplace-grasp/tests/data")).expect_err("no mesh");
+        let e = run(&args(
+            "meshes/none.stl",
+            "crates/pickplace-grasp/tests/data",
+        ))
+        .expect_err("no mesh");
         assert!(format!("{e:#}").contains("none.stl"), "{e:#}");
     }
 }

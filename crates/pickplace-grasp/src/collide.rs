@@ -44,9 +44,15 @@ impl ObjectCollider {
             // A flat or degenerate object: every vertex serves as well, only slower.
             Err(_) => mesh.vertices().to_vec(),
         };
-        let shape = ParryTriMesh::with_flags(points, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)
-            .map_err(|source| Error::CollisionMesh { source })?;
-        Ok(Self { shape, vertices: mesh.vertices().to_vec(), triangles: mesh.triangles().to_vec(), hull })
+        let shape =
+            ParryTriMesh::with_flags(points, mesh.triangles().to_vec(), TriMeshFlags::ORIENTED)
+                .map_err(|source| Error::CollisionMesh { source })?;
+        Ok(Self {
+            shape,
+            vertices: mesh.vertices().to_vec(),
+            triangles: mesh.triangles().to_vec(),
+            hull,
+        })
     }
 
     /// Whether `body` (a gripper box in the TCP frame, grown by `inflate` m on every side) at
@@ -68,12 +74,26 @@ impl ObjectCollider {
         if self.hull_separated(&b) {
             return false;
         }
-        let reach = Vector3::from_fn(|i, _| (0..3).map(|k| b.axes[(i, k)].abs() * b.half[k]).sum::<Real>());
+        let reach = Vector3::from_fn(|i, _| {
+            (0..3)
+                .map(|k| b.axes[(i, k)].abs() * b.half[k])
+                .sum::<Real>()
+        });
         let (lo, hi) = (b.center - reach, b.center + reach);
-        let aabb = Aabb::new(PVector::new(lo.x, lo.y, lo.z), PVector::new(hi.x, hi.y, hi.z));
+        let aabb = Aabb::new(
+            PVector::new(lo.x, lo.y, lo.z),
+            PVector::new(hi.x, hi.y, hi.z),
+        );
         let touches = self.shape.bvh().intersect_aabb(&aabb).any(|t| {
             let [i, j, k] = self.triangles[t as usize];
-            box_touches_triangle(&b, [self.vertices[i as usize], self.vertices[j as usize], self.vertices[k as usize]])
+            box_touches_triangle(
+                &b,
+                [
+                    self.vertices[i as usize],
+                    self.vertices[j as usize],
+                    self.vertices[k as usize],
+                ],
+            )
         });
         touches || self.contains(&b.center)
     }
@@ -113,7 +133,10 @@ fn box_touches_triangle(b: &Obb, tri: [Point3; 3]) -> bool {
     let v = tri.map(|p| to_box * (p - b.center));
     let h = b.half;
     for k in 0..3 {
-        let (lo, hi) = (v[0][k].min(v[1][k]).min(v[2][k]), v[0][k].max(v[1][k]).max(v[2][k]));
+        let (lo, hi) = (
+            v[0][k].min(v[1][k]).min(v[2][k]),
+            v[0][k].max(v[1][k]).max(v[2][k]),
+        );
         if lo > h[k] || hi < -h[k] {
             return false;
         }
@@ -144,12 +167,16 @@ fn to_parry_point(p: &Point3) -> PVector {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::prelude::*;
     use pickplace_geometry::math::{Translation3, UnitQuaternion};
     use pickplace_geometry::shapes;
+    use proptest::prelude::*;
 
     fn cube(center: Point3, half: Real) -> GripperBox {
-        GripperBox { center, tcp_from_box: Matrix3::identity(), half_extents: Vector3::repeat(half) }
+        GripperBox {
+            center,
+            tcp_from_box: Matrix3::identity(),
+            half_extents: Vector3::repeat(half),
+        }
     }
 
     #[test]
@@ -165,7 +192,8 @@ mod tests {
         assert!(!object.hits(&identity, &near, 0.0));
         assert!(object.hits(&identity, &near, 0.006));
         // The pose moves the box.
-        let away = Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.2), UnitQuaternion::identity());
+        let away =
+            Isometry3::from_parts(Translation3::new(0.0, 0.0, 0.2), UnitQuaternion::identity());
         assert!(!object.hits(&away, &cube(Point3::origin(), 0.01), 0.0));
     }
 

@@ -46,7 +46,9 @@ pub enum Error {
         reason: &'static str,
     },
     /// A cluster pair refers to a cluster the clustering does not have.
-    #[error("cluster pair {pair} refers to cluster {cluster}, but the clustering has {count} clusters")]
+    #[error(
+        "cluster pair {pair} refers to cluster {cluster}, but the clustering has {count} clusters"
+    )]
     MissingCluster {
         /// Index of the pair.
         pair: usize,

@@ -87,8 +87,10 @@ impl GripperParams {
     /// [`Error::GripperSyntax`] for malformed TOML, missing or unknown keys;
     /// [`Error::InvalidGripper`] for values out of range (see [`GripperParams::validate`]).
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
-        let params: Self =
-            toml::from_str(text).map_err(|source| Error::GripperSyntax { path: path.to_path_buf(), source })?;
+        let params: Self = toml::from_str(text).map_err(|source| Error::GripperSyntax {
+            path: path.to_path_buf(),
+            source,
+        })?;
         params.validate_for(path)?;
         Ok(params)
     }
@@ -98,7 +100,10 @@ impl GripperParams {
     /// # Errors
     /// [`Error::Io`] when the file cannot be read, then as [`GripperParams::from_toml_str`].
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Self::from_toml_str(&text, path)
     }
 
@@ -112,15 +117,26 @@ impl GripperParams {
     }
 
     fn validate_for(&self, path: &Path) -> Result<()> {
-        let bad = |field: &'static str, reason: &'static str| Error::InvalidGripper { path: PathBuf::from(path), field, reason };
+        let bad = |field: &'static str, reason: &'static str| Error::InvalidGripper {
+            path: PathBuf::from(path),
+            field,
+            reason,
+        };
         let positive = |field: &'static str, v: Real| {
-            if v.is_finite() && v > 0.0 { Ok(()) } else { Err(bad(field, "must be a finite positive length")) }
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(bad(field, "must be a finite positive length"))
+            }
         };
         if !(self.opening_min.is_finite() && self.opening_min >= 0.0) {
             return Err(bad("opening_min", "must be finite and non-negative"));
         }
         if !(self.opening_max.is_finite() && self.opening_max > self.opening_min) {
-            return Err(bad("opening_max", "must be finite and larger than opening_min"));
+            return Err(bad(
+                "opening_max",
+                "must be finite and larger than opening_min",
+            ));
         }
         positive("pad_width", self.pad_width)?;
         positive("pad_depth", self.pad_depth)?;
@@ -129,16 +145,28 @@ impl GripperParams {
         if self.finger_length < self.pad_depth {
             return Err(bad("finger_length", "must be at least pad_depth"));
         }
-        for (field, axis) in [("approach_axis", &self.approach_axis), ("closing_axis", &self.closing_axis)] {
+        for (field, axis) in [
+            ("approach_axis", &self.approach_axis),
+            ("closing_axis", &self.closing_axis),
+        ] {
             if !axis.iter().all(|c| c.is_finite()) || axis.norm() < 1e-9 {
                 return Err(bad(field, "must be a finite non-zero vector"));
             }
         }
-        let (a, c) = (self.approach_axis.normalize(), self.closing_axis.normalize());
+        let (a, c) = (
+            self.approach_axis.normalize(),
+            self.closing_axis.normalize(),
+        );
         if a.dot(&c).abs() > 1e-6 {
             return Err(bad("closing_axis", "must be orthogonal to approach_axis"));
         }
-        if !self.palm.min.iter().chain(self.palm.max.iter()).all(|c| c.is_finite()) {
+        if !self
+            .palm
+            .min
+            .iter()
+            .chain(self.palm.max.iter())
+            .all(|c| c.is_finite())
+        {
             return Err(bad("palm", "corners must be finite"));
         }
         if (0..3).any(|k| self.palm.min[k] >= self.palm.max[k]) {
@@ -176,7 +204,11 @@ impl GripperParams {
     /// The two finger boxes at opening `opening` (m), the first on the `+closing` side.
     pub fn fingers(&self, opening: Real) -> [GripperBox; 2] {
         let r = self.tcp_from_canonical();
-        let half = Vector3::new(0.5 * self.pad_width, 0.5 * self.finger_thickness, 0.5 * self.finger_length);
+        let half = Vector3::new(
+            0.5 * self.pad_width,
+            0.5 * self.finger_thickness,
+            0.5 * self.finger_length,
+        );
         let along = 0.5 * self.pad_depth - 0.5 * self.finger_length;
         let side = 0.5 * opening + 0.5 * self.finger_thickness;
         [1.0, -1.0].map(|s| GripperBox {
@@ -188,7 +220,11 @@ impl GripperParams {
 
     /// The palm box.
     pub fn palm_box(&self) -> GripperBox {
-        GripperBox { center: self.palm.center(), tcp_from_box: Matrix3::identity(), half_extents: self.palm.half_extents() }
+        GripperBox {
+            center: self.palm.center(),
+            tcp_from_box: Matrix3::identity(),
+            half_extents: self.palm.half_extents(),
+        }
     }
 }
 
@@ -218,9 +254,30 @@ mod tests {
         assert!(e.to_string().starts_with("g.toml:"), "{e}");
         let bad = NX_HIRO.replace("opening_max = 0.08", "opening_max = -0.08");
         let e = GripperParams::from_toml_str(&bad, Path::new("g.toml")).expect_err("negative");
-        assert!(matches!(e, Error::InvalidGripper { field: "opening_max", .. }), "{e}");
-        let skew = NX_HIRO.replace("closing_axis = [0.0, 1.0, 0.0]", "closing_axis = [0.0, 1.0, 1.0]");
+        assert!(
+            matches!(
+                e,
+                Error::InvalidGripper {
+                    field: "opening_max",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let skew = NX_HIRO.replace(
+            "closing_axis = [0.0, 1.0, 0.0]",
+            "closing_axis = [0.0, 1.0, 1.0]",
+        );
         let e = GripperParams::from_toml_str(&skew, Path::new("g.toml")).expect_err("skew");
-        assert!(matches!(e, Error::InvalidGripper { field: "closing_axis", .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                Error::InvalidGripper {
+                    field: "closing_axis",
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 }

@@ -19,7 +19,10 @@ impl From<&Isometry3> for PoseJson {
     fn from(iso: &Isometry3) -> Self {
         let t = iso.translation.vector;
         let q = iso.rotation.quaternion();
-        Self { position: [t.x, t.y, t.z], orientation: [q.i, q.j, q.k, q.w] }
+        Self {
+            position: [t.x, t.y, t.z],
+            orientation: [q.i, q.j, q.k, q.w],
+        }
     }
 }
 
@@ -73,7 +76,13 @@ pub struct GraspsJson {
 
 impl GraspsJson {
     /// Builds the document of a planned [`GraspSet`].
-    pub fn new(mesh: &str, gripper: &str, h_max: Real, center_of_mass: &Point3, set: &GraspSet) -> Self {
+    pub fn new(
+        mesh: &str,
+        gripper: &str,
+        h_max: Real,
+        center_of_mass: &Point3,
+        set: &GraspSet,
+    ) -> Self {
         Self {
             format: GRASPS_JSON_FORMAT.to_owned(),
             mesh: mesh.to_owned(),

@@ -13,7 +13,9 @@ use crate::gripper::{GripperBox, GripperParams};
 use crate::quality::{self, GraspQuality, ScoreModel};
 use pickplace_geometry::cluster::{Cluster, ClusterPair, Clustering};
 use pickplace_geometry::math::nalgebra::Rotation3;
-use pickplace_geometry::math::{Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3};
+use pickplace_geometry::math::{
+    Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
+};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::polygon::Polygon;
 use rayon::prelude::*;
@@ -72,30 +74,65 @@ impl GraspOptions {
     /// [`Error::InvalidOption`] naming the first bad value.
     pub fn validate(&self) -> Result<()> {
         let check = |name: &'static str, value: Real, ok: bool, reason: &'static str| {
-            if ok { Ok(()) } else { Err(Error::InvalidOption { name, value, reason }) }
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::InvalidOption {
+                    name,
+                    value,
+                    reason,
+                })
+            }
         };
-        check("grid_step", self.grid_step, self.grid_step.is_finite() && self.grid_step >= 1e-4, "must be at least 0.1 mm")?;
+        check(
+            "grid_step",
+            self.grid_step,
+            self.grid_step.is_finite() && self.grid_step >= 1e-4,
+            "must be at least 0.1 mm",
+        )?;
         check(
             "approach_count",
             self.approach_count as Real,
             (1..=360).contains(&self.approach_count),
             "must be in 1..=360",
         )?;
-        check("clearance", self.clearance, self.clearance.is_finite() && self.clearance >= 0.0, "must be finite and non-negative")?;
+        check(
+            "clearance",
+            self.clearance,
+            self.clearance.is_finite() && self.clearance >= 0.0,
+            "must be finite and non-negative",
+        )?;
         check(
             "min_contact_ratio",
             self.min_contact_ratio,
             (0.0..=1.0).contains(&self.min_contact_ratio),
             "must be in [0, 1]",
         )?;
-        check("margin_scale", self.margin_scale, self.margin_scale.is_finite() && self.margin_scale > 0.0, "must be positive")?;
-        for (name, w) in
-            [("contact_weight", self.contact_weight), ("torque_weight", self.torque_weight), ("margin_weight", self.margin_weight)]
-        {
-            check(name, w, w.is_finite() && w >= 0.0, "must be finite and non-negative")?;
+        check(
+            "margin_scale",
+            self.margin_scale,
+            self.margin_scale.is_finite() && self.margin_scale > 0.0,
+            "must be positive",
+        )?;
+        for (name, w) in [
+            ("contact_weight", self.contact_weight),
+            ("torque_weight", self.torque_weight),
+            ("margin_weight", self.margin_weight),
+        ] {
+            check(
+                name,
+                w,
+                w.is_finite() && w >= 0.0,
+                "must be finite and non-negative",
+            )?;
         }
         let sum = self.contact_weight + self.torque_weight + self.margin_weight;
-        check("contact_weight", self.contact_weight, sum > 0.0, "the three weights must not all be zero")
+        check(
+            "contact_weight",
+            self.contact_weight,
+            sum > 0.0,
+            "the three weights must not all be zero",
+        )
     }
 }
 
@@ -191,7 +228,11 @@ impl GraspPlanner {
         let center_of_mass = MassProperties::of(mesh).center_of_mass;
         let (lo, hi) = mesh.aabb();
         let radius = (0.5 * (hi - lo).norm()).max(1e-9);
-        Ok(Self { collider, center_of_mass, radius })
+        Ok(Self {
+            collider,
+            center_of_mass,
+            radius,
+        })
     }
 
     /// The object's centre of gravity (uniform density), object frame (m).
@@ -219,12 +260,24 @@ impl GraspPlanner {
     /// Linear in the number of candidates; each costs a few polygon clips against the pad and
     /// up to three box-mesh intersection tests through the mesh's BVH. Candidates run in
     /// parallel (rayon) one grasp centre at a time.
-    pub fn plan(&self, clustering: &Clustering, gripper: &GripperParams, options: &GraspOptions) -> Result<GraspSet> {
+    pub fn plan(
+        &self,
+        clustering: &Clustering,
+        gripper: &GripperParams,
+        options: &GraspOptions,
+    ) -> Result<GraspSet> {
         gripper.validate()?;
         options.validate()?;
         let count = clustering.clusters.len();
         let cluster = |pair: usize, id: u32| {
-            clustering.clusters.get(id as usize).ok_or(Error::MissingCluster { pair, cluster: id, count })
+            clustering
+                .clusters
+                .get(id as usize)
+                .ok_or(Error::MissingCluster {
+                    pair,
+                    cluster: id,
+                    count,
+                })
         };
         let mut rejected = RejectionCounts::default();
         let mut sites = Vec::new();
@@ -236,7 +289,14 @@ impl GraspPlanner {
                 rejected.pair_width += 1;
                 continue;
             }
-            sites.extend(grid_points(&pair.overlap, options.grid_step).into_iter().map(|on_first| Site { pair: index, on_first }));
+            sites.extend(
+                grid_points(&pair.overlap, options.grid_step)
+                    .into_iter()
+                    .map(|on_first| Site {
+                        pair: index,
+                        on_first,
+                    }),
+            );
         }
         let context = Context {
             planner: self,
@@ -248,11 +308,17 @@ impl GraspPlanner {
                 pad_area: gripper.pad_area(),
                 torque_scale: self.radius,
                 margin_scale: options.margin_scale,
-                weights: [options.contact_weight, options.torque_weight, options.margin_weight],
+                weights: [
+                    options.contact_weight,
+                    options.torque_weight,
+                    options.margin_weight,
+                ],
             },
         };
-        let outcomes: Vec<Vec<std::result::Result<Grasp, Rejection>>> =
-            sites.par_iter().map(|site| context.evaluate_site(site)).collect();
+        let outcomes: Vec<Vec<std::result::Result<Grasp, Rejection>>> = sites
+            .par_iter()
+            .map(|site| context.evaluate_site(site))
+            .collect();
         let mut grasps = Vec::new();
         let mut candidates = 0;
         for outcome in outcomes.into_iter().flatten() {
@@ -268,7 +334,12 @@ impl GraspPlanner {
         }
         // Stable: equal scores keep the generation order.
         grasps.sort_by(|a, b| b.score.total_cmp(&a.score));
-        Ok(GraspSet { grasps, pairs: clustering.pairs.len(), candidates, rejected })
+        Ok(GraspSet {
+            grasps,
+            pairs: clustering.pairs.len(),
+            candidates,
+            rejected,
+        })
     }
 }
 
@@ -328,13 +399,29 @@ impl Context<'_> {
         let denominator = second.normal.dot(&n1);
         let width = second.normal.dot(&(on_first - second.point)) / denominator;
         let tcp = on_first - n1 * (0.5 * width);
-        let flips: &[Real] = if self.options.flip_closing { &[1.0, -1.0] } else { &[1.0] };
+        let flips: &[Real] = if self.options.flip_closing {
+            &[1.0, -1.0]
+        } else {
+            &[1.0]
+        };
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
             let angle = TAU * k as Real / self.options.approach_count as Real;
-            let candidate = Candidate { site, pair, first, second, tcp, width, angle };
+            let candidate = Candidate {
+                site,
+                pair,
+                first,
+                second,
+                tcp,
+                width,
+                angle,
+            };
             match self.shared_checks(&candidate) {
-                Ok(contact_area) => out.extend(flips.iter().map(|&flip| self.finish(&candidate, contact_area, flip))),
+                Ok(contact_area) => out.extend(
+                    flips
+                        .iter()
+                        .map(|&flip| self.finish(&candidate, contact_area, flip)),
+                ),
                 Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
             }
         }
@@ -346,7 +433,10 @@ impl Context<'_> {
     /// the contact area.
     fn shared_checks(&self, c: &Candidate<'_>) -> std::result::Result<Real, Rejection> {
         let (g, o) = (self.gripper, self.options);
-        if !(c.width.is_finite() && c.width >= g.opening_min && c.width <= g.opening_max - 2.0 * o.clearance) {
+        if !(c.width.is_finite()
+            && c.width >= g.opening_min
+            && c.width <= g.opening_max - 2.0 * o.clearance)
+        {
             return Err(Rejection::Width);
         }
         let (approach, lateral) = c.axes(1.0);
@@ -384,7 +474,8 @@ impl Context<'_> {
     /// object-frame axes.
     fn pose(&self, c: &Candidate<'_>, flip: Real) -> Isometry3 {
         let (approach, lateral) = c.axes(flip);
-        let object_from_canonical = Matrix3::from_columns(&[lateral, c.first.normal * flip, approach]);
+        let object_from_canonical =
+            Matrix3::from_columns(&[lateral, c.first.normal * flip, approach]);
         // Both factors are orthonormal by construction; `from_matrix` (iterative) would stall on
         // rotations of 180°.
         let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
@@ -394,17 +485,35 @@ impl Context<'_> {
     }
 
     /// The palm check and the quality of one orientation of a candidate.
-    fn finish(&self, c: &Candidate<'_>, contact_area: Real, flip: Real) -> std::result::Result<Grasp, Rejection> {
+    fn finish(
+        &self,
+        c: &Candidate<'_>,
+        contact_area: Real,
+        flip: Real,
+    ) -> std::result::Result<Grasp, Rejection> {
         let object_from_tcp = self.pose(c, flip);
         let palm: GripperBox = self.gripper.palm_box();
-        if self.planner.collider.hits(&object_from_tcp, &palm, self.options.clearance) {
+        if self
+            .planner
+            .collider
+            .hits(&object_from_tcp, &palm, self.options.clearance)
+        {
             return Err(Rejection::Palm);
         }
-        let torque_arm = (self.planner.center_of_mass - c.tcp).cross(&c.first.normal).norm();
+        let torque_arm = (self.planner.center_of_mass - c.tcp)
+            .cross(&c.first.normal)
+            .norm();
         let boundary_margin = quality::boundary_margin(&c.site.on_first, &c.pair.overlap);
-        let quality = GraspQuality { contact_area, torque_arm, boundary_margin };
-        let (positive_cluster, negative_cluster) =
-            if flip > 0.0 { (c.first.id, c.second.id) } else { (c.second.id, c.first.id) };
+        let quality = GraspQuality {
+            contact_area,
+            torque_arm,
+            boundary_margin,
+        };
+        let (positive_cluster, negative_cluster) = if flip > 0.0 {
+            (c.first.id, c.second.id)
+        } else {
+            (c.second.id, c.first.id)
+        };
         Ok(Grasp {
             object_from_tcp,
             width: c.width,
@@ -432,7 +541,8 @@ struct Candidate<'a> {
 impl Candidate<'_> {
     /// Approach and lateral axes (object frame) for the closing direction `flip · n1`.
     fn axes(&self, flip: Real) -> (Vector3, Vector3) {
-        let approach = self.first.frame.u * self.angle.cos() + self.first.frame.v * self.angle.sin();
+        let approach =
+            self.first.frame.u * self.angle.cos() + self.first.frame.v * self.angle.sin();
         let lateral = (self.first.normal * flip).cross(&approach);
         (approach, lateral)
     }
@@ -445,14 +555,22 @@ mod tests {
     use pickplace_geometry::shapes;
 
     fn gripper() -> GripperParams {
-        GripperParams::from_toml_str(include_str!("../tests/data/gripper.toml"), std::path::Path::new("gripper.toml"))
-            .expect("valid fixture")
+        GripperParams::from_toml_str(
+            include_str!("../tests/data/gripper.toml"),
+            std::path::Path::new("gripper.toml"),
+        )
+        .expect("valid fixture")
     }
 
     #[test]
     fn grid_covers_a_square_and_falls_back_to_the_centroid() {
         let sq = |s: Real| {
-            Polygon::new(vec![Point2::new(0.0, 0.0), Point2::new(s, 0.0), Point2::new(s, s), Point2::new(0.0, s)])
+            Polygon::new(vec![
+                Point2::new(0.0, 0.0),
+                Point2::new(s, 0.0),
+                Point2::new(s, s),
+                Point2::new(0.0, s),
+            ])
         };
         assert_eq!(grid_points(&[sq(0.045)], 0.01).len(), 25);
         let tiny = grid_points(&[sq(0.004)], 0.01);
@@ -467,7 +585,9 @@ mod tests {
         let mesh = shapes::object_box_builder().build().expect("valid");
         let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid");
         let planner = GraspPlanner::new(&mesh).expect("valid");
-        let set = planner.plan(&clustering, &gripper(), &GraspOptions::default()).expect("valid");
+        let set = planner
+            .plan(&clustering, &gripper(), &GraspOptions::default())
+            .expect("valid");
         assert_eq!(set.rejected.pair_width, 1);
         assert!(!set.grasps.is_empty());
         assert!(set.grasps.windows(2).all(|w| w[0].score >= w[1].score));
@@ -486,7 +606,8 @@ mod tests {
             assert!(y.dot(&c.normal) > 0.999);
             // Regression: half-turn rotations were once returned as the identity.
             let first = &clustering.clusters[clustering.pairs[g.pair].first as usize];
-            let expected = first.frame.u * g.approach_angle.cos() + first.frame.v * g.approach_angle.sin();
+            let expected =
+                first.frame.u * g.approach_angle.cos() + first.frame.v * g.approach_angle.sin();
             assert!((g.object_from_tcp.rotation * Vector3::z() - expected).norm() < 1e-9);
         }
         // The best grasp holds the box across its 4 cm side near the centre of gravity.
@@ -499,9 +620,23 @@ mod tests {
         let mesh = shapes::box_mesh([0.02, 0.02, 0.02]);
         let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid");
         let planner = GraspPlanner::new(&mesh).expect("valid");
-        let bad = GraspOptions { grid_step: 0.0, ..Default::default() };
-        assert!(matches!(planner.plan(&clustering, &gripper(), &bad), Err(Error::InvalidOption { name: "grid_step", .. })));
-        let zero = GraspOptions { contact_weight: 0.0, torque_weight: 0.0, margin_weight: 0.0, ..Default::default() };
+        let bad = GraspOptions {
+            grid_step: 0.0,
+            ..Default::default()
+        };
+        assert!(matches!(
+            planner.plan(&clustering, &gripper(), &bad),
+            Err(Error::InvalidOption {
+                name: "grid_step",
+                ..
+            })
+        ));
+        let zero = GraspOptions {
+            contact_weight: 0.0,
+            torque_weight: 0.0,
+            margin_weight: 0.0,
+            ..Default::default()
+        };
         assert!(planner.plan(&clustering, &gripper(), &zero).is_err());
     }
 }

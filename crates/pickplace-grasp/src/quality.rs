@@ -41,10 +41,25 @@ impl ScoreModel {
 }
 
 /// The corners of a rectangle (counter-clockwise when `u × v > 0`, else reordered so).
-pub(crate) fn rectangle(center: Point2, u: Vector2, v: Vector2, half_u: Real, half_v: Real) -> [Point2; 4] {
+pub(crate) fn rectangle(
+    center: Point2,
+    u: Vector2,
+    v: Vector2,
+    half_u: Real,
+    half_v: Real,
+) -> [Point2; 4] {
     let (a, b) = (u * half_u, v * half_v);
-    let r = [center - a - b, center + a - b, center + a + b, center - a + b];
-    if u.perp(&v) >= 0.0 { r } else { [r[3], r[2], r[1], r[0]] }
+    let r = [
+        center - a - b,
+        center + a - b,
+        center + a + b,
+        center - a + b,
+    ];
+    if u.perp(&v) >= 0.0 {
+        r
+    } else {
+        [r[3], r[2], r[1], r[0]]
+    }
 }
 
 /// Area of a convex counter-clockwise `window` intersected with a set of polygons with holes
@@ -62,7 +77,11 @@ pub(crate) fn clipped_area(window: &[Point2; 4], polygons: &[Polygon]) -> Real {
     total.max(0.0)
 }
 
-fn clip_ring<'a>(ring: &[Point2], window: &[Point2; 4], (a, b): &'a mut (Vec<Point2>, Vec<Point2>)) -> &'a [Point2] {
+fn clip_ring<'a>(
+    ring: &[Point2],
+    window: &[Point2; 4],
+    (a, b): &'a mut (Vec<Point2>, Vec<Point2>),
+) -> &'a [Point2] {
     a.clear();
     a.extend_from_slice(ring);
     for k in 0..4 {
@@ -97,7 +116,11 @@ pub(crate) fn boundary_margin(p: &Point2, polygons: &[Polygon]) -> Real {
         .flat_map(|poly| std::iter::once(&poly.outer).chain(poly.holes.iter()))
         .map(|ring| polygon::distance_to_ring(p, ring))
         .fold(Real::INFINITY, Real::min);
-    if polygons.iter().any(|poly| poly.contains(p)) { distance } else { -distance }
+    if polygons.iter().any(|poly| poly.contains(p)) {
+        distance
+    } else {
+        -distance
+    }
 }
 
 #[cfg(test)]
@@ -105,7 +128,12 @@ mod tests {
     use super::*;
 
     fn square(x0: Real, y0: Real, s: Real) -> Vec<Point2> {
-        vec![Point2::new(x0, y0), Point2::new(x0 + s, y0), Point2::new(x0 + s, y0 + s), Point2::new(x0, y0 + s)]
+        vec![
+            Point2::new(x0, y0),
+            Point2::new(x0 + s, y0),
+            Point2::new(x0 + s, y0 + s),
+            Point2::new(x0, y0 + s),
+        ]
     }
 
     #[test]
@@ -124,14 +152,27 @@ mod tests {
             ],
             holes: vec![],
         };
-        let ring = Polygon { outer: square(0.0, 0.0, 1.0), holes: vec![hole] };
+        let ring = Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        };
         let a = 0.35_f64;
-        let (u, v) = (Vector2::new(a.cos(), a.sin()), Vector2::new(-a.sin(), a.cos()));
+        let (u, v) = (
+            Vector2::new(a.cos(), a.sin()),
+            Vector2::new(-a.sin(), a.cos()),
+        );
         for shape in [l, ring] {
-            for (c, hu, hv) in [(Point2::new(0.5, 0.5), 0.3, 0.2), (Point2::new(0.9, 0.2), 0.25, 0.4), (Point2::new(3.0, 3.0), 0.1, 0.1)] {
+            for (c, hu, hv) in [
+                (Point2::new(0.5, 0.5), 0.3, 0.2),
+                (Point2::new(0.9, 0.2), 0.25, 0.4),
+                (Point2::new(3.0, 3.0), 0.1, 0.1),
+            ] {
                 for (du, dv) in [(u, v), (v, u)] {
                     let w = rectangle(c, du, dv, hu, hv);
-                    let expected = polygon::total_area(&polygon::intersection(&[Polygon::new(w.to_vec())], std::slice::from_ref(&shape)));
+                    let expected = polygon::total_area(&polygon::intersection(
+                        &[Polygon::new(w.to_vec())],
+                        std::slice::from_ref(&shape),
+                    ));
                     let got = clipped_area(&w, std::slice::from_ref(&shape));
                     assert!((got - expected).abs() < 1e-9, "{got} vs {expected}");
                 }
@@ -143,7 +184,10 @@ mod tests {
     fn margin_is_signed_and_sees_holes() {
         let mut hole = square(0.4, 0.4, 0.2);
         hole.reverse();
-        let p = [Polygon { outer: square(0.0, 0.0, 1.0), holes: vec![hole] }];
+        let p = [Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        }];
         assert!((boundary_margin(&Point2::new(0.2, 0.5), &p) - 0.2).abs() < 1e-12);
         assert!((boundary_margin(&Point2::new(0.5, 0.5), &p) + 0.1).abs() < 1e-12);
         assert!((boundary_margin(&Point2::new(1.5, 0.5), &p) + 0.5).abs() < 1e-12);
@@ -151,12 +195,29 @@ mod tests {
 
     #[test]
     fn score_terms_are_normalised() {
-        let m = ScoreModel { pad_area: 1.0, torque_scale: 1.0, margin_scale: 1.0, weights: [0.5, 0.3, 0.2] };
-        let best = GraspQuality { contact_area: 1.0, torque_arm: 0.0, boundary_margin: 5.0 };
-        let worst = GraspQuality { contact_area: 0.0, torque_arm: 3.0, boundary_margin: -1.0 };
+        let m = ScoreModel {
+            pad_area: 1.0,
+            torque_scale: 1.0,
+            margin_scale: 1.0,
+            weights: [0.5, 0.3, 0.2],
+        };
+        let best = GraspQuality {
+            contact_area: 1.0,
+            torque_arm: 0.0,
+            boundary_margin: 5.0,
+        };
+        let worst = GraspQuality {
+            contact_area: 0.0,
+            torque_arm: 3.0,
+            boundary_margin: -1.0,
+        };
         assert!((m.score(&best) - 1.0).abs() < 1e-12);
         assert_eq!(m.score(&worst), 0.0);
-        let mid = GraspQuality { contact_area: 0.5, torque_arm: 0.5, boundary_margin: 0.5 };
+        let mid = GraspQuality {
+            contact_area: 0.5,
+            torque_arm: 0.5,
+            boundary_margin: 0.5,
+        };
         assert!((m.score(&mid) - 0.5).abs() < 1e-12);
     }
 }

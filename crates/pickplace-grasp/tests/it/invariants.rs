@@ -11,12 +11,18 @@ use proptest::prelude::*;
 fn inside_region(c: &Cluster, p: &Point3) -> bool {
     let q = c.frame.to_2d(p);
     c.region.contains(&q)
-        || std::iter::once(&c.region.outer).chain(c.region.holes.iter()).any(|r| polygon::distance_to_ring(&q, r) < 1e-6)
+        || std::iter::once(&c.region.outer)
+            .chain(c.region.holes.iter())
+            .any(|r| polygon::distance_to_ring(&q, r) < 1e-6)
 }
 
 /// Checks every grasp of `planned`; returns a description of the first violation.
 fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> Result<(), String> {
-    let Planned { mesh, clustering, set } = planned;
+    let Planned {
+        mesh,
+        clustering,
+        set,
+    } = planned;
     let h_max = clustering.params.h_max;
     let rejected = set.rejected;
     let sum = set.grasps.len()
@@ -33,7 +39,10 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
     }
     for (i, g) in set.grasps.iter().enumerate() {
         if !(g.width >= gripper.opening_min && g.width <= gripper.opening_max) {
-            return Err(format!("grasp {i}: width {} outside the opening range", g.width));
+            return Err(format!(
+                "grasp {i}: width {} outside the opening range",
+                g.width
+            ));
         }
         if !(0.0..=1.0).contains(&g.score) {
             return Err(format!("grasp {i}: score {}", g.score));
@@ -41,8 +50,14 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
         for (sign, id) in [(1.0, g.positive_cluster), (-1.0, g.negative_cluster)] {
             let c = &clustering.clusters[id as usize];
             let pad = support::pad_points(g, gripper, sign);
-            if let Some(p) = pad.iter().find(|p| c.plane_distance(p).abs() > h_max + 1e-9) {
-                return Err(format!("grasp {i}: pad point {p} is {} m off cluster {id}'s plane", c.plane_distance(p)));
+            if let Some(p) = pad
+                .iter()
+                .find(|p| c.plane_distance(p).abs() > h_max + 1e-9)
+            {
+                return Err(format!(
+                    "grasp {i}: pad point {p} is {} m off cluster {id}'s plane",
+                    c.plane_distance(p)
+                ));
             }
             if !inside_region(c, &pad[0]) {
                 return Err(format!("grasp {i}: pad centre outside cluster {id}"));
@@ -55,7 +70,10 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
         if g.quality.contact_area < options.min_contact_ratio * gripper.pad_area() - 1e-12 {
             return Err(format!("grasp {i}: contact {}", g.quality.contact_area));
         }
-        for (k, body) in support::bodies(g, gripper, options.clearance).iter().enumerate() {
+        for (k, body) in support::bodies(g, gripper, options.clearance)
+            .iter()
+            .enumerate()
+        {
             if support::body_hits(mesh, body) {
                 return Err(format!("grasp {i}: gripper body {k} intersects the object"));
             }
@@ -68,7 +86,11 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
 fn can_mug_and_box_grasps_satisfy_the_invariants() {
     let gripper = support::gripper();
     let options = GraspOptions::default();
-    for builder in [shapes::can_builder(), shapes::mug_builder(), shapes::object_box_builder()] {
+    for builder in [
+        shapes::can_builder(),
+        shapes::mug_builder(),
+        shapes::object_box_builder(),
+    ] {
         let planned = support::plan(builder.build().expect("valid"), &gripper, &options);
         assert!(!planned.set.grasps.is_empty());
         check(&planned, &gripper, &options).expect("invariants");
@@ -80,8 +102,16 @@ fn output_does_not_depend_on_the_thread_count() {
     let gripper = support::gripper();
     let mesh = shapes::mug_builder().build().expect("valid");
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
-        pool.install(|| format!("{:?}", support::plan(mesh.clone(), &gripper, &GraspOptions::default()).set))
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            format!(
+                "{:?}",
+                support::plan(mesh.clone(), &gripper, &GraspOptions::default()).set
+            )
+        })
     };
     assert_eq!(run(1), run(3));
 }
@@ -91,10 +121,19 @@ fn the_collider_sees_what_the_independent_check_sees() {
     // Without any clearance the fingers touch the cluster planes: every candidate collides
     // in the independent check once the fingers close 1 mm beyond the planes.
     let gripper = support::gripper();
-    let options = GraspOptions { clearance: 0.0, ..Default::default() };
-    let planned = support::plan(shapes::object_box_builder().build().expect("valid"), &gripper, &options);
+    let options = GraspOptions {
+        clearance: 0.0,
+        ..Default::default()
+    };
+    let planned = support::plan(
+        shapes::object_box_builder().build().expect("valid"),
+        &gripper,
+        &options,
+    );
     let g = planned.set.grasps.first().expect("grasps");
-    let pressed = gripper.fingers(g.width - 0.002).map(|f| support::obb(&g.object_from_tcp, &f));
+    let pressed = gripper
+        .fingers(g.width - 0.002)
+        .map(|f| support::obb(&g.object_from_tcp, &f));
     assert!(pressed.iter().all(|f| support::body_hits(&planned.mesh, f)));
 }
 
