@@ -57,6 +57,18 @@ pub enum Error {
         /// Number of clusters.
         count: usize,
     },
+    /// A pair's overlap region is too large for the grid spacing.
+    #[error(
+        "grid_step = {grid_step} m is too fine for cluster pair {pair}: more than {limit} grid nodes"
+    )]
+    GridTooFine {
+        /// Index of the pair.
+        pair: usize,
+        /// The grid spacing (m).
+        grid_step: Real,
+        /// The limit on grid nodes per pair.
+        limit: u64,
+    },
     /// The object mesh could not be turned into a collision mesh.
     #[error("the object mesh cannot be used for collision tests")]
     CollisionMesh {

@@ -253,8 +253,9 @@ impl GraspPlanner {
     /// The output is the same for the same input, whatever the number of threads.
     ///
     /// # Errors
-    /// [`Error::InvalidGripper`], [`Error::InvalidOption`], or [`Error::MissingCluster`] when
-    /// a pair names a cluster the clustering does not have.
+    /// [`Error::InvalidGripper`], [`Error::InvalidOption`], [`Error::MissingCluster`] when
+    /// a pair names a cluster the clustering does not have, [`Error::GridTooFine`] when a pair's
+    /// grid would exceed [`MAX_GRID_NODES`].
     ///
     /// # Performance
     /// Linear in the number of candidates; each costs a few polygon clips against the pad and
@@ -289,14 +290,16 @@ impl GraspPlanner {
                 rejected.pair_width += 1;
                 continue;
             }
-            sites.extend(
-                grid_points(&pair.overlap, options.grid_step)
-                    .into_iter()
-                    .map(|on_first| Site {
-                        pair: index,
-                        on_first,
-                    }),
-            );
+            let points =
+                grid_points(&pair.overlap, options.grid_step).ok_or(Error::GridTooFine {
+                    pair: index,
+                    grid_step: options.grid_step,
+                    limit: MAX_GRID_NODES,
+                })?;
+            sites.extend(points.into_iter().map(|on_first| Site {
+                pair: index,
+                on_first,
+            }));
         }
         let context = Context {
             planner: self,
@@ -343,10 +346,14 @@ impl GraspPlanner {
     }
 }
 
+/// Most grid nodes scanned over one pair's overlap region.
+pub const MAX_GRID_NODES: u64 = 1_000_000;
+
 /// Grid points inside a polygon set: a square grid of spacing `step`, aligned with the frame
 /// axes and centred on the set's bounding box. When no grid point falls inside (a region
-/// smaller than the step), the area centroid is used if it lies inside.
-fn grid_points(overlap: &[Polygon], step: Real) -> Vec<Point2> {
+/// smaller than the step), the area centroid is used if it lies inside. `None` when the grid
+/// would have more than [`MAX_GRID_NODES`] nodes.
+fn grid_points(overlap: &[Polygon], step: Real) -> Option<Vec<Point2>> {
     let mut lo = Vector2::repeat(Real::INFINITY);
     let mut hi = Vector2::repeat(Real::NEG_INFINITY);
     for p in overlap.iter().flat_map(Polygon::points) {
@@ -354,13 +361,16 @@ fn grid_points(overlap: &[Polygon], step: Real) -> Vec<Point2> {
         hi = hi.sup(&p.coords);
     }
     if !(lo.x <= hi.x && lo.y <= hi.y) {
-        return Vec::new();
+        return Some(Vec::new());
     }
     let inside = |q: &Point2| overlap.iter().any(|p| p.contains(q));
     let center = (lo + hi) * 0.5;
-    // Grid points cover [lo, hi]; the cap keeps a huge region from allocating without bound.
-    let half_count = |extent: Real| ((0.5 * extent / step).floor() as i64).clamp(0, 100_000);
+    // Grid points cover [lo, hi] (the float-to-int cast saturates on huge extents).
+    let half_count = |extent: Real| ((0.5 * extent / step).floor() as i64).clamp(0, 1 << 31);
     let (nx, ny) = (half_count(hi.x - lo.x), half_count(hi.y - lo.y));
+    if ((2 * nx + 1) as u64).saturating_mul((2 * ny + 1) as u64) > MAX_GRID_NODES {
+        return None;
+    }
     let mut out = Vec::new();
     for j in -ny..=ny {
         for i in -nx..=nx {
@@ -376,7 +386,7 @@ fn grid_points(overlap: &[Polygon], step: Real) -> Vec<Point2> {
     {
         out.push(c);
     }
-    out
+    Some(out)
 }
 
 struct Context<'a> {
@@ -572,11 +582,16 @@ mod tests {
                 Point2::new(0.0, s),
             ])
         };
-        assert_eq!(grid_points(&[sq(0.045)], 0.01).len(), 25);
-        let tiny = grid_points(&[sq(0.004)], 0.01);
+        assert_eq!(
+            grid_points(&[sq(0.045)], 0.01).expect("small grid").len(),
+            25
+        );
+        let tiny = grid_points(&[sq(0.004)], 0.01).expect("small grid");
         assert_eq!(tiny.len(), 1);
         assert!((tiny[0] - Point2::new(0.002, 0.002)).norm() < 1e-12);
-        assert!(grid_points(&[], 0.01).is_empty());
+        assert!(grid_points(&[], 0.01).expect("empty grid").is_empty());
+        assert!(grid_points(&[sq(1.0)], 1e-4).is_none());
+        assert!(grid_points(&[sq(1e300)], 1e-4).is_none());
     }
 
     #[test]

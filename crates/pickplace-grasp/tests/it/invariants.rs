@@ -2,7 +2,7 @@
 
 use super::support::{self, Planned};
 use pickplace_geometry::cluster::Cluster;
-use pickplace_geometry::math::{Point3, Real};
+use pickplace_geometry::math::Point3;
 use pickplace_geometry::polygon;
 use pickplace_geometry::shapes;
 use pickplace_grasp::{GraspOptions, GripperParams};
@@ -151,6 +151,5 @@ proptest! {
         prop_assert!(check(&planned, &gripper, &options).is_ok(), "{:?}", check(&planned, &gripper, &options));
         let fits = [hx, hy, hz].iter().filter(|h| 2.0 * **h <= gripper.opening_max - 2.0 * clearance).count();
         prop_assert_eq!(planned.set.rejected.pair_width, 3 - fits);
-        let _: Real = hx;
     }
 }
