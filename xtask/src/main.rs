@@ -19,6 +19,7 @@ fn main() -> anyhow::Result<()> {
             eprintln!(
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
                  (meshes/*.stl) from pickplace_geometry::shapes\n  \
+                 acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
                  precompute   cluster every mesh in meshes/ (env and finger) into the cache \
                  ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
             );

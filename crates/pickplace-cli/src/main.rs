@@ -4,6 +4,7 @@
 mod clusters;
 mod placements;
 mod robot;
+mod grasps;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -38,6 +39,8 @@ enum Command {
         #[command(subcommand)]
         command: robot::RobotCommand,
     },
+    /// Plan parallel-gripper grasps of an object (ranked, with rejection counts).
+    Grasps(grasps::GraspsArgs),
 }
 
 fn main() -> ExitCode {
@@ -72,6 +75,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Precompute(args) => clusters::run_precompute(args),
         Command::Placements(args) => placements::run(&args),
         Command::Robot { command } => robot::run(command),
+        Command::Grasps(args) => grasps::run(&args),
     }
 }
 
