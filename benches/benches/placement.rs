@@ -44,7 +44,10 @@ fn placement(c: &mut Criterion) {
     let (mug_object, table_env) = models(&mug, &table);
     let near_obstacle = Point3::new(-0.25, 0.19, 0.70);
     c.bench_function("placement/mug_on_table_near_obstacle", |b| {
-        b.iter(|| candidates(black_box(&mug_object), &table_env, &near_obstacle, &options).expect("placements"))
+        b.iter(|| {
+            candidates(black_box(&mug_object), &table_env, &near_obstacle, &options)
+                .expect("placements")
+        })
     });
 
     // Resting poses on a plane: the shipped mug (1824 triangles).

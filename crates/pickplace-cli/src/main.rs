@@ -2,9 +2,10 @@
 //! 2 bad input or usage.
 
 mod clusters;
+mod demo;
+mod grasps;
 mod placements;
 mod robot;
-mod grasps;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,6 +23,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// The main job on the built-in scene (the paper's Fig. 9): clusters, placements, grasps.
+    Demo(demo::DemoArgs),
     /// Print what loading a mesh did (welding, degenerate triangles, open edges).
     MeshInfo {
         /// Mesh file (.stl, .obj, .ply).
@@ -66,6 +69,7 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
+        Command::Demo(args) => demo::run(&args),
         Command::MeshInfo { mesh } => {
             let m = pickplace_geometry::mesh::load(&mesh, &Default::default())?;
             println!("{}", serde_json::to_string_pretty(m.report())?);

@@ -30,7 +30,12 @@ pub struct PlacementsArgs {
     pub env_pose: Option<String>,
     /// The point on the environment where the object should go (the paper's click), world
     /// frame. Default: the centre of the environment's largest upward-facing cluster.
-    #[arg(long, value_name = "X,Y,Z", requires = "on", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        requires = "on",
+        allow_hyphen_values = true
+    )]
     pub target: Option<String>,
     /// Scale applied to both meshes on loading (default: 1, the files are in metres).
     #[arg(long, default_value_t = 1.0)]
@@ -56,7 +61,10 @@ impl From<&Isometry3> for JsonPose {
     fn from(p: &Isometry3) -> Self {
         let t = p.translation.vector;
         let q = p.rotation.quaternion();
-        Self { position: [t.x, t.y, t.z], orientation: [q.i, q.j, q.k, q.w] }
+        Self {
+            position: [t.x, t.y, t.z],
+            orientation: [q.i, q.j, q.k, q.w],
+        }
     }
 }
 
@@ -94,7 +102,10 @@ struct JsonOutput {
 fn parse_numbers(text: &str, what: &str) -> anyhow::Result<Vec<Real>> {
     text.split(',')
         .map(|s| {
-            let v: Real = s.trim().parse().with_context(|| format!("{what} `{text}`: `{s}` is not a number"))?;
+            let v: Real = s
+                .trim()
+                .parse()
+                .with_context(|| format!("{what} `{text}`: `{s}` is not a number"))?;
             if !v.is_finite() {
                 bail!("{what} `{text}`: `{s}` is not finite");
             }
@@ -115,15 +126,23 @@ pub fn parse_pose(text: &str) -> anyhow::Result<Isometry3> {
             }
             UnitQuaternion::from_quaternion(q)
         }
-        n => bail!("--env-pose `{text}`: expected 3 numbers (x,y,z) or 7 (x,y,z,qx,qy,qz,qw), got {n}"),
+        n => bail!(
+            "--env-pose `{text}`: expected 3 numbers (x,y,z) or 7 (x,y,z,qx,qy,qz,qw), got {n}"
+        ),
     };
-    Ok(Isometry3::from_parts(Translation3::new(v[0], v[1], v[2]), rotation))
+    Ok(Isometry3::from_parts(
+        Translation3::new(v[0], v[1], v[2]),
+        rotation,
+    ))
 }
 
 fn parse_point(text: &str) -> anyhow::Result<Point3> {
     let v = parse_numbers(text, "--target")?;
     if v.len() != 3 {
-        bail!("--target `{text}`: expected 3 numbers X,Y,Z, got {}", v.len());
+        bail!(
+            "--target `{text}`: expected 3 numbers X,Y,Z, got {}",
+            v.len()
+        );
     }
     Ok(Point3::new(v[0], v[1], v[2]))
 }
@@ -133,7 +152,10 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
     if !(args.scale.is_finite() && args.scale > 0.0) {
         bail!("--scale {}: must be a positive number", args.scale);
     }
-    let options = MeshOptions { scale: args.scale, ..Default::default() };
+    let options = MeshOptions {
+        scale: args.scale,
+        ..Default::default()
+    };
     let object_mesh = mesh::load(&args.object, &options)?;
     let mass = MassProperties::of(&object_mesh);
     let cog = mass.center_of_mass;
@@ -172,18 +194,29 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         None => Isometry3::identity(),
     };
     let env_mesh = mesh::load(env_path, &options)?;
-    let params = ClusterParams { h_max: args.h_max, ..ClusterParams::environment() };
+    let params = ClusterParams {
+        h_max: args.h_max,
+        ..ClusterParams::environment()
+    };
     debug_assert_eq!(params.mode, ContactMode::Environment);
-    let object_clusters = cluster_surface(&object_mesh, &params).with_context(|| format!("{object_name}: clustering"))?;
-    let env_clusters =
-        cluster_surface(&env_mesh, &params).with_context(|| format!("{}: clustering", env_path.display()))?;
+    let object_clusters = cluster_surface(&object_mesh, &params)
+        .with_context(|| format!("{object_name}: clustering"))?;
+    let env_clusters = cluster_surface(&env_mesh, &params)
+        .with_context(|| format!("{}: clustering", env_path.display()))?;
     let object = ObjectModel::new(&object_mesh, &object_clusters, cog)?;
     let env = EnvironmentModel::new(&env_mesh, &env_clusters, &world_from_env)?;
-    let placement_options = PlacementOptions { max_candidates: args.max, ..Default::default() };
+    let placement_options = PlacementOptions {
+        max_candidates: args.max,
+        ..Default::default()
+    };
     let target = match &args.target {
         Some(text) => parse_point(text)?,
-        None => default_target(&env, &placement_options)
-            .with_context(|| format!("{}: no upward-facing cluster to place on", env_path.display()))?,
+        None => default_target(&env, &placement_options).with_context(|| {
+            format!(
+                "{}: no upward-facing cluster to place on",
+                env_path.display()
+            )
+        })?,
     };
     let set = candidates(&object, &env, &target, &placement_options)
         .map_err(|e| anyhow::anyhow!("{}: {e}", env_path.display()))?;
@@ -226,12 +259,20 @@ fn default_target(env: &EnvironmentModel, options: &PlacementOptions) -> Option<
     env.regions
         .iter()
         .filter(|r| r.normal().z >= options.max_slope.cos())
-        .max_by(|a, b| a.area.total_cmp(&b.area).then(b.cluster_id.cmp(&a.cluster_id)))
+        .max_by(|a, b| {
+            a.area
+                .total_cmp(&b.area)
+                .then(b.cluster_id.cmp(&a.cluster_id))
+        })
         .and_then(|r| {
             let c = r.polygon.centroid()?;
             // The centroid of a region with holes may fall in a hole: take the nearest point
             // of the region's own grid then (the rectangle's centre is as good a guess).
-            let c = if r.polygon.contains(&c) { c } else { r.rect.center };
+            let c = if r.polygon.contains(&c) {
+                c
+            } else {
+                r.rect.center
+            };
             Some(r.parent_from_plane * Point3::new(c.x, c.y, 0.0))
         })
 }
@@ -246,10 +287,14 @@ fn print(out: &JsonOutput, json: bool) -> anyhow::Result<ExitCode> {
                 t[0],
                 t[1],
                 t[2],
-                out.target_cluster.map_or_else(|| "-".into(), |c| c.to_string())
+                out.target_cluster
+                    .map_or_else(|| "-".into(), |c| c.to_string())
             );
         }
-        println!("{:>3}  {:<9}  {:>7}  {:>10}  {:>9}  {:>7}  position", "#", "contact", "object", "margin(m)", "dist(m)", "tilt(°)");
+        println!(
+            "{:>3}  {:<9}  {:>7}  {:>10}  {:>9}  {:>7}  position",
+            "#", "contact", "object", "margin(m)", "dist(m)", "tilt(°)"
+        );
         for (i, p) in out.placements.iter().enumerate() {
             let contact = match p.contact {
                 ContactKind::FaceFace => "face-face",
@@ -259,9 +304,11 @@ fn print(out: &JsonOutput, json: bool) -> anyhow::Result<ExitCode> {
                 "{:>3}  {:<9}  {:>7}  {:>10.4}  {:>9}  {:>7.2}  ({:.4}, {:.4}, {:.4})",
                 i,
                 contact,
-                p.object_cluster.map_or_else(|| "-".into(), |c| c.to_string()),
+                p.object_cluster
+                    .map_or_else(|| "-".into(), |c| c.to_string()),
                 p.stability_margin,
-                p.distance_to_target.map_or_else(|| "-".into(), |d| format!("{d:.4}")),
+                p.distance_to_target
+                    .map_or_else(|| "-".into(), |d| format!("{d:.4}")),
                 p.tilt.to_degrees(),
                 p.pose.position[0],
                 p.pose.position[1],

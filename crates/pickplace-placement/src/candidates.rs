@@ -22,8 +22,10 @@
 use crate::collide::CollisionMesh;
 use crate::region::Region;
 use pickplace_geometry::cluster::Clustering;
+use pickplace_geometry::math::{
+    Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
+};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::math::{Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3};
 use pickplace_geometry::polygon::{Polygon, convex_hull, signed_margin, support_hull};
 use std::f64::consts::PI;
 
@@ -146,7 +148,11 @@ impl ObjectModel {
     /// [`crate::Error::NonFiniteCog`] for a CoG that is not finite.
     pub fn new(mesh: &TriMesh, clustering: &Clustering, cog: Point3) -> crate::Result<Self> {
         if !cog.coords.iter().all(|c| c.is_finite()) {
-            return Err(crate::Error::NonFiniteCog { x: cog.x, y: cog.y, z: cog.z });
+            return Err(crate::Error::NonFiniteCog {
+                x: cog.x,
+                y: cog.y,
+                z: cog.z,
+            });
         }
         let identity = Isometry3::identity();
         let regions = clustering
@@ -154,7 +160,11 @@ impl ObjectModel {
             .iter()
             .filter_map(|c| Region::from_cluster_on_mesh(c, mesh, &identity, CONTACT_TOLERANCE))
             .collect();
-        Ok(Self { regions, cog, collision: CollisionMesh::new(mesh)? })
+        Ok(Self {
+            regions,
+            cog,
+            collision: CollisionMesh::new(mesh)?,
+        })
     }
 }
 
@@ -164,7 +174,11 @@ impl EnvironmentModel {
     ///
     /// # Errors
     /// Only on an internally inconsistent mesh (see [`CollisionMesh::new`]).
-    pub fn new(mesh: &TriMesh, clustering: &Clustering, world_from_env: &Isometry3) -> crate::Result<Self> {
+    pub fn new(
+        mesh: &TriMesh,
+        clustering: &Clustering,
+        world_from_env: &Isometry3,
+    ) -> crate::Result<Self> {
         Self::from_parts(&[(mesh, clustering, *world_from_env)])
     }
 
@@ -186,8 +200,12 @@ impl EnvironmentModel {
             }
             offset += clustering.clusters.len();
         }
-        let meshes: Vec<(&TriMesh, Isometry3)> = parts.iter().map(|(m, _, pose)| (*m, *pose)).collect();
-        Ok(Self { regions, collision: CollisionMesh::from_meshes(&meshes)? })
+        let meshes: Vec<(&TriMesh, Isometry3)> =
+            parts.iter().map(|(m, _, pose)| (*m, *pose)).collect();
+        Ok(Self {
+            regions,
+            collision: CollisionMesh::from_meshes(&meshes)?,
+        })
     }
 }
 
@@ -247,7 +265,11 @@ fn upward(region: &Region, options: &PlacementOptions) -> bool {
 /// outside its polygon.
 fn distance_to_region(region: &Region, p: &Point3) -> Real {
     let (q, h) = region.to_plane(p);
-    let outside = if region.polygon.contains(&q) { 0.0 } else { (-signed_margin(&q, &region.polygon.outer)).max(0.0) };
+    let outside = if region.polygon.contains(&q) {
+        0.0
+    } else {
+        (-signed_margin(&q, &region.polygon.outer)).max(0.0)
+    };
     (h * h + outside * outside).sqrt()
 }
 
@@ -256,12 +278,24 @@ fn distance_to_region(region: &Region, p: &Point3) -> Real {
 ///
 /// # Errors
 /// [`TargetError`] naming the nearest upward-facing cluster and its distance.
-pub fn select_target(env: &EnvironmentModel, target: &Point3, options: &PlacementOptions) -> Result<usize, TargetError> {
+pub fn select_target(
+    env: &EnvironmentModel,
+    target: &Point3,
+    options: &PlacementOptions,
+) -> Result<usize, TargetError> {
     let mut best: Option<(Real, usize)> = None;
     let mut nearest: Option<(Real, usize)> = None;
-    for (i, r) in env.regions.iter().enumerate().filter(|(_, r)| upward(r, options)) {
+    for (i, r) in env
+        .regions
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| upward(r, options))
+    {
         let (q, h) = r.to_plane(target);
-        if h.abs() <= options.target_tolerance && r.polygon.contains(&q) && best.is_none_or(|(d, _)| h.abs() < d) {
+        if h.abs() <= options.target_tolerance
+            && r.polygon.contains(&q)
+            && best.is_none_or(|(d, _)| h.abs() < d)
+        {
             best = Some((h.abs(), i));
         }
         let d = distance_to_region(r, target);
@@ -271,10 +305,16 @@ pub fn select_target(env: &EnvironmentModel, target: &Point3, options: &Placemen
     }
     match (best, nearest) {
         (Some((_, i)), _) => Ok(i),
-        (None, Some((d, i))) => {
-            Err(TargetError { target: *target, nearest_cluster: env.regions[i].cluster_id, distance: d })
-        }
-        (None, None) => Err(TargetError { target: *target, nearest_cluster: usize::MAX, distance: Real::INFINITY }),
+        (None, Some((d, i))) => Err(TargetError {
+            target: *target,
+            nearest_cluster: env.regions[i].cluster_id,
+            distance: d,
+        }),
+        (None, None) => Err(TargetError {
+            target: *target,
+            nearest_cluster: usize::MAX,
+            distance: Real::INFINITY,
+        }),
     }
 }
 
@@ -324,9 +364,25 @@ pub fn candidates(
                 continue;
             }
             let found = if include_bounding_box(object_region, env_region) {
-                search_face_face(object, object_region, env, env_region, target, options, &mut counts)
+                search_face_face(
+                    object,
+                    object_region,
+                    env,
+                    env_region,
+                    target,
+                    options,
+                    &mut counts,
+                )
             } else {
-                let found = search_edge_face(object, object_region, env, env_region, target, options, &mut counts);
+                let found = search_edge_face(
+                    object,
+                    object_region,
+                    env,
+                    env_region,
+                    target,
+                    options,
+                    &mut counts,
+                );
                 if found.is_empty() {
                     counts.did_not_fit += 1;
                 }
@@ -337,9 +393,13 @@ pub fn candidates(
         }
         rejections.push((env_region.cluster_id, counts));
     }
-    placements.sort_by(|a, b| rank(a, object).cmp(&rank(b, object)));
+    placements.sort_by_key(|a| rank(a, object));
     placements.truncate(options.max_candidates);
-    Ok(PlacementSet { target_cluster: env.regions[target_index].cluster_id, placements, rejections })
+    Ok(PlacementSet {
+        target_cluster: env.regions[target_index].cluster_id,
+        placements,
+        rejections,
+    })
 }
 
 /// Ranking key of a placement (smaller is better): the distance to the target, then the
@@ -350,7 +410,13 @@ pub fn candidates(
 fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
     let q = |x: Real| (x / RANK_RESOLUTION).round() as i64;
     let cog_z = (p.world_from_object * object.cog).z;
-    (q(p.distance_to_target), -q(p.stability_margin), q(cog_z), p.object_cluster, p.env_cluster)
+    (
+        q(p.distance_to_target),
+        -q(p.stability_margin),
+        q(cog_z),
+        p.object_cluster,
+        p.env_cluster,
+    )
 }
 
 /// Resolution (m) at which distances and margins are compared when ranking (0.1 mm).
@@ -391,7 +457,10 @@ fn grid_positions(env: &Region, target2: &Point2, step: Real, limit: usize) -> V
     let nx = ((2.0 * r.half_extents.x / step).floor() as i64).clamp(0, 2000);
     let ny = ((2.0 * r.half_extents.y / step).floor() as i64).clamp(0, 2000);
     // Centre the grid in the rectangle so that both sides get the same clearance.
-    let (ox, oy) = (r.half_extents.x - step * nx as Real / 2.0, r.half_extents.y - step * ny as Real / 2.0);
+    let (ox, oy) = (
+        r.half_extents.x - step * nx as Real / 2.0,
+        r.half_extents.y - step * ny as Real / 2.0,
+    );
     for i in 0..nx {
         for j in 0..ny {
             let (u, v) = (
@@ -404,7 +473,11 @@ fn grid_positions(env: &Region, target2: &Point2, step: Real, limit: usize) -> V
             }
         }
     }
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.x.total_cmp(&b.1.x)).then(a.1.y.total_cmp(&b.1.y)));
+    pts.sort_by(|a, b| {
+        a.0.total_cmp(&b.0)
+            .then(a.1.x.total_cmp(&b.1.x))
+            .then(a.1.y.total_cmp(&b.1.y))
+    });
     pts.truncate(limit);
     pts.into_iter().map(|(_, p)| p).collect()
 }
@@ -420,7 +493,9 @@ fn rx(angle: Real) -> UnitQuaternion {
 /// The CoG's vertical line meets the environment plane at this point (plane coordinates).
 fn cog_foot(env: &Region, cog_world: &Point3) -> Option<Point2> {
     let (c, h) = env.to_plane(cog_world);
-    let g = env.parent_from_plane.inverse_transform_vector(&-Vector3::z());
+    let g = env
+        .parent_from_plane
+        .inverse_transform_vector(&-Vector3::z());
     if g.z >= -1e-9 {
         return None;
     }
@@ -446,12 +521,17 @@ fn search_face_face(
     counts: &mut Rejections,
 ) -> Vec<Placement> {
     let (target2, _) = e.to_plane(target);
-    let reference = o.polygon.centroid().unwrap_or_else(|| Point2::origin());
+    let reference = o.polygon.centroid().unwrap_or_else(Point2::origin);
     let plane_from_object = o.parent_from_plane.inverse();
     let lift = e.normal() * options.clearance;
     let mut out = Vec::new();
     // Enough positions to find max_per_pair poses even when most are rejected.
-    let positions = grid_positions(e, &target2, options.position_step, 64 * options.max_per_pair.max(1));
+    let positions = grid_positions(
+        e,
+        &target2,
+        options.position_step,
+        64 * options.max_per_pair.max(1),
+    );
     'positions: for p in positions {
         for k in 0..options.yaw_steps.max(1) {
             let yaw = 2.0 * PI * k as Real / options.yaw_steps.max(1) as Real;
@@ -459,7 +539,8 @@ fn search_face_face(
             // object's reference point at p.
             let flip_yaw = rz(yaw) * rx(PI);
             let r = flip_yaw * Point3::new(reference.x, reference.y, 0.0);
-            let e_from_oplane = Isometry3::from_parts(Translation3::new(p.x - r.x, p.y - r.y, 0.0), flip_yaw);
+            let e_from_oplane =
+                Isometry3::from_parts(Translation3::new(p.x - r.x, p.y - r.y, 0.0), flip_yaw);
             let world_from_object = e.parent_from_plane * e_from_oplane * plane_from_object;
             // Stability (Fig. 7): the object's polygon in environment-plane coordinates.
             let map = |q: &Point2| {
@@ -470,7 +551,12 @@ fn search_face_face(
             // flat region), minus its holes.
             let moved = Polygon {
                 outer: o.support.iter().map(map).collect(),
-                holes: o.polygon.holes.iter().map(|h| h.iter().map(map).collect()).collect(),
+                holes: o
+                    .polygon
+                    .holes
+                    .iter()
+                    .map(|h| h.iter().map(map).collect())
+                    .collect(),
             };
             let hull = support_hull(&moved, &e.polygon);
             let cog_world = world_from_object * object.cog;
@@ -478,12 +564,19 @@ fn search_face_face(
                 counts.unstable += 1;
                 continue;
             };
-            let margin = if hull.len() >= 3 { signed_margin(&foot, &hull) } else { Real::NEG_INFINITY };
+            let margin = if hull.len() >= 3 {
+                signed_margin(&foot, &hull)
+            } else {
+                Real::NEG_INFINITY
+            };
             if !stable(margin, e.to_plane(&cog_world).1, options) {
                 counts.unstable += 1;
                 continue;
             }
-            if env.collision.intersects(&object.collision, &world_from_object, &lift) {
+            if env
+                .collision
+                .intersects(&object.collision, &world_from_object, &lift)
+            {
                 counts.penetrates += 1;
                 continue;
             }
@@ -545,8 +638,9 @@ fn search_edge_face(
     let rect_angle = e.rect.axis.y.atan2(e.rect.axis.x);
     let yaws: Vec<Real> = (0..4).map(|k| rect_angle + k as Real * PI / 2.0).collect();
     // The longest hull segments first (ties by index, so the order is deterministic).
-    let mut segments: Vec<(Real, usize)> =
-        (0..hull.len()).map(|i| ((hull[(i + 1) % hull.len()] - hull[i]).norm(), i)).collect();
+    let mut segments: Vec<(Real, usize)> = (0..hull.len())
+        .map(|i| ((hull[(i + 1) % hull.len()] - hull[i]).norm(), i))
+        .collect();
     segments.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     segments.truncate(options.edge_segments.max(1));
     let mut out = Vec::new();
@@ -575,7 +669,9 @@ fn search_edge_face(
         // Tilted by t, the object tips about the segment once it rotates a further
         // atan2(cy, ch) - t: stability needs t <= atan2(cy, ch) - min_tipping_angle, so no
         // angle past that is worth a collision test.
-        let tilt_limit = options.max_tilt.min(cy.atan2(ch) - options.min_tipping_angle);
+        let tilt_limit = options
+            .max_tilt
+            .min(cy.atan2(ch) - options.min_tipping_angle);
         if tilt_limit <= 0.0 {
             counts.unstable += 1;
             continue;
@@ -583,17 +679,24 @@ fn search_edge_face(
         for p in &positions {
             for &yaw in &yaws {
                 // The line contact lies on the environment region: both ends inside it.
-                if !e.polygon.contains(&e_point2(p, yaw, -len * 0.5)) || !e.polygon.contains(&e_point2(p, yaw, len * 0.5)) {
+                if !e.polygon.contains(&e_point2(p, yaw, -len * 0.5))
+                    || !e.polygon.contains(&e_point2(p, yaw, len * 0.5))
+                {
                     continue;
                 }
                 let pose_at = |tilt: Real| {
                     // Interior side (+y of the segment frame) maps to -y by the flip; rotating
                     // by -tilt about x lifts it off the plane.
-                    let e_from_segment =
-                        Isometry3::from_parts(Translation3::new(p.x, p.y, 0.0), rz(yaw) * rx(-tilt) * rx(PI));
+                    let e_from_segment = Isometry3::from_parts(
+                        Translation3::new(p.x, p.y, 0.0),
+                        rz(yaw) * rx(-tilt) * rx(PI),
+                    );
                     e.parent_from_plane * e_from_segment * segment_from_object
                 };
-                let penetrates = |tilt: Real| env.collision.intersects(&object.collision, &pose_at(tilt), &lift);
+                let penetrates = |tilt: Real| {
+                    env.collision
+                        .intersects(&object.collision, &pose_at(tilt), &lift)
+                };
                 if !penetrates(0.0) {
                     // The region lies flat without touching anything else: not an edge contact.
                     continue;
@@ -601,7 +704,10 @@ fn search_edge_face(
                 // The first angle at which the object is free: a coarse scan (penetration is
                 // not monotonic in the angle: tilting further may hit a wall behind the
                 // segment), then bisection inside the bracket.
-                let coarse = options.tilt_scan_step.clamp(options.tilt_tolerance, tilt_limit.max(options.tilt_tolerance));
+                let coarse = options.tilt_scan_step.clamp(
+                    options.tilt_tolerance,
+                    tilt_limit.max(options.tilt_tolerance),
+                );
                 let mut bracket = None;
                 let mut prev = 0.0;
                 let mut t = coarse.min(tilt_limit);
@@ -635,14 +741,18 @@ fn search_edge_face(
                 // the object meets the environment again.
                 let a_w = e.parent_from_plane * e_point(p, yaw, -len * 0.5);
                 let b_w = e.parent_from_plane * e_point(p, yaw, len * 0.5);
-                let second = object_contact_points(object, env, &world_from_object, &pose_at(lo), options);
+                let second =
+                    object_contact_points(object, env, &world_from_object, &pose_at(lo), options);
                 let horizontal = |q: &Point3| Point2::new(q.x, q.y);
                 let mut support: Vec<Point2> = vec![horizontal(&a_w), horizontal(&b_w)];
                 support.extend(second.iter().map(horizontal));
                 let support = convex_hull(&support);
                 let cog = world_from_object * object.cog;
-                let margin =
-                    if support.len() >= 3 { signed_margin(&horizontal(&cog), &support) } else { Real::NEG_INFINITY };
+                let margin = if support.len() >= 3 {
+                    signed_margin(&horizontal(&cog), &support)
+                } else {
+                    Real::NEG_INFINITY
+                };
                 if !stable(margin, e.to_plane(&cog).1, options) {
                     counts.unstable += 1;
                     continue;
@@ -686,8 +796,14 @@ fn object_contact_points(
     options: &PlacementOptions,
 ) -> Vec<Point3> {
     let reach = options.clearance * 0.5;
-    let mut out = env.collision.touching_points(&object.collision, pose, penetrating, reach);
-    out.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)).then(a.z.total_cmp(&b.z)));
+    let mut out = env
+        .collision
+        .touching_points(&object.collision, pose, penetrating, reach);
+    out.sort_by(|a, b| {
+        a.x.total_cmp(&b.x)
+            .then(a.y.total_cmp(&b.y))
+            .then(a.z.total_cmp(&b.z))
+    });
     out.dedup_by(|a, b| (*a - *b).norm() < 1e-6);
     out
 }

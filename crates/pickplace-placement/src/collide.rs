@@ -53,8 +53,14 @@ impl CollisionMesh {
     fn from_parts(vertices: Vec<Point3>, triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
         let points: Vec<PVector> = vertices.iter().map(to_parry_point).collect();
         let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
-            .map_err(|e| crate::Error::DegenerateHull { reason: format!("collision mesh: {e:?}") })?;
-        Ok(Self { shape, vertices, triangles })
+            .map_err(|e| crate::Error::DegenerateHull {
+                reason: format!("collision mesh: {e:?}"),
+            })?;
+        Ok(Self {
+            shape,
+            vertices,
+            triangles,
+        })
     }
 
     /// Whether the object, at `world_from_object` moved by `lift` (m, world frame), has its
@@ -104,7 +110,9 @@ impl CollisionMesh {
             let tri = Triangle::new(to_parry_point(&a), to_parry_point(&b), to_parry_point(&c));
             for j in self.shape.bvh().intersect_aabb(&aabb) {
                 let env_tri = self.shape.triangle(j);
-                if let Ok(Some(contact)) = parry3d_f64::query::contact(&identity, &tri, &identity, &env_tri, reach) {
+                if let Ok(Some(contact)) =
+                    parry3d_f64::query::contact(&identity, &tri, &identity, &env_tri, reach)
+                {
                     let m = (contact.point1 + contact.point2) * 0.5;
                     out.push(Point3::new(m.x, m.y, m.z));
                 }

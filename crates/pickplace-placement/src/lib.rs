@@ -10,10 +10,10 @@ pub mod error;
 pub mod region;
 pub mod resting;
 
-pub use error::{Error, Result};
-pub use resting::{RestingOptions, RestingPose, resting_poses};
 pub use candidates::{
-    ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet, Rejections, TargetError,
-    candidates, include_bounding_box, select_target,
+    ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
+    Rejections, TargetError, candidates, include_bounding_box, select_target,
 };
+pub use error::{Error, Result};
 pub use region::Region;
+pub use resting::{RestingOptions, RestingPose, resting_poses};

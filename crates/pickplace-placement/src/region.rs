@@ -2,8 +2,10 @@
 
 use pickplace_geometry::cluster::Cluster;
 use pickplace_geometry::math::nalgebra::Rotation3;
+use pickplace_geometry::math::{
+    Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector3,
+};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::math::{Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector3};
 use pickplace_geometry::polygon::{Polygon, Rect2, convex_hull, min_area_rect};
 
 /// A planar contact region of the object or of the environment (paper §III-A.2): a cluster's
@@ -37,7 +39,15 @@ impl Region {
         let hull = convex_hull(&points);
         let rect = min_area_rect(&points)?;
         let area = polygon.area();
-        Some(Self { cluster_id, parent_from_plane, polygon, support: hull.clone(), hull, rect, area })
+        Some(Self {
+            cluster_id,
+            parent_from_plane,
+            polygon,
+            support: hull.clone(),
+            hull,
+            rect,
+            area,
+        })
     }
 
     /// The region of a cluster (paper §III-A.2) of a mesh placed at `parent_from_mesh`: the
@@ -50,7 +60,11 @@ impl Region {
             Matrix3::from_columns(&[f.u, f.v, n]),
         ));
         let mesh_from_plane = Isometry3::from_parts(Translation3::from(f.origin.coords), rotation);
-        let mut region = Self::new(cluster.id as usize, parent_from_mesh * mesh_from_plane, cluster.region.clone())?;
+        let mut region = Self::new(
+            cluster.id as usize,
+            parent_from_mesh * mesh_from_plane,
+            cluster.region.clone(),
+        )?;
         region.rect = cluster.bounding_rect;
         region.hull.clone_from(&cluster.hull);
         region.support.clone_from(&cluster.hull);
@@ -86,7 +100,10 @@ impl Region {
 
     /// The region moved by `pose` (its parent becomes the pose's parent).
     pub fn transformed(&self, pose: &Isometry3) -> Self {
-        Self { parent_from_plane: pose * self.parent_from_plane, ..self.clone() }
+        Self {
+            parent_from_plane: pose * self.parent_from_plane,
+            ..self.clone()
+        }
     }
 
     /// A point of the parent frame in plane coordinates: (x, y) on the plane and the height

@@ -410,14 +410,14 @@ fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
     let mut facet_of_root: BTreeMap<usize, usize> = BTreeMap::new();
     let mut facet_of_triangle = vec![0; hull_triangles.len()];
     let mut members: Vec<Vec<usize>> = Vec::new();
-    for t in 0..hull_triangles.len() {
+    for (t, facet) in facet_of_triangle.iter_mut().enumerate() {
         let root = find(&mut parent, t);
         let id = *facet_of_root.entry(root).or_insert_with(|| {
             members.push(Vec::new());
             members.len() - 1
         });
         members[id].push(t);
-        facet_of_triangle[t] = id;
+        *facet = id;
     }
     let mut facets = Vec::with_capacity(members.len());
     for list in &members {

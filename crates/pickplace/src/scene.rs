@@ -300,13 +300,13 @@ impl Scene {
         if let Some(m) = scene.object.mass {
             positive(m).map_err(|r| invalid("object.mass", r))?;
         }
-        if let Some(c) = scene.object.center_of_gravity {
-            if c.iter().any(|v| !v.is_finite()) {
-                return Err(invalid(
-                    "object.center_of_gravity",
-                    "not a finite point".into(),
-                ));
-            }
+        if let Some(c) = scene.object.center_of_gravity
+            && c.iter().any(|v| !v.is_finite())
+        {
+            return Err(invalid(
+                "object.center_of_gravity",
+                "not a finite point".into(),
+            ));
         }
         if scene.target.point.iter().any(|v| !v.is_finite()) {
             return Err(invalid("target.point", "not a finite point".into()));

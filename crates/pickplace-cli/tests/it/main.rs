@@ -2,6 +2,7 @@
 
 mod bad_input;
 mod clusters;
+mod demo;
 mod placements;
 mod precompute;
 mod support;

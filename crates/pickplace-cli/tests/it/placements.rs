@@ -10,24 +10,49 @@ fn json(out: &std::process::Output) -> Value {
 #[test]
 fn can_into_the_large_dent() {
     let out = pickplace(&[
-        "placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--target", "-0.1,0.05,0.025", "--json",
+        "placements",
+        "meshes/can.stl",
+        "--on",
+        "meshes/pallet.stl",
+        "--target",
+        "-0.1,0.05,0.025",
+        "--json",
     ]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v = json(&out);
     assert_eq!(v["format"], "pickplace.placements.v1");
     let first = &v["placements"][0];
     assert_eq!(first["contact"], "face-face");
     let z = first["pose"]["position"][2].as_f64().expect("z");
-    assert!((z - 0.025).abs() < 1e-9, "the can's base on the dent floor: {z}");
+    assert!(
+        (z - 0.025).abs() < 1e-9,
+        "the can's base on the dent floor: {z}"
+    );
     assert!(first["stability_margin"].as_f64().expect("margin") > 0.03);
 }
 
 #[test]
 fn can_on_the_groove_is_edge_face() {
     let out = pickplace(&[
-        "placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--target", "-0.08,-0.09,0.028", "--json",
+        "placements",
+        "meshes/can.stl",
+        "--on",
+        "meshes/pallet.stl",
+        "--target",
+        "-0.08,-0.09,0.028",
+        "--json",
     ]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v = json(&out);
     let placements = v["placements"].as_array().expect("array");
     assert!(!placements.is_empty());
@@ -37,10 +62,24 @@ fn can_on_the_groove_is_edge_face() {
 #[test]
 fn environment_pose_moves_the_placements() {
     let out = pickplace(&[
-        "placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--env-pose", "0.5,0,0.7",
-        "--target", "0.4,0.05,0.725", "--json", "--max", "1",
+        "placements",
+        "meshes/can.stl",
+        "--on",
+        "meshes/pallet.stl",
+        "--env-pose",
+        "0.5,0,0.7",
+        "--target",
+        "0.4,0.05,0.725",
+        "--json",
+        "--max",
+        "1",
     ]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let p = &json(&out)["placements"][0]["pose"]["position"];
     assert!((p[0].as_f64().expect("x") - 0.4).abs() < 1e-9);
     assert!((p[2].as_f64().expect("z") - 0.725).abs() < 1e-9);
@@ -48,18 +87,38 @@ fn environment_pose_moves_the_placements() {
 
 #[test]
 fn no_placement_exits_1_with_reasons() {
-    let out = pickplace(&["placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--target", "0.05,0.06,0.03"]);
+    let out = pickplace(&[
+        "placements",
+        "meshes/can.stl",
+        "--on",
+        "meshes/pallet.stl",
+        "--target",
+        "0.05,0.06,0.03",
+    ]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("did not fit") && err.contains("environment cluster"), "{err}");
+    assert!(
+        err.contains("did not fit") && err.contains("environment cluster"),
+        "{err}"
+    );
 }
 
 #[test]
 fn target_off_the_environment_exits_2_naming_the_nearest_cluster() {
-    let out = pickplace(&["placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--target", "1,0,0.04"]);
+    let out = pickplace(&[
+        "placements",
+        "meshes/can.stl",
+        "--on",
+        "meshes/pallet.stl",
+        "--target",
+        "1,0,0.04",
+    ]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("nearest is cluster") && err.contains("pallet.stl"), "{err}");
+    assert!(
+        err.contains("nearest is cluster") && err.contains("pallet.stl"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -73,9 +132,32 @@ fn resting_poses_without_environment() {
 #[test]
 fn bad_input_exits_2_naming_the_file() {
     for (args, needle) in [
-        (vec!["placements", "meshes/nothing.stl"], "meshes/nothing.stl"),
-        (vec!["placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--target", "a,b,c"], "--target"),
-        (vec!["placements", "meshes/can.stl", "--on", "meshes/pallet.stl", "--env-pose", "0,0,0,0,0,0,0"], "quaternion"),
+        (
+            vec!["placements", "meshes/nothing.stl"],
+            "meshes/nothing.stl",
+        ),
+        (
+            vec![
+                "placements",
+                "meshes/can.stl",
+                "--on",
+                "meshes/pallet.stl",
+                "--target",
+                "a,b,c",
+            ],
+            "--target",
+        ),
+        (
+            vec![
+                "placements",
+                "meshes/can.stl",
+                "--on",
+                "meshes/pallet.stl",
+                "--env-pose",
+                "0,0,0,0,0,0,0",
+            ],
+            "quaternion",
+        ),
         (vec!["placements", "meshes/README.md"], "README.md"),
     ] {
         let out = pickplace(&args);

@@ -25,9 +25,14 @@ pub fn scene(object_mesh: TriMesh, env_mesh: TriMesh) -> Scene {
     let env_clusters = cluster_surface(&env_mesh, &params).expect("env clusters");
     let cog = MassProperties::of(&object_mesh).center_of_mass;
     let object = ObjectModel::new(&object_mesh, &object_clusters, cog).expect("object model");
-    let env = EnvironmentModel::new(&env_mesh, &env_clusters, &Isometry3::identity())
-        .expect("env model");
-    Scene { object_mesh, object, env_mesh, env }
+    let env =
+        EnvironmentModel::new(&env_mesh, &env_clusters, &Isometry3::identity()).expect("env model");
+    Scene {
+        object_mesh,
+        object,
+        env_mesh,
+        env,
+    }
 }
 
 pub fn can_on_pallet() -> Scene {
@@ -50,9 +55,25 @@ fn unsettled(scene: &Scene, placements: &[Placement]) -> Vec<(usize, ContactKind
         .iter()
         .enumerate()
         .filter_map(|(i, p)| {
-            let d = drop_test(&scene.object_mesh, &scene.object.cog, &p.world_from_object, &env);
+            let d = drop_test(
+                &scene.object_mesh,
+                &scene.object.cog,
+                &p.world_from_object,
+                &env,
+            );
             (!d.settled()).then(|| {
-                (i, p.contact, format!("{:.1} mm {:.1}° margin {:.4} tilt {:.3} cluster {}", d.distance * 1e3, d.angle.to_degrees(), p.stability_margin, p.tilt, p.object_cluster))
+                (
+                    i,
+                    p.contact,
+                    format!(
+                        "{:.1} mm {:.1}° margin {:.4} tilt {:.3} cluster {}",
+                        d.distance * 1e3,
+                        d.angle.to_degrees(),
+                        p.stability_margin,
+                        p.tilt,
+                        p.object_cluster
+                    ),
+                )
             })
         })
         .collect()
@@ -73,7 +94,10 @@ fn assert_sorted(set: &PlacementSet) {
 
 /// Lowest point of the object at `pose` (world z).
 fn lowest_z(mesh: &TriMesh, pose: &Isometry3) -> Real {
-    mesh.vertices().iter().map(|p| (pose * p).z).fold(Real::INFINITY, Real::min)
+    mesh.vertices()
+        .iter()
+        .map(|p| (pose * p).z)
+        .fold(Real::INFINITY, Real::min)
 }
 
 #[test]
@@ -82,10 +106,20 @@ fn can_stands_in_the_large_dent_face_face() {
     let target = dent_floor(0);
     let set = candidates(&s.object, &s.env, &target, &PlacementOptions::default()).expect("target");
     assert_sorted(&set);
-    let best = set.placements.first().expect("a placement in the large dent");
+    let best = set
+        .placements
+        .first()
+        .expect("a placement in the large dent");
     assert_eq!(best.contact, ContactKind::FaceFace);
-    assert!(best.distance_to_target < 1e-9, "the dent's centre itself fits");
-    assert!(best.stability_margin > 0.02, "a cap on a flat floor: margin {}", best.stability_margin);
+    assert!(
+        best.distance_to_target < 1e-9,
+        "the dent's centre itself fits"
+    );
+    assert!(
+        best.stability_margin > 0.02,
+        "a cap on a flat floor: margin {}",
+        best.stability_margin
+    );
     // Upright: the can's axis is vertical and its base on the dent floor.
     let axis = best.world_from_object * Vector3::z();
     assert!(axis.z.abs() > 1.0 - 1e-9, "axis {axis:?}");
@@ -93,8 +127,18 @@ fn can_stands_in_the_large_dent_face_face() {
     // Only the clicked cluster is searched. The upright poses are face-face; the can lying on
     // its side (a side strip, 0.12 m long, does not fit the 0.09 m dent) can only lean into it
     // edge-face. The drop test keeps them all.
-    assert!(set.placements.iter().all(|p| p.env_cluster == set.target_cluster));
-    assert!(set.placements.iter().filter(|p| p.contact == ContactKind::FaceFace).count() >= 2);
+    assert!(
+        set.placements
+            .iter()
+            .all(|p| p.env_cluster == set.target_cluster)
+    );
+    assert!(
+        set.placements
+            .iter()
+            .filter(|p| p.contact == ContactKind::FaceFace)
+            .count()
+            >= 2
+    );
     assert_eq!(unsettled(&s, &set.placements), vec![]);
 }
 
@@ -116,7 +160,11 @@ fn can_tilts_on_the_narrow_groove_edge_face() {
         assert!(p.stability_margin >= PlacementOptions::default().min_margin);
         // It rests on the dent floor (one edge) and leans on the dent's rim.
         let low = lowest_z(&s.object_mesh, &p.world_from_object);
-        assert!((low - target.z).abs() < 2e-3, "lowest point {low} vs floor {}", target.z);
+        assert!(
+            (low - target.z).abs() < 2e-3,
+            "lowest point {low} vs floor {}",
+            target.z
+        );
     }
     // The drop test on edge-face poses is the exception to the 5 mm / 3° bound: rapier
     // resolves the line contact between the can's tessellated base (a fan of thin triangles)
@@ -143,8 +191,13 @@ fn can_tilts_on_the_narrow_groove_edge_face() {
 #[test]
 fn small_square_dent_has_no_placement_and_says_why() {
     let s = can_on_pallet();
-    let set = candidates(&s.object, &s.env, &dent_floor(1), &PlacementOptions::default())
-        .expect("target");
+    let set = candidates(
+        &s.object,
+        &s.env,
+        &dent_floor(1),
+        &PlacementOptions::default(),
+    )
+    .expect("target");
     assert!(set.placements.is_empty());
     let (_, r) = set.rejections[0];
     assert!(r.did_not_fit >= 2 && r.accepted == 0, "{r:?}");
@@ -165,15 +218,23 @@ fn mug_on_the_table_among_obstacles() {
     assert_eq!(best.contact, ContactKind::FaceFace);
     let axis = best.world_from_object * Vector3::z();
     assert!(axis.z > 1.0 - 1e-9, "the mug stands on its base: {axis:?}");
-    assert!(set.rejections.iter().any(|(_, r)| r.penetrates > 0), "the obstacle rejected some poses");
+    assert!(
+        set.rejections.iter().any(|(_, r)| r.penetrates > 0),
+        "the obstacle rejected some poses"
+    );
     assert_eq!(unsettled(&s, &set.placements), vec![]);
 }
 
 #[test]
 fn target_off_every_cluster_names_the_nearest() {
     let s = can_on_pallet();
-    let err = candidates(&s.object, &s.env, &Point3::new(1.0, 0.0, 0.04), &PlacementOptions::default())
-        .expect_err("far from the pallet");
+    let err = candidates(
+        &s.object,
+        &s.env,
+        &Point3::new(1.0, 0.0, 0.04),
+        &PlacementOptions::default(),
+    )
+    .expect_err("far from the pallet");
     assert!(err.distance > 0.7 && err.distance < 0.9, "{err}");
     assert!(err.to_string().contains("nearest is cluster"));
 }
