@@ -167,3 +167,19 @@ fn bad_input_exits_2_naming_the_file() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+#[test]
+fn same_input_same_bytes() {
+    let args = [
+        "placements",
+        "meshes/mug.stl",
+        "--on",
+        "meshes/table.stl",
+        "--target",
+        "-0.25,0.19,0.7",
+        "--json",
+    ];
+    let (a, b) = (pickplace(&args), pickplace(&args));
+    assert_eq!(a.status.code(), Some(0));
+    assert_eq!(a.stdout, b.stdout);
+}
