@@ -1,0 +1,4 @@
+//! Integration tests of pickplace-placement.
+
+mod resting;
+mod simulate;
