@@ -14,7 +14,9 @@ pub enum Error {
     #[error("the joint space has no joints")]
     EmptySpace,
     /// The lower bounds, upper bounds and weights differ in length.
-    #[error("joint space vectors differ in length: {lower} lower bounds, {upper} upper bounds, {weights} weights")]
+    #[error(
+        "joint space vectors differ in length: {lower} lower bounds, {upper} upper bounds, {weights} weights"
+    )]
     SpaceLengths {
         /// Number of lower bounds given.
         lower: usize,
@@ -128,7 +130,9 @@ pub enum Error {
         growth_rounds: usize,
     },
     /// Start and goal are connected to the roadmap but lie in different components.
-    #[error("no path between start and goal after {growth_rounds} growth rounds ({nodes_added} nodes added)")]
+    #[error(
+        "no path between start and goal after {growth_rounds} growth rounds ({nodes_added} nodes added)"
+    )]
     NoPath {
         /// Growth rounds performed.
         growth_rounds: usize,
@@ -149,7 +153,9 @@ pub enum Error {
         found: [u8; 8],
     },
     /// The roadmap file has a format version this build cannot read.
-    #[error("roadmap format version {found} is not supported (this build reads version {supported})")]
+    #[error(
+        "roadmap format version {found} is not supported (this build reads version {supported})"
+    )]
     UnsupportedVersion {
         /// Version in the file.
         found: u32,
@@ -157,7 +163,9 @@ pub enum Error {
         supported: u32,
     },
     /// The roadmap was built for a space of another dimension.
-    #[error("the roadmap was built for a {stored}-joint space, the space given has {expected} joints")]
+    #[error(
+        "the roadmap was built for a {stored}-joint space, the space given has {expected} joints"
+    )]
     DimensionMismatch {
         /// Dimension stored in the file.
         stored: usize,
@@ -165,7 +173,9 @@ pub enum Error {
         expected: usize,
     },
     /// The roadmap was built for a space with other bounds or weights.
-    #[error("the roadmap was built for another space: joint {joint} {field} is {stored}, expected {expected}")]
+    #[error(
+        "the roadmap was built for another space: joint {joint} {field} is {stored}, expected {expected}"
+    )]
     SpaceMismatch {
         /// Joint index.
         joint: usize,

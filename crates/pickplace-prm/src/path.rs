@@ -125,7 +125,10 @@ mod tests {
         assert!((path.length(&space) - 6.0).abs() < 1e-12);
         assert!(matches!(
             Path::from_waypoints(2, [vec![0.0]]),
-            Err(Error::StateDimension { expected: 2, found: 1 })
+            Err(Error::StateDimension {
+                expected: 2,
+                found: 1
+            })
         ));
     }
 

@@ -299,7 +299,8 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         found[base_found..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         found.truncate(base_found + k.min(found.len() - base_found));
         for &(d2, other) in &found {
-            if d2 <= max_squared && (other >= n || self.node_status[other as usize] != Status::Invalid)
+            if d2 <= max_squared
+                && (other >= n || self.node_status[other as usize] != Status::Invalid)
             {
                 self.overlay.add_edge(node, other, d2.sqrt(), n);
             }
@@ -394,7 +395,11 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                 if node < n && self.node_status[node] == Status::Unknown {
                     self.stats.states_checked += 1;
                     let valid = self.checker.is_state_valid(self.roadmap.state(node));
-                    self.node_status[node] = if valid { Status::Valid } else { Status::Invalid };
+                    self.node_status[node] = if valid {
+                        Status::Valid
+                    } else {
+                        Status::Invalid
+                    };
                     if !valid {
                         all_valid = false;
                         break;
@@ -423,7 +428,11 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                     resolution,
                     &mut self.scratch,
                 );
-                let status = if valid { Status::Valid } else { Status::Invalid };
+                let status = if valid {
+                    Status::Valid
+                } else {
+                    Status::Invalid
+                };
                 if edge < base_edges {
                     self.edge_status[edge as usize] = status;
                 } else {
@@ -485,7 +494,8 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                     s.g[other as usize] = candidate;
                     s.parent[other as usize] = node;
                     s.parent_edge[other as usize] = edge;
-                    let h = space.distance(node_state(self.roadmap, &self.overlay, other), goal_state);
+                    let h =
+                        space.distance(node_state(self.roadmap, &self.overlay, other), goal_state);
                     s.heap.push(Open {
                         f: candidate + h,
                         node: other,
@@ -505,7 +515,11 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
             while link != NONE {
                 let Link { edge, next } = self.overlay.links[link as usize];
                 let e = self.overlay.edges[edge as usize];
-                let other = if e.ends[0] == node { e.ends[1] } else { e.ends[0] };
+                let other = if e.ends[0] == node {
+                    e.ends[1]
+                } else {
+                    e.ends[0]
+                };
                 if e.status != Status::Invalid
                     && (other >= n || self.node_status[other as usize] != Status::Invalid)
                 {
@@ -571,7 +585,10 @@ mod tests {
         assert!(path.is_valid(&square(), &wall, 0.0005));
         assert!(path.waypoints().any(|q| q[1] >= 0.8));
         let stats = planner.last_stats();
-        assert!(stats.edges_invalid >= 1, "the direct edge crosses the wall: {stats:?}");
+        assert!(
+            stats.edges_invalid >= 1,
+            "the direct edge crosses the wall: {stats:?}"
+        );
         // A second query reuses the cached statuses.
         let again = planner.query(&[0.1, 0.1], &[0.9, 0.1]).expect("path");
         assert_eq!(again, path);
@@ -597,15 +614,27 @@ mod tests {
             ..QueryOptions::default()
         };
         let mut planner = PrmPlanner::new(&roadmap, &wall, options);
-        assert!(matches!(planner.query(&[0.5, 0.5], &[0.9, 0.1]), Err(Error::StartInvalid)));
-        assert!(matches!(planner.query(&[0.1, 0.1], &[0.5, 0.1]), Err(Error::GoalInvalid)));
+        assert!(matches!(
+            planner.query(&[0.5, 0.5], &[0.9, 0.1]),
+            Err(Error::StartInvalid)
+        ));
+        assert!(matches!(
+            planner.query(&[0.1, 0.1], &[0.5, 0.1]),
+            Err(Error::GoalInvalid)
+        ));
         assert!(matches!(
             planner.query(&[0.1, 0.1], &[0.9, 0.1]),
-            Err(Error::NoPath { growth_rounds: 2, nodes_added: 40 })
+            Err(Error::NoPath {
+                growth_rounds: 2,
+                nodes_added: 40
+            })
         ));
         assert!(matches!(
             planner.query(&[0.1], &[0.9, 0.1]),
-            Err(Error::StateDimension { expected: 2, found: 1 })
+            Err(Error::StateDimension {
+                expected: 2,
+                found: 1
+            })
         ));
         // A start boxed in by a small ring with no roadmap node inside: no edge leaves it.
         for i in 0..roadmap.node_count() {

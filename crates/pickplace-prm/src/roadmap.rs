@@ -14,7 +14,7 @@ use crate::space::JointSpace;
 use crate::validity::{AlwaysValid, ValidityChecker};
 
 /// Options of roadmap construction.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RoadmapOptions {
     /// Number of samples drawn; with a checker, a sample that stays invalid after
     /// `max_sample_attempts` draws is dropped (default: 1000).
@@ -90,7 +90,7 @@ impl RoadmapOptions {
 }
 
 /// How the roadmap's nodes and edges were validated at construction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Validation {
     /// Every node and edge was checked against the construction checker: the roadmap is valid in
     /// that environment only.
@@ -501,7 +501,10 @@ mod tests {
             ..RoadmapOptions::default()
         };
         let roadmap = Roadmap::build_lazy(&square(), &options).expect("roadmap");
-        assert!(roadmap.component_count() > 1, "short edges split the roadmap");
+        assert!(
+            roadmap.component_count() > 1,
+            "short edges split the roadmap"
+        );
         let mut degree_sum = 0;
         for i in 0..roadmap.node_count() {
             for &(j, e) in roadmap.neighbors(i) {
@@ -523,7 +526,10 @@ mod tests {
         };
         assert!(matches!(
             Roadmap::build_lazy(&square(), &bad),
-            Err(Error::InvalidOption { name: "resolution", .. })
+            Err(Error::InvalidOption {
+                name: "resolution",
+                ..
+            })
         ));
     }
 }

@@ -80,8 +80,13 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
         let from = &tree.states[near * d..(near + 1) * d];
         let distance = self.space.distance(from, target);
         let reached = distance <= self.options.step;
-        let t = if reached { 1.0 } else { self.options.step / distance };
-        self.space.interpolate_into(from, target, t, &mut self.new_state);
+        let t = if reached {
+            1.0
+        } else {
+            self.options.step / distance
+        };
+        self.space
+            .interpolate_into(from, target, t, &mut self.new_state);
         if !self.checker.is_state_valid(&self.new_state)
             || !self.checker.is_motion_valid(
                 self.space,
@@ -95,7 +100,11 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
         }
         tree.states.extend_from_slice(&self.new_state);
         tree.parents.push(near as u32);
-        if reached { Extend::Reached } else { Extend::Advanced }
+        if reached {
+            Extend::Reached
+        } else {
+            Extend::Advanced
+        }
     }
 }
 

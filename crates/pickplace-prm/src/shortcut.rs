@@ -86,11 +86,7 @@ pub fn shortcut<C: ValidityChecker + ?Sized>(
             std::mem::swap(&mut s1, &mut s2);
         }
         // Segment i spans cumulative[i]..cumulative[i + 1].
-        let segment = |s: f64| {
-            cumulative[1..]
-                .partition_point(|&c| c < s)
-                .min(count - 2)
-        };
+        let segment = |s: f64| cumulative[1..].partition_point(|&c| c < s).min(count - 2);
         let (i1, i2) = (segment(s1), segment(s2));
         if i1 == i2 {
             continue;
@@ -162,7 +158,14 @@ mod tests {
         let space = JointSpace::with_unit_weights(vec![0.0; 2], vec![1.0; 2]).expect("space");
         let path = Path::from_waypoints(
             2,
-            [[0.0, 0.0], [0.2, 0.5], [0.4, 0.0], [0.6, 0.5], [0.8, 0.0], [1.0, 0.5]],
+            [
+                [0.0, 0.0],
+                [0.2, 0.5],
+                [0.4, 0.0],
+                [0.6, 0.5],
+                [0.8, 0.0],
+                [1.0, 0.5],
+            ],
         )
         .expect("path");
         let free = |_: &[f64]| true;

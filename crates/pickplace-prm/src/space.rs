@@ -170,7 +170,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_spaces() {
-        assert!(matches!(JointSpace::new(vec![], vec![], vec![]), Err(Error::EmptySpace)));
+        assert!(matches!(
+            JointSpace::new(vec![], vec![], vec![]),
+            Err(Error::EmptySpace)
+        ));
         assert!(matches!(
             JointSpace::new(vec![1.0], vec![0.0], vec![1.0]),
             Err(Error::InvalidBounds { joint: 0, .. })
@@ -196,7 +199,10 @@ mod tests {
         assert!(!space.contains(&[0.5, f64::NAN]));
         assert!(matches!(
             space.check_state(&[0.5]),
-            Err(Error::StateDimension { expected: 2, found: 1 })
+            Err(Error::StateDimension {
+                expected: 2,
+                found: 1
+            })
         ));
         assert!(matches!(
             space.check_state(&[1.5, 0.0]),

@@ -128,7 +128,11 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
     }
     for (what, limits, name) in [
         ("max_velocities", &options.max_velocities, "velocity"),
-        ("max_accelerations", &options.max_accelerations, "acceleration"),
+        (
+            "max_accelerations",
+            &options.max_accelerations,
+            "acceleration",
+        ),
     ] {
         if limits.len() != d {
             return Err(Error::JointCount {
@@ -178,23 +182,21 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
         }
     }
 
-    let point = |time_from_start: f64, segment: Option<&(usize, Profile)>| {
-        match segment {
-            None => TrajectoryPoint {
+    let point = |time_from_start: f64, segment: Option<&(usize, Profile)>| match segment {
+        None => TrajectoryPoint {
+            time_from_start,
+            positions: path.waypoint(0).to_vec(),
+            velocities: vec![0.0; d],
+            accelerations: vec![0.0; d],
+        },
+        Some(&(i, profile)) => {
+            let (a, b) = (path.waypoint(i), path.waypoint(i + 1));
+            let (s, ds, dds) = profile.eval(time_from_start - profile.start_time);
+            TrajectoryPoint {
                 time_from_start,
-                positions: path.waypoint(0).to_vec(),
-                velocities: vec![0.0; d],
-                accelerations: vec![0.0; d],
-            },
-            Some(&(i, profile)) => {
-                let (a, b) = (path.waypoint(i), path.waypoint(i + 1));
-                let (s, ds, dds) = profile.eval(time_from_start - profile.start_time);
-                TrajectoryPoint {
-                    time_from_start,
-                    positions: a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect(),
-                    velocities: a.iter().zip(b).map(|(x, y)| ds * (y - x)).collect(),
-                    accelerations: a.iter().zip(b).map(|(x, y)| dds * (y - x)).collect(),
-                }
+                positions: a.iter().zip(b).map(|(x, y)| x + s * (y - x)).collect(),
+                velocities: a.iter().zip(b).map(|(x, y)| ds * (y - x)).collect(),
+                accelerations: a.iter().zip(b).map(|(x, y)| dds * (y - x)).collect(),
             }
         }
     };
@@ -278,19 +280,30 @@ mod tests {
             .expect("path");
         let trajectory = time_parameterize(&path, &options(1.0, 2.0)).expect("timing");
         for w in [[0.3, 0.0], [0.3, 0.4]] {
-            assert!(trajectory.points.iter().any(|p| p.positions == w && p.velocities == [0.0; 2]));
+            assert!(
+                trajectory
+                    .points
+                    .iter()
+                    .any(|p| p.positions == w && p.velocities == [0.0; 2])
+            );
         }
-        assert!(trajectory
-            .points
-            .windows(2)
-            .all(|w| w[1].time_from_start > w[0].time_from_start));
+        assert!(
+            trajectory
+                .points
+                .windows(2)
+                .all(|w| w[1].time_from_start > w[0].time_from_start)
+        );
         let bad = TimingOptions {
             max_velocities: vec![1.0, 0.0],
             ..options(1.0, 1.0)
         };
         assert!(matches!(
             time_parameterize(&path, &bad),
-            Err(Error::InvalidLimit { joint: 1, limit: "velocity", .. })
+            Err(Error::InvalidLimit {
+                joint: 1,
+                limit: "velocity",
+                ..
+            })
         ));
         let short = TimingOptions {
             max_accelerations: vec![1.0],
@@ -298,7 +311,10 @@ mod tests {
         };
         assert!(matches!(
             time_parameterize(&path, &short),
-            Err(Error::JointCount { what: "max_accelerations", .. })
+            Err(Error::JointCount {
+                what: "max_accelerations",
+                ..
+            })
         ));
     }
 }

@@ -119,7 +119,14 @@ mod tests {
             };
             let mut scratch = [0.0];
             let to = n as f64 * 0.1;
-            assert!(motion_valid_by_interpolation(&checker, &space, &[0.0], &[to], 0.1 + 1e-9, &mut scratch));
+            assert!(motion_valid_by_interpolation(
+                &checker,
+                &space,
+                &[0.0],
+                &[to],
+                0.1 + 1e-9,
+                &mut scratch
+            ));
             let mut seen = seen.into_inner().expect("lock");
             seen.sort_by(f64::total_cmp);
             let expected: Vec<f64> = (1..n).map(|k| k as f64 * to / n as f64).collect();
@@ -139,7 +146,14 @@ mod tests {
             (q[0] - 5.12).abs() > 1e-6
         };
         let mut scratch = [0.0];
-        assert!(!motion_valid_by_interpolation(&checker, &space, &[0.0], &[10.0], 0.01, &mut scratch));
+        assert!(!motion_valid_by_interpolation(
+            &checker,
+            &space,
+            &[0.0],
+            &[10.0],
+            0.01,
+            &mut scratch
+        ));
         assert_eq!(calls.load(Ordering::Relaxed), 1);
     }
 }
