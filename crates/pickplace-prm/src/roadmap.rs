@@ -64,7 +64,7 @@ impl RoadmapOptions {
                 expected: "at least 1",
             });
         }
-        if !(self.max_edge_length > 0.0) {
+        if self.max_edge_length.is_nan() || self.max_edge_length <= 0.0 {
             return Err(Error::InvalidOption {
                 name: "max_edge_length",
                 value: self.max_edge_length,
@@ -265,7 +265,7 @@ impl Roadmap {
     ) -> Result<Self> {
         options.validate()?;
         let dimension = space.dimension();
-        if states.len() % dimension != 0 {
+        if !states.len().is_multiple_of(dimension) {
             return Err(Error::CorruptRoadmap {
                 what: "state array length is not a multiple of the dimension",
                 index: states.len(),

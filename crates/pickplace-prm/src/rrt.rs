@@ -214,7 +214,7 @@ mod tests {
     #[test]
     fn finds_a_way_through_a_gap() {
         let space = JointSpace::with_unit_weights(vec![0.0; 2], vec![1.0; 2]).expect("space");
-        let wall = |q: &[f64]| !((0.45..0.55).contains(&q[0]) && !(0.6..0.7).contains(&q[1]));
+        let wall = |q: &[f64]| !(0.45..0.55).contains(&q[0]) || (0.6..0.7).contains(&q[1]);
         let options = RrtOptions {
             resolution: 0.005,
             step: 0.1,

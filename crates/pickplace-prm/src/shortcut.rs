@@ -67,7 +67,7 @@ pub fn shortcut<C: ValidityChecker + ?Sized>(
     let mut p1 = vec![0.0; d];
     let mut p2 = vec![0.0; d];
     let mut rng = Rng::derive(options.seed, stream::SHORTCUT, 0);
-    let wp = |states: &[f64], i: usize| -> std::ops::Range<usize> { i * d..(i + 1) * d };
+    let wp = |i: usize| -> std::ops::Range<usize> { i * d..(i + 1) * d };
 
     for _ in 0..options.attempts {
         let count = states.len() / d;
@@ -77,7 +77,7 @@ pub fn shortcut<C: ValidityChecker + ?Sized>(
         cumulative.clear();
         cumulative.push(0.0);
         for i in 1..count {
-            let step = space.distance(&states[wp(&states, i - 1)], &states[wp(&states, i)]);
+            let step = space.distance(&states[wp(i - 1)], &states[wp(i)]);
             cumulative.push(cumulative[i - 1] + step);
         }
         let total = cumulative[count - 1];
@@ -98,7 +98,7 @@ pub fn shortcut<C: ValidityChecker + ?Sized>(
             } else {
                 0.0
             };
-            space.interpolate_into(&states[wp(&states, i)], &states[wp(&states, i + 1)], t, out);
+            space.interpolate_into(&states[wp(i)], &states[wp(i + 1)], t, out);
         };
         point(i1, s1, &mut p1);
         point(i2, s2, &mut p2);
@@ -124,7 +124,7 @@ pub fn shortcut<C: ValidityChecker + ?Sized>(
     // Drop waypoints whose neighbours see each other.
     let mut i = 1;
     while (i + 1) * d < states.len() {
-        let (a, b) = (&states[wp(&states, i - 1)], &states[wp(&states, i + 1)]);
+        let (a, b) = (&states[wp(i - 1)], &states[wp(i + 1)]);
         if checker.is_motion_valid(space, a, b, options.resolution, &mut scratch) {
             states.drain(i * d..(i + 1) * d);
         } else {

@@ -75,7 +75,7 @@ pub fn motion_valid_by_interpolation<C: ValidityChecker + ?Sized>(
     scratch: &mut [f64],
 ) -> bool {
     let distance = space.distance(from, to);
-    if !(resolution > 0.0) || !distance.is_finite() {
+    if resolution.is_nan() || resolution <= 0.0 || !distance.is_finite() {
         return false;
     }
     let steps = (distance / resolution).ceil();
