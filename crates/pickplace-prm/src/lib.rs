@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 pub mod codec;
 pub mod error;
+pub(crate) mod lpa;
 pub(crate) mod nn;
 pub mod path;
 pub mod planner;

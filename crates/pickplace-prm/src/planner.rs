@@ -9,6 +9,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use crate::error::{Error, Result};
+use crate::lpa::{Graph, Lpa};
 use crate::path::Path;
 use crate::rng::{Rng, stream};
 use crate::roadmap::{Roadmap, Validation};
@@ -16,6 +17,11 @@ use crate::space::JointSpace;
 use crate::validity::ValidityChecker;
 
 const NONE: u32 = u32::MAX;
+
+/// The heuristic is the weighted distance to the goal scaled by this factor: consistent with a
+/// margin of 1e-9 relative, far above rounding errors. LPA* stops early when rounding makes the
+/// heuristic inconsistent by one ulp (a goal neighbour's key ties the goal's).
+const HEURISTIC_SCALE: f64 = 1.0 - 1e-9;
 
 /// Options of a roadmap query.
 #[derive(Clone, Debug, PartialEq)]
@@ -49,6 +55,8 @@ impl Default for QueryOptions {
 pub struct QueryStats {
     /// A* searches run (one more after each invalidated node or edge).
     pub searches: usize,
+    /// Nodes expanded over all searches.
+    pub nodes_expanded: usize,
     /// Roadmap nodes whose state was checked.
     pub states_checked: usize,
     /// Edges whose motion was checked.
@@ -170,10 +178,15 @@ impl Ord for Open {
 /// A* buffers, reused across searches.
 #[derive(Debug, Default)]
 struct Search {
+    /// Heuristic per node for the `(start, goal)` pair `h_for` (NaN: not computed yet).
+    h: Vec<f64>,
+    h_for: Option<(u32, u32)>,
     g: Vec<f64>,
     parent: Vec<u32>,
     parent_edge: Vec<u32>,
     closed: Vec<bool>,
+    /// Nodes expanded by the last search, in order.
+    expanded: Vec<u32>,
     heap: BinaryHeap<Open>,
     nodes: Vec<u32>,
     edges: Vec<u32>,
@@ -198,6 +211,7 @@ pub struct PrmPlanner<'a, C: ?Sized> {
     edge_status: Vec<Status>,
     overlay: Overlay,
     search: Search,
+    lpa: Lpa,
     scratch: Vec<f64>,
     found: Vec<(f64, u32)>,
     stats: QueryStats,
@@ -222,6 +236,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                 ..Overlay::default()
             },
             search: Search::default(),
+            lpa: Lpa::default(),
             scratch: vec![0.0; roadmap.space().dimension()],
             found: Vec::new(),
             stats: QueryStats::default(),
@@ -259,6 +274,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
             return Err(Error::GoalInvalid);
         }
         self.overlay.clear();
+        self.forget_heuristic();
         let result = self.query_inner(start, goal);
         self.overlay.clear();
         result
@@ -275,7 +291,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         id
     }
 
-    /// Links overlay node `node` to its `k` nearest roadmap nodes and to the `k` nearest other
+    /// Links overlay node `node` to its `k` nearest roadmap nodes and to the `k` nearest earlier
     /// overlay nodes (within `max_length`).
     fn connect(&mut self, node: u32, k: usize, max_length: f64) {
         let n = self.base_count();
@@ -289,7 +305,8 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         let d = space.dimension();
         for (i, other) in self.overlay.states.chunks_exact(d).enumerate() {
             let other_id = n + i as u32;
-            if other_id != node {
+            // Earlier overlay nodes only: each pair is linked once.
+            if other_id < node {
                 let d2 = space.distance_squared(state, other);
                 if d2 <= max_squared {
                     found.push((d2, other_id));
@@ -302,20 +319,23 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
             if d2 <= max_squared
                 && (other >= n || self.node_status[other as usize] != Status::Invalid)
             {
-                self.overlay.add_edge(node, other, d2.sqrt(), n);
+                // The length by the same formula as the heuristic's (not the k-d tree's).
+                let length = space.distance(
+                    node_state(self.roadmap, &self.overlay, node),
+                    node_state(self.roadmap, &self.overlay, other),
+                );
+                self.overlay.add_edge(node, other, length, n);
             }
         }
         self.found = found;
     }
 
     fn query_inner(&mut self, start: &[f64], goal: &[f64]) -> Result<Path> {
-        let n = self.base_count();
         let k = self.options.connect_neighbors;
+        // The goal links to the start (the direct motion) and to its nearest roadmap nodes.
         let start_id = self.add_overlay_node(start);
-        let goal_id = self.add_overlay_node(goal);
-        let direct = self.roadmap.space().distance(start, goal);
-        self.overlay.add_edge(start_id, goal_id, direct, n);
         self.connect(start_id, k, f64::INFINITY);
+        let goal_id = self.add_overlay_node(goal);
         self.connect(goal_id, k, f64::INFINITY);
 
         let mut round = 0usize;
@@ -359,6 +379,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
     /// Adds one round of valid growth samples to the overlay, each linked to its neighbours.
     fn grow(&mut self, round: usize) {
         self.stats.growth_rounds += 1;
+        self.forget_heuristic();
         let space = self.roadmap.space();
         let k = self.roadmap.options().neighbors;
         let max_length = self.roadmap.options().max_edge_length;
@@ -378,37 +399,57 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         }
     }
 
-    /// Lazy PRM loop: A*, then check the path's unknown nodes and edges; on an invalid one,
-    /// mark it and search again. Leaves the path in `search.nodes` and returns whether found.
+    /// Lazy PRM loop (Bohlin and Kavraki): shortest path over the nodes and edges not known to be
+    /// invalid, then check its unknown nodes (all of them: one state each) and its unknown edges
+    /// in order from the start; on an invalid one, remove it and search again. The searches are
+    /// one LPA* that repairs its distances after each removal instead of starting over. Leaves
+    /// the path in `search.nodes` / `search.edges` and returns whether one was found.
     fn search_and_validate(&mut self, start: u32, goal: u32) -> bool {
         let n = self.base_count() as usize;
         let base_edges = self.roadmap.edge_count() as u32;
         let resolution = self.roadmap.options().resolution;
-        loop {
+        let total = n + self.overlay.extra_head.len();
+        let mut lpa = std::mem::take(&mut self.lpa);
+        let mut former = Vec::new();
+        lpa.reset(&self.view(goal), start, goal, total);
+        let found = loop {
             self.stats.searches += 1;
-            if !self.astar(start, goal) {
-                return false;
+            let (mut nodes, mut edges) = (
+                std::mem::take(&mut self.search.nodes),
+                std::mem::take(&mut self.search.edges),
+            );
+            let view = self.view(goal);
+            let found = lpa.compute(&view) && lpa.path(&view, &mut nodes, &mut edges);
+            self.search.nodes = nodes;
+            self.search.edges = edges;
+            if !found {
+                break false;
             }
-            let mut all_valid = true;
+            let mut invalid_nodes = Vec::new();
             for &node in &self.search.nodes {
-                let node = node as usize;
-                if node < n && self.node_status[node] == Status::Unknown {
+                let i = node as usize;
+                if i < n && self.node_status[i] == Status::Unknown {
                     self.stats.states_checked += 1;
-                    let valid = self.checker.is_state_valid(self.roadmap.state(node));
-                    self.node_status[node] = if valid {
+                    let valid = self.checker.is_state_valid(self.roadmap.state(i));
+                    self.node_status[i] = if valid {
                         Status::Valid
                     } else {
                         Status::Invalid
                     };
                     if !valid {
-                        all_valid = false;
-                        break;
+                        invalid_nodes.push(node);
                     }
                 }
             }
-            if !all_valid {
+            if !invalid_nodes.is_empty() {
+                for node in invalid_nodes {
+                    former.clear();
+                    self.all_neighbors(node, &mut former);
+                    lpa.node_removed(&self.view(goal), node, &former);
+                }
                 continue;
             }
+            let mut invalid_edge = None;
             for i in 0..self.search.edges.len() {
                 let edge = self.search.edges[i];
                 let status = if edge < base_edges {
@@ -440,19 +481,56 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                 }
                 if !valid {
                     self.stats.edges_invalid += 1;
-                    all_valid = false;
+                    invalid_edge = Some((a, b));
                     break;
                 }
             }
-            if all_valid {
-                return true;
+            match invalid_edge {
+                Some((a, b)) => lpa.edge_removed(&self.view(goal), a, b),
+                None => break true,
             }
+        };
+        self.stats.nodes_expanded += lpa.expanded;
+        self.lpa = lpa;
+        found
+    }
+
+    /// The graph as LPA* sees it: nodes and edges not known to be invalid.
+    fn view(&self, goal: u32) -> View<'_> {
+        View {
+            roadmap: self.roadmap,
+            overlay: &self.overlay,
+            node_status: &self.node_status,
+            edge_status: &self.edge_status,
+            goal_state: node_state(self.roadmap, &self.overlay, goal),
+        }
+    }
+
+    /// Every neighbour of `node`, whatever the statuses.
+    fn all_neighbors(&self, node: u32, out: &mut Vec<u32>) {
+        let n = self.base_count();
+        if node < n {
+            out.extend(
+                self.roadmap
+                    .neighbors(node as usize)
+                    .iter()
+                    .map(|&(other, _)| other),
+            );
+        }
+        let mut link = self.overlay.head(node, n);
+        while link != NONE {
+            let Link { edge, next } = self.overlay.links[link as usize];
+            let ends = self.overlay.edges[edge as usize].ends;
+            out.push(if ends[0] == node { ends[1] } else { ends[0] });
+            link = next;
         }
     }
 
     /// A* from `start` to `goal` over edges and nodes not known to be invalid. Fills
     /// `search.nodes` (start..=goal) and `search.edges` (one per segment; roadmap edge ids, then
     /// overlay edges offset by the roadmap's edge count).
+    ///
+    /// Used to explain a failure (which nodes the start reaches); the lazy loop uses LPA*.
     fn astar(&mut self, start: u32, goal: u32) -> bool {
         let n = self.base_count();
         let total = n as usize + self.overlay.extra_head.len();
@@ -460,6 +538,11 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         let space: &JointSpace = self.roadmap.space();
         let goal_state = node_state(self.roadmap, &self.overlay, goal);
         let s = &mut self.search;
+        if s.h_for != Some((start, goal)) {
+            s.h.clear();
+            s.h_for = Some((start, goal));
+        }
+        s.h.resize(total, f64::NAN);
         s.g.clear();
         s.g.resize(total, f64::INFINITY);
         s.parent.clear();
@@ -469,11 +552,21 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         s.closed.clear();
         s.closed.resize(total, false);
         s.heap.clear();
+        s.expanded.clear();
+        let heuristic = |h: &mut [f64], node: u32| {
+            let value = h[node as usize];
+            if value.is_nan() {
+                let value = HEURISTIC_SCALE
+                    * space.distance(node_state(self.roadmap, &self.overlay, node), goal_state);
+                h[node as usize] = value;
+                value
+            } else {
+                value
+            }
+        };
         s.g[start as usize] = 0.0;
-        s.heap.push(Open {
-            f: space.distance(node_state(self.roadmap, &self.overlay, start), goal_state),
-            node: start,
-        });
+        let f = heuristic(&mut s.h, start);
+        s.heap.push(Open { f, node: start });
         let mut reached = false;
         while let Some(Open { node, .. }) = s.heap.pop() {
             if s.closed[node as usize] {
@@ -484,6 +577,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                 break;
             }
             s.closed[node as usize] = true;
+            s.expanded.push(node);
             let g = s.g[node as usize];
             let relax = |other: u32, edge: u32, length: f64, s: &mut Search| {
                 if s.closed[other as usize] {
@@ -494,8 +588,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                     s.g[other as usize] = candidate;
                     s.parent[other as usize] = node;
                     s.parent_edge[other as usize] = edge;
-                    let h =
-                        space.distance(node_state(self.roadmap, &self.overlay, other), goal_state);
+                    let h = heuristic(&mut s.h, other);
                     s.heap.push(Open {
                         f: candidate + h,
                         node: other,
@@ -528,6 +621,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                 link = next;
             }
         }
+        self.stats.nodes_expanded += s.expanded.len();
         if !reached {
             return false;
         }
@@ -543,6 +637,60 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         s.nodes.reverse();
         s.edges.reverse();
         true
+    }
+
+    /// Drops the cached heuristic (after growth added edges, the adaptive bounds may be too high).
+    fn forget_heuristic(&mut self) {
+        self.search.h_for = None;
+    }
+}
+
+/// One environment's view of the roadmap plus overlay, for LPA*.
+struct View<'p> {
+    roadmap: &'p Roadmap,
+    overlay: &'p Overlay,
+    node_status: &'p [Status],
+    edge_status: &'p [Status],
+    goal_state: &'p [f64],
+}
+
+impl Graph for View<'_> {
+    fn neighbors(&self, node: u32, out: &mut Vec<(u32, u32, f64)>) {
+        let n = self.roadmap.node_count() as u32;
+        let usable = |other: u32| other >= n || self.node_status[other as usize] != Status::Invalid;
+        if !usable(node) {
+            return;
+        }
+        if node < n {
+            for &(other, edge) in self.roadmap.neighbors(node as usize) {
+                if self.edge_status[edge as usize] != Status::Invalid && usable(other) {
+                    out.push((other, edge, self.roadmap.edge_length(edge as usize)));
+                }
+            }
+        }
+        let base_edges = self.roadmap.edge_count() as u32;
+        let mut link = self.overlay.head(node, n);
+        while link != NONE {
+            let Link { edge, next } = self.overlay.links[link as usize];
+            let e = self.overlay.edges[edge as usize];
+            let other = if e.ends[0] == node {
+                e.ends[1]
+            } else {
+                e.ends[0]
+            };
+            if e.status != Status::Invalid && usable(other) {
+                out.push((other, base_edges + edge, e.length));
+            }
+            link = next;
+        }
+    }
+
+    fn heuristic(&self, node: u32) -> f64 {
+        HEURISTIC_SCALE
+            * self.roadmap.space().distance(
+                node_state(self.roadmap, self.overlay, node),
+                self.goal_state,
+            )
     }
 }
 
@@ -676,5 +824,58 @@ mod tests {
         let mut free_planner = PrmPlanner::new(&roadmap, &free, QueryOptions::default());
         let direct = free_planner.query(&[0.1, 0.5], &[0.9, 0.5]).expect("path");
         assert_eq!(direct.len(), 2, "the direct edge is free");
+    }
+
+    /// After the lazy loop, the path LPA* repaired must be as short as a fresh A* over what is
+    /// known. (An earlier version stopped one step early when a goal neighbour's key exceeded the
+    /// goal's by rounding, and returned a stale, looping path.)
+    #[test]
+    fn lpa_repairs_match_a_fresh_search() {
+        let space = JointSpace::new(
+            vec![-3.0; 7],
+            vec![3.0; 7],
+            vec![2.0, 1.5, 1.5, 1.0, 0.8, 0.5, 0.3],
+        )
+        .expect("space");
+        let roadmap = Roadmap::build_lazy(
+            &space,
+            &RoadmapOptions {
+                node_count: 2000,
+                resolution: 0.05,
+                seed: 4,
+                ..RoadmapOptions::default()
+            },
+        )
+        .expect("roadmap");
+        let slab = |q: &[f64]| !(q[0].abs() < 0.2 && q[1] < 0.5);
+        let mut planner = PrmPlanner::new(&roadmap, &slab, QueryOptions::default());
+        for (i, y) in [-2.5, -1.5, -0.5, 0.0].into_iter().enumerate() {
+            let start = [-1.0, y, 0.0, 0.1 * i as f64, 0.0, 1.0, 0.0];
+            let goal = [1.0, y, 0.0, 0.0, -0.1 * i as f64, -1.0, 0.0];
+            planner.overlay.clear();
+            planner.forget_heuristic();
+            let s = planner.add_overlay_node(&start);
+            planner.connect(s, 10, f64::INFINITY);
+            let g = planner.add_overlay_node(&goal);
+            planner.connect(g, 10, f64::INFINITY);
+            assert!(planner.search_and_validate(s, g));
+            assert!(planner.last_stats().edges_invalid > 0);
+            let nodes = planner.search.nodes.clone();
+            let length: f64 = nodes
+                .windows(2)
+                .map(|w| {
+                    space.distance(
+                        node_state(&roadmap, &planner.overlay, w[0]),
+                        node_state(&roadmap, &planner.overlay, w[1]),
+                    )
+                })
+                .sum();
+            assert!(planner.astar(s, g));
+            let fresh = planner.search.g[g as usize];
+            assert!(
+                (length - fresh).abs() < 1e-9,
+                "query {i}: LPA* {length}, A* {fresh}"
+            );
+        }
     }
 }
