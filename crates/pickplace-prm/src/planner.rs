@@ -1,4 +1,5 @@
-//! Roadmap queries: connect start and goal, A* over the roadmap, lazy edge checking, growth.
+//! Roadmap queries: connect start and goal, shortest paths over the roadmap (LPA*), lazy
+//! checking, growth.
 //!
 //! A [`PrmPlanner`] is one environment's view of a shared, immutable [`Roadmap`]. It caches the
 //! validity of every node and edge it has checked, so successive queries in the same environment
@@ -53,7 +54,7 @@ impl Default for QueryOptions {
 /// What the last query did, for diagnostics and benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct QueryStats {
-    /// A* searches run (one more after each invalidated node or edge).
+    /// Shortest-path searches run (one more after each invalidated edge or set of nodes).
     pub searches: usize,
     /// Nodes expanded over all searches.
     pub nodes_expanded: usize,
@@ -195,12 +196,12 @@ struct Search {
 /// Answers path queries on a shared [`Roadmap`] in one environment (one validity checker).
 ///
 /// On a [`Validation::Lazy`] roadmap, nodes and edges are checked only when a candidate path uses
-/// them (lazy PRM): an invalid one is removed and A* is run again. Results are cached for the
-/// planner's lifetime, so the planner belongs to one environment; build another planner (cheap:
-/// two status arrays) for another environment. On a [`Validation::Checked`] roadmap, roadmap edges
+/// them (lazy PRM): an invalid one is removed, the search is repaired (LPA*) and run again.
+/// Results are cached for the planner's lifetime, so the planner belongs to one environment;
+/// build another planner (cheap: two status arrays) for another environment. On a [`Validation::Checked`] roadmap, roadmap edges
 /// are trusted and only the start, goal and growth edges are checked.
 ///
-/// When A* finds no path, the planner grows a per-query overlay of `growth_nodes` valid samples
+/// When no path is found, the planner grows a per-query overlay of `growth_nodes` valid samples
 /// per round, up to `growth_rounds` rounds, then reports why it failed.
 #[derive(Debug)]
 pub struct PrmPlanner<'a, C: ?Sized> {
