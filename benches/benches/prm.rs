@@ -11,8 +11,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use pickplace_prm::{
-    JointSpace, PrmPlanner, QueryOptions, Roadmap, RoadmapOptions, RrtOptions, ShortcutOptions, TimingOptions,
-    ValidityChecker, rrt_connect, shortcut, time_parameterize,
+    JointSpace, PrmPlanner, QueryOptions, Roadmap, RoadmapOptions, RrtOptions, ShortcutOptions,
+    TimingOptions, ValidityChecker, rrt_connect, shortcut, time_parameterize,
 };
 
 /// A planning problem: a joint space, a validity checker and one hard query.
@@ -108,7 +108,9 @@ fn prm(c: &mut Criterion) {
         b.iter(|| pool.install(|| Roadmap::build_lazy(&problem.space, &options).expect("roadmap")))
     });
     group.bench_function("roadmap_5000_checked_2_threads", |b| {
-        b.iter(|| pool.install(|| Roadmap::build(&problem.space, checker, &options).expect("roadmap")))
+        b.iter(|| {
+            pool.install(|| Roadmap::build(&problem.space, checker, &options).expect("roadmap"))
+        })
     });
     group.finish();
 
@@ -135,8 +137,20 @@ fn prm(c: &mut Criterion) {
     group.bench_function("rrt_connect", |b| {
         b.iter(|| {
             seed += 1;
-            let options = RrtOptions { seed, ..rrt_options.clone() };
-            black_box(rrt_connect(&problem.space, checker, &problem.start, &problem.goal, &options).expect("path"))
+            let options = RrtOptions {
+                seed,
+                ..rrt_options.clone()
+            };
+            black_box(
+                rrt_connect(
+                    &problem.space,
+                    checker,
+                    &problem.start,
+                    &problem.goal,
+                    &options,
+                )
+                .expect("path"),
+            )
         })
     });
 
@@ -147,7 +161,11 @@ fn prm(c: &mut Criterion) {
         ..ShortcutOptions::default()
     };
     group.bench_function("shortcut_100", |b| {
-        b.iter(|| black_box(shortcut(&problem.space, checker, &path, &shortcut_options).expect("shortcut")))
+        b.iter(|| {
+            black_box(
+                shortcut(&problem.space, checker, &path, &shortcut_options).expect("shortcut"),
+            )
+        })
     });
     let short = shortcut(&problem.space, checker, &path, &shortcut_options).expect("shortcut");
     let timing = TimingOptions {
