@@ -1,6 +1,8 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
+mod acm;
 mod gen_meshes;
+mod precompute;
 
 use std::path::PathBuf;
 
@@ -8,10 +10,18 @@ fn main() -> anyhow::Result<()> {
     let task = std::env::args().nth(1);
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
+        Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
+        Some("precompute") => {
+            let force = std::env::args().skip(2).any(|a| a == "--force");
+            precompute::run(&repo_root(), force)
+        }
         _ => {
             eprintln!(
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
-                 (meshes/*.stl) from pickplace_geometry::shapes"
+                 (meshes/*.stl) from pickplace_geometry::shapes\n  \
+                 acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
+                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
+                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
             );
             std::process::exit(2);
         }

@@ -60,14 +60,16 @@ pub fn encode(db: &ClusterDatabase) -> Vec<u8> {
         pairs: &db.clustering.pairs,
     };
     // Plain structs of numbers and vectors: serialising them into memory cannot fail.
-    let payload = bincode::serde::encode_to_vec(&payload, config()).expect("in-memory encoding of plain data");
+    let payload = bincode::serde::encode_to_vec(&payload, config())
+        .expect("in-memory encoding of plain data");
     let header = Header {
         mesh_hash: db.mesh_hash,
         params: db.clustering.params,
         payload_len: payload.len() as u64,
         payload_hash: hash_bytes(&payload),
     };
-    let header = bincode::serde::encode_to_vec(&header, config()).expect("in-memory encoding of plain data");
+    let header =
+        bincode::serde::encode_to_vec(&header, config()).expect("in-memory encoding of plain data");
     let mut out = Vec::with_capacity(16 + header.len() + payload.len());
     out.extend_from_slice(&MAGIC);
     out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
@@ -78,11 +80,21 @@ pub fn encode(db: &ClusterDatabase) -> Vec<u8> {
 }
 
 fn corrupt(detail: impl Into<String>) -> DatabaseErrorKind {
-    DatabaseErrorKind::Corrupt { detail: detail.into() }
+    DatabaseErrorKind::Corrupt {
+        detail: detail.into(),
+    }
 }
 
-fn mismatch(what: &'static str, found: impl ToString, expected: impl ToString) -> DatabaseErrorKind {
-    DatabaseErrorKind::Mismatch { what, found: found.to_string(), expected: expected.to_string() }
+fn mismatch(
+    what: &'static str,
+    found: impl ToString,
+    expected: impl ToString,
+) -> DatabaseErrorKind {
+    DatabaseErrorKind::Mismatch {
+        what,
+        found: found.to_string(),
+        expected: expected.to_string(),
+    }
 }
 
 fn check_params(found: &ClusterParams, expected: &ClusterParams) -> Result<(), DatabaseErrorKind> {
@@ -94,10 +106,18 @@ fn check_params(found: &ClusterParams, expected: &ClusterParams) -> Result<(), D
         return Err(mismatch("h_max", found.h_max, expected.h_max));
     }
     if !same(found.max_facet_angle, expected.max_facet_angle) {
-        return Err(mismatch("max_facet_angle", found.max_facet_angle, expected.max_facet_angle));
+        return Err(mismatch(
+            "max_facet_angle",
+            found.max_facet_angle,
+            expected.max_facet_angle,
+        ));
     }
     if !same(found.opposite_dot, expected.opposite_dot) {
-        return Err(mismatch("opposite_dot", found.opposite_dot, expected.opposite_dot));
+        return Err(mismatch(
+            "opposite_dot",
+            found.opposite_dot,
+            expected.opposite_dot,
+        ));
     }
     Ok(())
 }
@@ -114,44 +134,66 @@ fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
 /// [`DatabaseErrorKind::BadMagic`], [`DatabaseErrorKind::Version`],
 /// [`DatabaseErrorKind::Mismatch`] (mesh hash or a parameter) or
 /// [`DatabaseErrorKind::Corrupt`].
-pub fn decode(bytes: &[u8], expected_hash: u64, expected: &ClusterParams) -> Result<ClusterDatabase, DatabaseErrorKind> {
+pub fn decode(
+    bytes: &[u8],
+    expected_hash: u64,
+    expected: &ClusterParams,
+) -> Result<ClusterDatabase, DatabaseErrorKind> {
     if bytes.get(..8) != Some(&MAGIC[..]) {
         return Err(DatabaseErrorKind::BadMagic);
     }
     let version = u32_at(bytes, 8).ok_or_else(|| corrupt("truncated before the version"))?;
     if version != FORMAT_VERSION {
-        return Err(DatabaseErrorKind::Version { found: version, expected: FORMAT_VERSION });
+        return Err(DatabaseErrorKind::Version {
+            found: version,
+            expected: FORMAT_VERSION,
+        });
     }
-    let header_len = u32_at(bytes, 12).ok_or_else(|| corrupt("truncated before the header"))? as usize;
-    let header_bytes = bytes.get(16..16usize.saturating_add(header_len)).ok_or_else(|| corrupt("truncated header"))?;
-    let (header, used): (Header, usize) =
-        bincode::serde::decode_from_slice(header_bytes, config()).map_err(|e| corrupt(format!("header: {e}")))?;
+    let header_len =
+        u32_at(bytes, 12).ok_or_else(|| corrupt("truncated before the header"))? as usize;
+    let header_bytes = bytes
+        .get(16..16usize.saturating_add(header_len))
+        .ok_or_else(|| corrupt("truncated header"))?;
+    let (header, used): (Header, usize) = bincode::serde::decode_from_slice(header_bytes, config())
+        .map_err(|e| corrupt(format!("header: {e}")))?;
     if used != header_len {
         return Err(corrupt("header length does not match its content"));
     }
     if header.mesh_hash != expected_hash {
-        return Err(mismatch("mesh hash", format!("{:016x}", header.mesh_hash), format!("{expected_hash:016x}")));
+        return Err(mismatch(
+            "mesh hash",
+            format!("{:016x}", header.mesh_hash),
+            format!("{expected_hash:016x}"),
+        ));
     }
     check_params(&header.params, expected)?;
     let payload = &bytes[16 + header_len..];
     if payload.len() as u64 != header.payload_len {
-        return Err(corrupt(format!("payload is {} bytes, the header says {}", payload.len(), header.payload_len)));
+        return Err(corrupt(format!(
+            "payload is {} bytes, the header says {}",
+            payload.len(),
+            header.payload_len
+        )));
     }
     if hash_bytes(payload) != header.payload_hash {
         return Err(corrupt("payload checksum mismatch"));
     }
-    let (p, used): (Payload, usize) =
-        bincode::serde::decode_from_slice(payload, config()).map_err(|e| corrupt(format!("payload: {e}")))?;
+    let (p, used): (Payload, usize) = bincode::serde::decode_from_slice(payload, config())
+        .map_err(|e| corrupt(format!("payload: {e}")))?;
     if used != payload.len() {
         return Err(corrupt("trailing bytes after the payload"));
     }
-    let triangle_count = usize::try_from(p.triangle_count).map_err(|_| corrupt("triangle count overflows"))?;
+    let triangle_count =
+        usize::try_from(p.triangle_count).map_err(|_| corrupt("triangle count overflows"))?;
     for (i, c) in p.clusters.iter().enumerate() {
         if c.id as usize != i {
             return Err(corrupt(format!("cluster {i} carries id {}", c.id)));
         }
         if c.triangles.iter().any(|&t| t as usize >= triangle_count) {
-            return Err(corrupt(format!("cluster {} refers to a triangle beyond {triangle_count}", c.id)));
+            return Err(corrupt(format!(
+                "cluster {} refers to a triangle beyond {triangle_count}",
+                c.id
+            )));
         }
     }
     let n = p.clusters.len() as u32;
@@ -161,6 +203,10 @@ pub fn decode(bytes: &[u8], expected_hash: u64, expected: &ClusterParams) -> Res
     Ok(ClusterDatabase {
         mesh_hash: header.mesh_hash,
         triangle_count,
-        clustering: Clustering { params: header.params, clusters: p.clusters, pairs: p.pairs },
+        clustering: Clustering {
+            params: header.params,
+            clusters: p.clusters,
+            pairs: p.pairs,
+        },
     })
 }

@@ -84,8 +84,14 @@ pub fn write_clusters_ply(path: &Path, mesh: &TriMesh, clustering: &Clustering) 
 /// # Errors
 /// [`Error::Io`] naming `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |source| Error::Io { path: path.to_path_buf(), source };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -109,7 +115,9 @@ mod tests {
         let colours: Vec<[u8; 3]> = (0..64).map(cluster_color).collect();
         for i in 0..64 {
             for j in i + 1..(i + 8).min(64) {
-                let d: i32 = (0..3).map(|k| (i32::from(colours[i][k]) - i32::from(colours[j][k])).abs()).sum();
+                let d: i32 = (0..3)
+                    .map(|k| (i32::from(colours[i][k]) - i32::from(colours[j][k])).abs())
+                    .sum();
                 assert!(d > 40, "{i} {j} {:?} {:?}", colours[i], colours[j]);
             }
         }

@@ -27,12 +27,20 @@ pub struct Polygon {
 impl Polygon {
     /// A polygon without holes.
     pub fn new(outer: Vec<Point2>) -> Self {
-        Self { outer, holes: Vec::new() }
+        Self {
+            outer,
+            holes: Vec::new(),
+        }
     }
 
     /// Area (m²): outer area minus the holes' areas.
     pub fn area(&self) -> Real {
-        signed_area(&self.outer).abs() - self.holes.iter().map(|h| signed_area(h).abs()).sum::<Real>()
+        signed_area(&self.outer).abs()
+            - self
+                .holes
+                .iter()
+                .map(|h| signed_area(h).abs())
+                .sum::<Real>()
     }
 
     /// Area centroid, or `None` when the area is zero.
@@ -129,7 +137,11 @@ pub fn distance_to_ring(p: &Point2, ring: &[Point2]) -> Real {
 fn segment_distance(p: &Point2, a: &Point2, b: &Point2) -> Real {
     let ab = b - a;
     let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     (p - (a + ab * t)).norm()
 }
 
@@ -148,7 +160,11 @@ pub fn signed_margin(p: &Point2, ring: &[Point2]) -> Real {
 /// Fewer than three distinct non-collinear points give the distinct points in order (a
 /// segment or a point).
 pub fn convex_hull(points: &[Point2]) -> Vec<Point2> {
-    let mut p: Vec<Point2> = points.iter().copied().filter(|q| q.x.is_finite() && q.y.is_finite()).collect();
+    let mut p: Vec<Point2> = points
+        .iter()
+        .copied()
+        .filter(|q| q.x.is_finite() && q.y.is_finite())
+        .collect();
     p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     p.dedup();
     if p.len() < 3 {
@@ -201,7 +217,12 @@ impl Rect2 {
     pub fn corners(&self) -> [Point2; 4] {
         let u = self.axis * self.half_extents.x;
         let v = Vector2::new(-self.axis.y, self.axis.x) * self.half_extents.y;
-        [self.center - u - v, self.center + u - v, self.center + u + v, self.center - u + v]
+        [
+            self.center - u - v,
+            self.center + u - v,
+            self.center + u + v,
+            self.center - u + v,
+        ]
     }
 
     /// True when `p` is inside (within `tolerance` m).
@@ -223,7 +244,13 @@ pub fn min_area_rect(points: &[Point2]) -> Option<Rect2> {
     let hull = convex_hull(points);
     match hull.len() {
         0 => return None,
-        1 => return Some(Rect2 { center: hull[0], axis: Vector2::x(), half_extents: Vector2::zeros() }),
+        1 => {
+            return Some(Rect2 {
+                center: hull[0],
+                axis: Vector2::x(),
+                half_extents: Vector2::zeros(),
+            });
+        }
         2 => {
             let d = hull[1] - hull[0];
             let len = d.norm();
@@ -270,7 +297,11 @@ pub fn min_area_rect(points: &[Point2]) -> Option<Rect2> {
             let center = o + u * (0.5 * (a0 + a1)) + v * (0.5 * h);
             best = Some((
                 area,
-                Rect2 { center, axis: u, half_extents: Vector2::new(0.5 * (a1 - a0), 0.5 * h) },
+                Rect2 {
+                    center,
+                    axis: u,
+                    half_extents: Vector2::new(0.5 * (a1 - a0), 0.5 * h),
+                },
             ));
         }
     }
@@ -286,14 +317,20 @@ fn to_shape(p: &Polygon) -> Vec<Vec<[f64; 2]>> {
 }
 
 fn to_shapes(polygons: &[Polygon]) -> Vec<Vec<Vec<[f64; 2]>>> {
-    polygons.iter().map(to_shape).filter(|s| !s.is_empty()).collect()
+    polygons
+        .iter()
+        .map(to_shape)
+        .filter(|s| !s.is_empty())
+        .collect()
 }
 
 fn from_shapes(shapes: Vec<Vec<Vec<[f64; 2]>>>) -> Vec<Polygon> {
     shapes
         .into_iter()
         .filter_map(|shape| {
-            let mut rings = shape.into_iter().map(|c| c.into_iter().map(|[x, y]| Point2::new(x, y)).collect());
+            let mut rings = shape
+                .into_iter()
+                .map(|c| c.into_iter().map(|[x, y]| Point2::new(x, y)).collect());
             let mut outer: Vec<Point2> = rings.next()?;
             if signed_area(&outer) < 0.0 {
                 outer.reverse();
@@ -319,7 +356,11 @@ fn overlay(a: &[Polygon], b: &[Polygon], rule: OverlayRule) -> Vec<Polygon> {
     if sb.is_empty() {
         return match rule {
             OverlayRule::Intersect => Vec::new(),
-            _ => from_shapes(sa.overlay(&Vec::<Vec<Vec<[f64; 2]>>>::new(), OverlayRule::Subject, FillRule::EvenOdd)),
+            _ => from_shapes(sa.overlay(
+                &Vec::<Vec<Vec<[f64; 2]>>>::new(),
+                OverlayRule::Subject,
+                FillRule::EvenOdd,
+            )),
         };
     }
     from_shapes(sa.overlay(&sb, rule, FillRule::EvenOdd))
@@ -365,10 +406,22 @@ pub fn total_centroid(polygons: &[Polygon]) -> Option<Point2> {
 /// The supported region of two touching clusters (paper Fig. 7, first two steps): the common
 /// area of the two outer boundaries, minus the holes of both.
 pub fn support_region(a: &Polygon, b: &Polygon) -> Vec<Polygon> {
-    let common = intersection(&[Polygon::new(a.outer.clone())], &[Polygon::new(b.outer.clone())]);
-    let holes: Vec<Polygon> =
-        a.holes.iter().chain(b.holes.iter()).filter(|h| h.len() >= 3).map(|h| Polygon::new(h.clone())).collect();
-    if holes.is_empty() { common } else { difference(&common, &holes) }
+    let common = intersection(
+        &[Polygon::new(a.outer.clone())],
+        &[Polygon::new(b.outer.clone())],
+    );
+    let holes: Vec<Polygon> = a
+        .holes
+        .iter()
+        .chain(b.holes.iter())
+        .filter(|h| h.len() >= 3)
+        .map(|h| Polygon::new(h.clone()))
+        .collect();
+    if holes.is_empty() {
+        common
+    } else {
+        difference(&common, &holes)
+    }
 }
 
 /// Convex hull of the support region of two clusters (paper Fig. 7, third step). The object
@@ -385,14 +438,22 @@ mod tests {
     use super::*;
 
     fn square(x0: Real, y0: Real, s: Real) -> Vec<Point2> {
-        vec![Point2::new(x0, y0), Point2::new(x0 + s, y0), Point2::new(x0 + s, y0 + s), Point2::new(x0, y0 + s)]
+        vec![
+            Point2::new(x0, y0),
+            Point2::new(x0 + s, y0),
+            Point2::new(x0 + s, y0 + s),
+            Point2::new(x0, y0 + s),
+        ]
     }
 
     #[test]
     fn area_centroid_and_containment_of_a_square_with_a_hole() {
         let mut hole = square(0.25, 0.25, 0.5);
         hole.reverse();
-        let p = Polygon { outer: square(0.0, 0.0, 1.0), holes: vec![hole] };
+        let p = Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        };
         assert!((p.area() - 0.75).abs() < 1e-12);
         let c = p.centroid().expect("non-zero area");
         assert!((c - Point2::new(0.5, 0.5)).norm() < 1e-12);
@@ -414,11 +475,20 @@ mod tests {
     #[test]
     fn min_rect_of_a_rotated_rectangle_is_tight() {
         let a: Real = 0.3;
-        let (u, v) = (Vector2::new(a.cos(), a.sin()), Vector2::new(-a.sin(), a.cos()));
-        let pts: Vec<Point2> = [(-2.0, -1.0), (2.0, -1.0), (2.0, 1.0), (-2.0, 1.0), (0.5, 0.2)]
-            .iter()
-            .map(|&(x, y)| Point2::from(u * x + v * y) + Vector2::new(3.0, 4.0))
-            .collect();
+        let (u, v) = (
+            Vector2::new(a.cos(), a.sin()),
+            Vector2::new(-a.sin(), a.cos()),
+        );
+        let pts: Vec<Point2> = [
+            (-2.0, -1.0),
+            (2.0, -1.0),
+            (2.0, 1.0),
+            (-2.0, 1.0),
+            (0.5, 0.2),
+        ]
+        .iter()
+        .map(|&(x, y)| Point2::from(u * x + v * y) + Vector2::new(3.0, 4.0))
+        .collect();
         let r = min_area_rect(&pts).expect("non-empty");
         assert!((r.area() - 8.0).abs() < 1e-9, "{r:?}");
         assert!((r.center - Point2::new(3.0, 4.0)).norm() < 1e-9);
@@ -443,7 +513,10 @@ mod tests {
         // Fig. 7: a plate with a hole in the middle resting on a larger plate.
         let mut hole = square(0.4, 0.4, 0.2);
         hole.reverse();
-        let object = Polygon { outer: square(0.0, 0.0, 1.0), holes: vec![hole] };
+        let object = Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        };
         let env = Polygon::new(square(-1.0, -1.0, 3.0));
         let region = support_region(&object, &env);
         assert!((total_area(&region) - 0.96).abs() < 1e-6);

@@ -23,13 +23,38 @@ impl CollisionMesh {
     /// parry rejects meshes without triangles; a [`TriMesh`] always has some, so this only
     /// fails on internal inconsistency, reported as [`crate::Error::DegenerateHull`].
     pub fn new(mesh: &TriMesh) -> crate::Result<Self> {
-        let vertices: Vec<PVector> = mesh.vertices().iter().map(to_parry_point).collect();
-        let shape =
-            ParryTriMesh::with_flags(vertices, mesh.triangles().to_vec(), TriMeshFlags::empty())
-                .map_err(|e| crate::Error::DegenerateHull {
-                    reason: format!("collision mesh: {e:?}"),
-                })?;
-        Ok(Self { shape, vertices: mesh.vertices().to_vec(), triangles: mesh.triangles().to_vec() })
+        Self::from_parts(mesh.vertices().to_vec(), mesh.triangles().to_vec())
+    }
+
+    /// Prepares several meshes, each placed at its pose, as one collision mesh.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidOption`] when `meshes` is empty; otherwise as [`CollisionMesh::new`].
+    pub fn from_meshes(meshes: &[(&TriMesh, Isometry3)]) -> crate::Result<Self> {
+        if meshes.is_empty() {
+            return Err(crate::Error::InvalidOption {
+                name: "environment",
+                value: 0.0,
+                reason: "no environment mesh given",
+            });
+        }
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        for (mesh, pose) in meshes {
+            let base = u32::try_from(vertices.len()).map_err(|_| crate::Error::DegenerateHull {
+                reason: "environment meshes have more than 2^32 vertices".into(),
+            })?;
+            vertices.extend(mesh.vertices().iter().map(|p| pose * p));
+            triangles.extend(mesh.triangles().iter().map(|t| t.map(|i| i + base)));
+        }
+        Self::from_parts(vertices, triangles)
+    }
+
+    fn from_parts(vertices: Vec<Point3>, triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
+        let points: Vec<PVector> = vertices.iter().map(to_parry_point).collect();
+        let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
+            .map_err(|e| crate::Error::DegenerateHull { reason: format!("collision mesh: {e:?}") })?;
+        Ok(Self { shape, vertices, triangles })
     }
 
     /// Whether the object, at `world_from_object` moved by `lift` (m, world frame), has its

@@ -4,9 +4,16 @@
 //! This crate knows no kinematics and no robot.
 #![warn(missing_docs)]
 
+pub mod candidates;
 pub mod collide;
 pub mod error;
+pub mod region;
 pub mod resting;
 
 pub use error::{Error, Result};
 pub use resting::{RestingOptions, RestingPose, resting_poses};
+pub use candidates::{
+    ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet, Rejections, TargetError,
+    candidates, include_bounding_box, select_target,
+};
+pub use region::Region;

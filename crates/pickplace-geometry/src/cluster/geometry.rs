@@ -71,13 +71,20 @@ pub(super) fn finish_cluster(engine: &Engine<'_>, old: u32, id: u32) -> Cluster 
     let loops = boundary_loops(engine, old, &w.triangles);
     let mut rings: Vec<Vec<Point2>> = loops
         .iter()
-        .map(|l| l.iter().map(|&v| frame.to_2d(&mesh.vertices()[v as usize])).collect::<Vec<_>>())
+        .map(|l| {
+            l.iter()
+                .map(|&v| frame.to_2d(&mesh.vertices()[v as usize]))
+                .collect::<Vec<_>>()
+        })
         .filter(|r: &Vec<Point2>| r.len() >= 3)
         .collect();
     // The loop enclosing the largest area is the outer boundary; the others are holes.
     let outer_index = (0..rings.len())
         .max_by(|&a, &b| {
-            polygon::signed_area(&rings[a]).abs().total_cmp(&polygon::signed_area(&rings[b]).abs()).then(b.cmp(&a))
+            polygon::signed_area(&rings[a])
+                .abs()
+                .total_cmp(&polygon::signed_area(&rings[b]).abs())
+                .then(b.cmp(&a))
         })
         .unwrap_or(0);
     let mut region = Polygon::default();
@@ -98,13 +105,22 @@ pub(super) fn finish_cluster(engine: &Engine<'_>, old: u32, id: u32) -> Cluster 
     // A closed cluster (no boundary) cannot occur under the facet-angle limit; fall back to
     // the projected vertices for the hull all the same.
     let hull_input: Vec<Point2> = if region.outer.is_empty() {
-        w.triangles.iter().flat_map(|&t| mesh.triangles()[t as usize]).map(|v| frame.to_2d(&mesh.vertices()[v as usize])).collect()
+        w.triangles
+            .iter()
+            .flat_map(|&t| mesh.triangles()[t as usize])
+            .map(|v| frame.to_2d(&mesh.vertices()[v as usize]))
+            .collect()
     } else {
-        region.outer.clone()
+        // Holes lie inside the outer boundary on a consistent mesh; on a folded triangle soup
+        // one may stick out, and the hull (hence the rectangle) still covers it.
+        region.points().copied().collect()
     };
     let hull = polygon::convex_hull(&hull_input);
-    let bounding_rect = polygon::min_area_rect(&hull)
-        .unwrap_or(Rect2 { center: Point2::origin(), axis: crate::math::Vector2::x(), half_extents: crate::math::Vector2::zeros() });
+    let bounding_rect = polygon::min_area_rect(&hull).unwrap_or(Rect2 {
+        center: Point2::origin(),
+        axis: crate::math::Vector2::x(),
+        half_extents: crate::math::Vector2::zeros(),
+    });
     Cluster {
         id,
         triangles: w.triangles.clone(),
@@ -157,7 +173,9 @@ fn boundary_loops(engine: &Engine<'_>, cluster: u32, triangles: &[u32]) -> Vec<V
         while cur != first {
             ring.push(cur);
             let from = edges.partition_point(|e| e.0 < cur);
-            let next = (from..edges.len()).take_while(|&i| edges[i].0 == cur).find(|&i| !used[i]);
+            let next = (from..edges.len())
+                .take_while(|&i| edges[i].0 == cur)
+                .find(|&i| !used[i]);
             match next {
                 Some(i) => {
                     used[i] = true;

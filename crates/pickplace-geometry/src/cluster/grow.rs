@@ -28,8 +28,15 @@ impl Moments {
         let scaled = (b - a).cross(&(c - a));
         let area = 0.5 * scaled.norm();
         let s = a + b + c;
-        let second = (s * s.transpose() + a * a.transpose() + b * b.transpose() + c * c.transpose()) * (area / 12.0);
-        Self { area, first: s * (area / 3.0), second, normal_sum: scaled * 0.5 }
+        let second =
+            (s * s.transpose() + a * a.transpose() + b * b.transpose() + c * c.transpose())
+                * (area / 12.0);
+        Self {
+            area,
+            first: s * (area / 3.0),
+            second,
+            normal_sum: scaled * 0.5,
+        }
     }
 
     fn add(&self, o: &Self) -> Self {
@@ -47,14 +54,54 @@ impl Moments {
     pub fn plane(&self) -> (Vector3, Vector3) {
         let c = self.first / self.area;
         let cov = self.second / self.area - c * c.transpose();
-        let n = smallest_eigenvector(&cov).unwrap_or_else(|| self.normal_sum.normalize());
+        let n = smallest_eigenvector(&cov, &self.normal_sum)
+            .unwrap_or_else(|| self.normal_sum.normalize());
         let n = if n.dot(&self.normal_sum) < 0.0 { -n } else { n };
         (n, c)
     }
 }
 
-/// Unit eigenvector of the smallest eigenvalue of a symmetric 3×3 matrix.
-fn smallest_eigenvector(m: &Matrix3) -> Option<Vector3> {
+/// Unit eigenvector of the smallest eigenvalue of a symmetric positive semi-definite 3×3
+/// matrix `m` (an area covariance).
+///
+/// Power iteration on the adjugate, started from `guess` (the area-weighted normal, close to
+/// the answer): with `m`'s eigenvalues λ₁ ≤ λ₂ ≤ λ₃, adj(m) has the same eigenvectors with
+/// eigenvalues λ₂λ₃ ≥ λ₁λ₃ ≥ λ₁λ₂, so its dominant eigenvector is the one wanted, and each
+/// step shrinks the error by λ₁/λ₂. A flat cluster (λ₁ = 0) is exact after one step, a
+/// gently curved one after two or three. When the iteration does not settle (λ₁ ≈ λ₂) a
+/// full symmetric eigen-decomposition decides. Both are deterministic.
+fn smallest_eigenvector(m: &Matrix3, guess: &Vector3) -> Option<Vector3> {
+    let adj = Matrix3::new(
+        m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)],
+        m[(0, 2)] * m[(2, 1)] - m[(0, 1)] * m[(2, 2)],
+        m[(0, 1)] * m[(1, 2)] - m[(0, 2)] * m[(1, 1)],
+        m[(1, 2)] * m[(2, 0)] - m[(1, 0)] * m[(2, 2)],
+        m[(0, 0)] * m[(2, 2)] - m[(0, 2)] * m[(2, 0)],
+        m[(0, 2)] * m[(1, 0)] - m[(0, 0)] * m[(1, 2)],
+        m[(1, 0)] * m[(2, 1)] - m[(1, 1)] * m[(2, 0)],
+        m[(0, 1)] * m[(2, 0)] - m[(0, 0)] * m[(2, 1)],
+        m[(0, 0)] * m[(1, 1)] - m[(0, 1)] * m[(1, 0)],
+    );
+    if let Some(mut v) = guess.try_normalize(0.0) {
+        for _ in 0..24 {
+            let w = adj * v;
+            let norm = w.norm();
+            if !(norm.is_finite() && norm > 0.0) {
+                break;
+            }
+            let w = w / norm;
+            let settled = (w - v).norm_squared() < 1e-26;
+            v = w;
+            if settled {
+                return Some(v);
+            }
+        }
+    }
+    smallest_eigenvector_full(m)
+}
+
+/// [`smallest_eigenvector`] by a full symmetric eigen-decomposition.
+fn smallest_eigenvector_full(m: &Matrix3) -> Option<Vector3> {
     let eig = nalgebra::SymmetricEigen::new(*m);
     let mut k = 0;
     for i in 1..3 {
@@ -87,7 +134,16 @@ struct Extent {
     radius: Real,
     /// Every triangle normal is within `spread` (rad) of `dir`.
     spread: Real,
+    /// A few of the cluster's vertices, the most extreme ones along the normal found so far
+    /// (`NO_VERTEX` for empty slots): the union's thickness along any direction is at least
+    /// theirs, which rejects most merges without scanning the cluster.
+    witnesses: [u32; WITNESSES],
 }
+
+/// Number of witness vertices an [`Extent`] keeps.
+const WITNESSES: usize = 6;
+/// An empty witness slot.
+const NO_VERTEX: u32 = u32::MAX;
 
 /// One cluster under construction.
 #[derive(Debug, Clone)]
@@ -136,7 +192,9 @@ impl<'a> Engine<'a> {
         let (lo, hi) = mesh.aabb();
         let origin = Point3::from((lo.coords + hi.coords) * 0.5);
         let points: Vec<Vector3> = mesh.vertices().iter().map(|p| p - origin).collect();
-        let tri_normals = (0..mesh.triangle_count()).map(|t| mesh.triangle_normal(t)).collect();
+        let tri_normals = (0..mesh.triangle_count())
+            .map(|t| mesh.triangle_normal(t))
+            .collect();
         Self {
             mesh,
             points,
@@ -156,20 +214,83 @@ impl<'a> Engine<'a> {
     }
 
     /// Exact extent of a set of triangles along `dir` around `center`.
-    fn exact_extent<'b>(&self, tris: impl Iterator<Item = &'b u32>, dir: Vector3, center: Vector3) -> Extent {
-        let (mut lo, mut hi, mut r2, mut min_dot) = (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real, 1.0 as Real);
+    fn exact_extent<'b>(
+        &self,
+        tris: impl Iterator<Item = &'b u32>,
+        dir: Vector3,
+        center: Vector3,
+    ) -> Extent {
+        let (mut lo, mut hi, mut r2, mut min_dot) =
+            (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real, 1.0 as Real);
+        let (mut lo_v, mut hi_v) = (NO_VERTEX, NO_VERTEX);
         let tris_idx = self.mesh.triangles();
         for &t in tris {
             min_dot = min_dot.min(self.tri_normals[t as usize].dot(&dir));
             for &v in &tris_idx[t as usize] {
                 let p = &self.points[v as usize];
                 let d = dir.dot(p);
-                lo = lo.min(d);
-                hi = hi.max(d);
+                if d < lo {
+                    lo = d;
+                    lo_v = v;
+                }
+                if d > hi {
+                    hi = d;
+                    hi_v = v;
+                }
                 r2 = r2.max((p - center).norm_squared());
             }
         }
-        Extent { dir, lo, hi, center, radius: r2.sqrt(), spread: min_dot.clamp(-1.0, 1.0).acos() }
+        let mut witnesses = [NO_VERTEX; WITNESSES];
+        witnesses[0] = lo_v;
+        witnesses[1] = hi_v;
+        Extent {
+            dir,
+            lo,
+            hi,
+            center,
+            radius: r2.sqrt(),
+            spread: min_dot.clamp(-1.0, 1.0).acos(),
+            witnesses,
+        }
+    }
+
+    /// The `WITNESSES / 2` lowest and highest distinct vertices of `candidates` along `dir`.
+    fn pick_witnesses<'b>(
+        &self,
+        candidates: impl Iterator<Item = &'b u32>,
+        dir: &Vector3,
+    ) -> [u32; WITNESSES] {
+        // At most two extents' witnesses and two scan results: no allocation.
+        let mut buf = [(0.0, NO_VERTEX); 2 * WITNESSES + 2];
+        let mut n = 0;
+        for &v in candidates.filter(|&&v| v != NO_VERTEX).take(buf.len()) {
+            buf[n] = (dir.dot(&self.points[v as usize]), v);
+            n += 1;
+        }
+        let all = &mut buf[..n];
+        all.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Equal vertices have equal projections, so duplicates are adjacent after sorting.
+        let mut unique = 0;
+        for i in 0..all.len() {
+            if unique == 0 || all[unique - 1].1 != all[i].1 {
+                all[unique] = all[i];
+                unique += 1;
+            }
+        }
+        let all = &all[..unique];
+        let mut out = [NO_VERTEX; WITNESSES];
+        if all.len() <= WITNESSES {
+            for (slot, e) in out.iter_mut().zip(all) {
+                *slot = e.1;
+            }
+        } else {
+            let half = WITNESSES / 2;
+            for k in 0..half {
+                out[k] = all[k].1;
+                out[half + k] = all[all.len() - 1 - k].1;
+            }
+        }
+        out
     }
 
     fn accepts(&self, e: &Extent) -> bool {
@@ -187,7 +308,15 @@ impl<'a> Engine<'a> {
         for &t in &tris {
             self.cluster_of[t as usize] = id;
         }
-        self.clusters.push(Work { alive: true, closed: false, triangles: tris, moments: m, normal, centroid, extent });
+        self.clusters.push(Work {
+            alive: true,
+            closed: false,
+            triangles: tris,
+            moments: m,
+            normal,
+            centroid,
+            extent,
+        });
         self.stamp.push(0);
         id
     }
@@ -238,24 +367,73 @@ impl<'a> Engine<'a> {
         {
             return None;
         }
-        // Conservative extent of the union along x's reference direction.
         let (ex, ea) = (&cx.extent, &ca.extent);
+        // Lower bound: the union is at least as thick along `normal` as its witness vertices.
+        // When they already exceed h_max the exact scan below would reject the merge too.
+        let (mut w_lo, mut w_hi) = (Real::INFINITY, Real::NEG_INFINITY);
+        for &v in ex
+            .witnesses
+            .iter()
+            .chain(ea.witnesses.iter())
+            .filter(|&&v| v != NO_VERTEX)
+        {
+            let d = normal.dot(&self.points[v as usize]);
+            w_lo = w_lo.min(d);
+            w_hi = w_hi.max(d);
+        }
+        if w_hi - w_lo > self.limits.h_max {
+            return None;
+        }
+        // Conservative extent of the union along x's reference direction.
         let e = (ex.dir - ea.dir).norm();
         let off_a = ex.dir.dot(&ea.center) - ea.dir.dot(&ea.center);
         let lo = ex.lo.min(ea.lo + off_a - e * ea.radius);
         let hi = ex.hi.max(ea.hi + off_a + e * ea.radius);
         let radius = ex.radius.max((ea.center - ex.center).norm() + ea.radius);
         let spread = ex.spread.max(ea.spread + angle(&ea.dir, &ex.dir));
-        let bound = Extent { dir: ex.dir, lo, hi, center: ex.center, radius, spread };
+        let witnesses = [NO_VERTEX; WITNESSES];
+        let mut bound = Extent {
+            dir: ex.dir,
+            lo,
+            hi,
+            center: ex.center,
+            radius,
+            spread,
+            witnesses,
+        };
         // Along the new normal the thickness grows by at most 2·|n' - n_ref|·R.
         let e_new = (normal - ex.dir).norm();
         let h_bound = (hi - lo) + 2.0 * e_new * radius;
         let spread_bound = spread + angle(&normal, &ex.dir);
         if h_bound <= self.limits.h_max && spread_bound < self.limits.max_facet_angle {
-            return Some(Merged { moments, normal, centroid, extent: bound });
+            bound.witnesses =
+                self.pick_witnesses(ex.witnesses.iter().chain(&ea.witnesses), &normal);
+            return Some(Merged {
+                moments,
+                normal,
+                centroid,
+                extent: bound,
+            });
         }
-        let exact = self.exact_extent(cx.triangles.iter().chain(ca.triangles.iter()), normal, centroid);
-        self.accepts(&exact).then_some(Merged { moments, normal, centroid, extent: exact })
+        let mut exact = self.exact_extent(
+            cx.triangles.iter().chain(ca.triangles.iter()),
+            normal,
+            centroid,
+        );
+        if !self.accepts(&exact) {
+            return None;
+        }
+        let found = [exact.witnesses[0], exact.witnesses[1]];
+        exact.witnesses = self.pick_witnesses(
+            found.iter().chain(&ex.witnesses).chain(&ea.witnesses),
+            &normal,
+        );
+        Some(Merged {
+            moments,
+            normal,
+            centroid,
+            extent: exact,
+        })
     }
 
     fn push_neighbours(&mut self, x: u32, tris_from: u32, frontier: &mut Vec<u32>) {
@@ -386,9 +564,56 @@ mod tests {
         let d = Vector3::new(0.0, 1.0, 0.0);
         let m = Moments::triangle(&a, &b, &c).add(&Moments::triangle(&a, &c, &d));
         let (n, centroid) = m.plane();
-        assert!((n - Vector3::new(-1.0, 0.0, 1.0).normalize()).norm() < 1e-12, "{n}");
+        assert!(
+            (n - Vector3::new(-1.0, 0.0, 1.0).normalize()).norm() < 1e-12,
+            "{n}"
+        );
         assert!((centroid - Vector3::new(0.5, 0.5, 0.5)).norm() < 1e-12);
         assert!((m.area - 2.0_f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn fast_eigenvector_matches_the_full_decomposition() {
+        // A curved patch (part of a sphere), a flat one, and near-isotropic matrices.
+        let mut state = 0x1234_5678_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as Real / (1u64 << 53) as Real - 0.5
+        };
+        for case in 0..200 {
+            let q =
+                nalgebra::Rotation3::from_euler_angles(next() * 6.0, next() * 6.0, next() * 6.0);
+            let scale = [1e-2, 1e-4, 1.0][case % 3];
+            let l = if case % 5 == 0 {
+                [0.0, 0.3 + next(), 1.0]
+            } else if case % 7 == 0 {
+                [0.5, 0.5 + 1e-6 * next(), 0.9]
+            } else {
+                [(next() + 0.5) * 0.1, 0.5 + next() * 0.2, 1.0]
+            };
+            let d = Matrix3::from_diagonal(&Vector3::new(l[0], l[1], l[2])) * scale;
+            let m = q.matrix() * d * q.matrix().transpose();
+            let expected = q.matrix().column(0).into_owned();
+            let guess = expected + Vector3::new(next(), next(), next()) * 0.5;
+            let v = smallest_eigenvector(&m, &guess).expect("an eigenvector");
+            let full = smallest_eigenvector_full(&m).expect("an eigenvector");
+            // The eigenvector itself when λ₁ is separated; otherwise any unit vector v with
+            // the smallest Rayleigh quotient.
+            let rayleigh = |v: &Vector3| v.dot(&(m * v)) / scale;
+            assert!((v.norm() - 1.0).abs() < 1e-12);
+            assert!(
+                rayleigh(&v) <= rayleigh(&full) + 1e-9,
+                "case {case}: {v} vs {full}"
+            );
+            if l[1] - l[0] > 0.05 {
+                assert!(
+                    v.dot(&expected).abs() > 1.0 - 1e-10,
+                    "case {case}: {v} vs {expected}"
+                );
+            }
+        }
     }
 
     #[test]

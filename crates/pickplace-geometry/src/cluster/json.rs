@@ -73,7 +73,11 @@ impl ClustersJson {
             .clusters
             .iter()
             .map(|c| {
-                let mut triangles: Vec<u32> = c.triangles.iter().map(|&t| mesh.source_triangle(t as usize)).collect();
+                let mut triangles: Vec<u32> = c
+                    .triangles
+                    .iter()
+                    .map(|&t| mesh.source_triangle(t as usize))
+                    .collect();
                 triangles.sort_unstable();
                 ClusterJson {
                     id: c.id,
@@ -82,8 +86,16 @@ impl ClustersJson {
                     point: arr(&c.point.coords),
                     h: c.h,
                     area: c.area,
-                    outer_boundary: c.outer_boundary_3d().iter().map(|p| arr(&p.coords)).collect(),
-                    holes: c.holes_3d().iter().map(|h| h.iter().map(|p| arr(&p.coords)).collect()).collect(),
+                    outer_boundary: c
+                        .outer_boundary_3d()
+                        .iter()
+                        .map(|p| arr(&p.coords))
+                        .collect(),
+                    holes: c
+                        .holes_3d()
+                        .iter()
+                        .map(|h| h.iter().map(|p| arr(&p.coords)).collect())
+                        .collect(),
                 }
             })
             .collect();

@@ -38,7 +38,7 @@ mod json;
 mod pairs;
 
 pub use geometry::PlaneFrame;
-pub use json::{ClusterJson, ClusterPairJson, ClustersJson, CLUSTERS_JSON_FORMAT};
+pub use json::{CLUSTERS_JSON_FORMAT, ClusterJson, ClusterPairJson, ClustersJson};
 
 use crate::error::{Error, Result};
 use crate::math::{Point2, Point3, Real, Vector3};
@@ -92,12 +92,21 @@ impl Default for ClusterParams {
 impl ClusterParams {
     /// The paper's environment-contact parameters (`h_max` = 0.001 m).
     pub fn environment() -> Self {
-        Self { mode: ContactMode::Environment, h_max: 0.001, max_facet_angle: 80f64.to_radians(), opposite_dot: -0.95 }
+        Self {
+            mode: ContactMode::Environment,
+            h_max: 0.001,
+            max_facet_angle: 80f64.to_radians(),
+            opposite_dot: -0.95,
+        }
     }
 
     /// The paper's finger-contact parameters (`h_max` = 0.005 m).
     pub fn finger() -> Self {
-        Self { mode: ContactMode::Finger, h_max: 0.005, ..Self::environment() }
+        Self {
+            mode: ContactMode::Finger,
+            h_max: 0.005,
+            ..Self::environment()
+        }
     }
 
     /// Checks every value.
@@ -106,9 +115,22 @@ impl ClusterParams {
     /// [`Error::InvalidParameter`] naming the first bad value.
     pub fn validate(&self) -> Result<()> {
         let check = |name: &'static str, value: Real, ok: bool, reason: &'static str| {
-            if ok { Ok(()) } else { Err(Error::InvalidParameter { name, value, reason }) }
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::InvalidParameter {
+                    name,
+                    value,
+                    reason,
+                })
+            }
         };
-        check("h_max", self.h_max, self.h_max.is_finite() && self.h_max >= 0.0, "must be finite and non-negative")?;
+        check(
+            "h_max",
+            self.h_max,
+            self.h_max.is_finite() && self.h_max >= 0.0,
+            "must be finite and non-negative",
+        )?;
         check(
             "max_facet_angle",
             self.max_facet_angle,
@@ -159,12 +181,20 @@ impl Cluster {
 
     /// The outer boundary as 3D points on `S`.
     pub fn outer_boundary_3d(&self) -> Vec<Point3> {
-        self.region.outer.iter().map(|q| self.frame.to_3d(q)).collect()
+        self.region
+            .outer
+            .iter()
+            .map(|q| self.frame.to_3d(q))
+            .collect()
     }
 
     /// The holes as 3D loops on `S`.
     pub fn holes_3d(&self) -> Vec<Vec<Point3>> {
-        self.region.holes.iter().map(|h| h.iter().map(|q| self.frame.to_3d(q)).collect()).collect()
+        self.region
+            .holes
+            .iter()
+            .map(|h| h.iter().map(|q| self.frame.to_3d(q)).collect())
+            .collect()
     }
 }
 
@@ -225,7 +255,13 @@ impl Clustering {
 /// ray cast (linear in the triangle count) per seed.
 pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Clustering> {
     params.validate()?;
-    let mut engine = Engine::new(mesh, Limits { h_max: params.h_max, max_facet_angle: params.max_facet_angle });
+    let mut engine = Engine::new(
+        mesh,
+        Limits {
+            h_max: params.h_max,
+            max_facet_angle: params.max_facet_angle,
+        },
+    );
     engine.step1();
     let raw_pairs = match params.mode {
         ContactMode::Environment => {
@@ -259,8 +295,15 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
     let pairs = raw_pairs
         .into_iter()
         .filter_map(|(a, b)| {
-            pairs::pair_geometry(&clusters[new_id[a as usize] as usize], &clusters[new_id[b as usize] as usize])
+            pairs::pair_geometry(
+                &clusters[new_id[a as usize] as usize],
+                &clusters[new_id[b as usize] as usize],
+            )
         })
         .collect();
-    Ok(Clustering { params: *params, clusters, pairs })
+    Ok(Clustering {
+        params: *params,
+        clusters,
+        pairs,
+    })
 }

@@ -21,7 +21,10 @@ pub(super) fn grow_pairs(engine: &mut Engine<'_>, opposite_dot: Real) -> Vec<(u3
             continue;
         }
         engine.grow(x, None);
-        let (nx, origin) = (engine.clusters[x as usize].normal, engine.clusters[x as usize].centroid);
+        let (nx, origin) = (
+            engine.clusters[x as usize].normal,
+            engine.clusters[x as usize].centroid,
+        );
         let Some((hit, _)) = engine.exit_hit(&origin, &-nx, x) else {
             continue;
         };
@@ -36,7 +39,11 @@ pub(super) fn grow_pairs(engine: &mut Engine<'_>, opposite_dot: Real) -> Vec<(u3
             engine.grow(y, Some((-nx, -opposite_dot)));
         }
         let ny = engine.clusters[y as usize].normal;
-        if ny.dot(&nx) <= opposite_dot && !pairs.iter().any(|&(a, b)| (a, b) == (x, y) || (a, b) == (y, x)) {
+        if ny.dot(&nx) <= opposite_dot
+            && !pairs
+                .iter()
+                .any(|&(a, b)| (a, b) == (x, y) || (a, b) == (y, x))
+        {
             pairs.push((x, y));
         }
     }
@@ -50,9 +57,14 @@ pub(super) fn pair_geometry(first: &Cluster, second: &Cluster) -> Option<Cluster
     let mean = mean.try_normalize(1e-12)?;
     let width = mean.dot(&(first.point - second.point));
     let project = |ring: &Vec<crate::math::Point2>| -> Vec<crate::math::Point2> {
-        ring.iter().map(|q| first.frame.to_2d(&second.frame.to_3d(q))).collect()
+        ring.iter()
+            .map(|q| first.frame.to_2d(&second.frame.to_3d(q)))
+            .collect()
     };
-    let mut projected = Polygon { outer: project(&second.region.outer), holes: second.region.holes.iter().map(project).collect() };
+    let mut projected = Polygon {
+        outer: project(&second.region.outer),
+        holes: second.region.holes.iter().map(project).collect(),
+    };
     // Seen from the first plane the second region is mirrored: restore the orientations.
     if polygon::signed_area(&projected.outer) < 0.0 {
         projected.outer.reverse();
@@ -67,5 +79,13 @@ pub(super) fn pair_geometry(first: &Cluster, second: &Cluster) -> Option<Cluster
     }
     let c2 = polygon::total_centroid(&overlap)?;
     let center = first.frame.to_3d(&c2) - first.normal * (0.5 * width);
-    Some(ClusterPair { first: first.id, second: second.id, width, overlap, overlap_area, center, axis: first.normal })
+    Some(ClusterPair {
+        first: first.id,
+        second: second.id,
+        width,
+        overlap,
+        overlap_area,
+        center,
+        axis: first.normal,
+    })
 }

@@ -1,12 +1,22 @@
 //! Surface clustering (Algorithm 1) on primitives and random meshes.
 
 use crate::support::{Rng, height_field, subdivided_box};
-use pickplace_geometry::cluster::{ClusterParams, Clustering, ClustersJson, ContactMode, cluster_surface};
+use pickplace_geometry::cluster::{
+    ClusterParams, Clustering, ClustersJson, ContactMode, cluster_surface,
+};
 use pickplace_geometry::math::{Point3, Real};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
+use pickplace_geometry::polygon;
 use pickplace_geometry::shapes::{box_mesh, cylinder};
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
 use std::collections::VecDeque;
+use std::path::Path;
+
+/// Area a polygon encloses under the overlay's even-odd rule (its shoelace area when simple).
+fn enclosed_area(p: &polygon::Polygon) -> Real {
+    polygon::total_area(&polygon::union(&[], std::slice::from_ref(p)))
+}
 
 /// Checks the invariants every clustering must satisfy; returns a description of the first
 /// violation.
@@ -23,7 +33,10 @@ fn check_invariants(mesh: &TriMesh, c: &Clustering) -> Result<(), String> {
         }
         for &t in &cl.triangles {
             if owner[t as usize] != u32::MAX {
-                return Err(format!("triangle {t} in clusters {} and {i}", owner[t as usize]));
+                return Err(format!(
+                    "triangle {t} in clusters {} and {i}",
+                    owner[t as usize]
+                ));
             }
             owner[t as usize] = cl.id;
         }
@@ -47,7 +60,11 @@ fn check_invariants(mesh: &TriMesh, c: &Clustering) -> Result<(), String> {
             }
         }
         if count != cl.triangles.len() {
-            return Err(format!("cluster {} is not edge-connected ({count} of {})", cl.id, cl.triangles.len()));
+            return Err(format!(
+                "cluster {} is not edge-connected ({count} of {})",
+                cl.id,
+                cl.triangles.len()
+            ));
         }
         // Thickness from the cluster's own vertices; S touches from outside.
         let (mut lo, mut hi) = (Real::INFINITY, Real::NEG_INFINITY);
@@ -57,32 +74,68 @@ fn check_invariants(mesh: &TriMesh, c: &Clustering) -> Result<(), String> {
                 lo = lo.min(d);
                 hi = hi.max(d);
             }
-            let angle = mesh.triangle_normal(t as usize).dot(&cl.normal).clamp(-1.0, 1.0).acos();
+            let angle = mesh
+                .triangle_normal(t as usize)
+                .dot(&cl.normal)
+                .clamp(-1.0, 1.0)
+                .acos();
             if angle >= p.max_facet_angle + 1e-9 {
-                return Err(format!("cluster {} triangle {t} turns {angle} rad away", cl.id));
+                return Err(format!(
+                    "cluster {} triangle {t} turns {angle} rad away",
+                    cl.id
+                ));
             }
         }
         if hi - lo > p.h_max + 1e-12 {
-            return Err(format!("cluster {} has h = {} > h_max = {}", cl.id, hi - lo, p.h_max));
+            return Err(format!(
+                "cluster {} has h = {} > h_max = {}",
+                cl.id,
+                hi - lo,
+                p.h_max
+            ));
         }
         if hi.abs() > 1e-9 || (cl.h - (hi - lo)).abs() > 1e-9 {
-            return Err(format!("cluster {}: plane offset {hi}, h {} vs {}", cl.id, cl.h, hi - lo));
+            return Err(format!(
+                "cluster {}: plane offset {hi}, h {} vs {}",
+                cl.id,
+                cl.h,
+                hi - lo
+            ));
         }
-        let area: Real = cl.triangles.iter().map(|&t| mesh.triangle_area(t as usize)).sum();
+        let area: Real = cl
+            .triangles
+            .iter()
+            .map(|&t| mesh.triangle_area(t as usize))
+            .sum();
         if (area - cl.area).abs() > 1e-9 * area.max(1.0) {
             return Err(format!("cluster {} area {} vs {area}", cl.id, cl.area));
         }
-        if cl.region.outer.len() < 3 || cl.bounding_rect.area() + 1e-12 < cl.region.area() * 0.999 {
+        // The region lies inside the bounding rectangle. Its area is taken under the overlay's
+        // even-odd rule: in a soup with inconsistent winding or overlapping triangles a
+        // boundary loop may cross itself, and then its shoelace area is not what it encloses.
+        if cl.region.outer.len() < 3
+            || cl.bounding_rect.area() * 1.001 + 1e-12 < enclosed_area(&cl.region)
+        {
             return Err(format!("cluster {} region/rect inconsistent", cl.id));
         }
     }
     for pair in &c.pairs {
-        let (a, b) = (&c.clusters[pair.first as usize], &c.clusters[pair.second as usize]);
+        let (a, b) = (
+            &c.clusters[pair.first as usize],
+            &c.clusters[pair.second as usize],
+        );
         if a.normal.dot(&b.normal) > p.opposite_dot {
-            return Err(format!("pair {}-{} is not opposite", pair.first, pair.second));
+            return Err(format!(
+                "pair {}-{} is not opposite",
+                pair.first, pair.second
+            ));
         }
-        if pair.overlap_area <= 0.0 || pair.overlap_area > a.region.area() + 1e-9 {
-            return Err(format!("pair {}-{} overlap {}", pair.first, pair.second, pair.overlap_area));
+        // The overlap lies inside the first region.
+        if pair.overlap_area <= 0.0 || pair.overlap_area > enclosed_area(&a.region) + 1e-9 {
+            return Err(format!(
+                "pair {}-{} overlap {}",
+                pair.first, pair.second, pair.overlap_area
+            ));
         }
     }
     if p.mode == ContactMode::Environment && !c.pairs.is_empty() {
@@ -98,13 +151,23 @@ fn facets_per_strip(radius: Real, segments: usize, h_max: Real) -> usize {
     let d = std::f64::consts::TAU / segments as Real;
     let spread = |k: usize| {
         let half = k as Real * d / 2.0;
-        if k % 2 == 0 { radius * (1.0 - half.cos()) } else { radius * ((d / 2.0).cos() - half.cos()) }
+        if k.is_multiple_of(2) {
+            radius * (1.0 - half.cos())
+        } else {
+            radius * ((d / 2.0).cos() - half.cos())
+        }
     };
-    (1..=segments).take_while(|&k| spread(k) <= h_max).last().unwrap_or(1)
+    (1..=segments)
+        .take_while(|&k| spread(k) <= h_max)
+        .last()
+        .unwrap_or(1)
 }
 
 fn side_strips(c: &Clustering) -> usize {
-    c.clusters.iter().filter(|cl| cl.normal.z.abs() < 0.5).count()
+    c.clusters
+        .iter()
+        .filter(|cl| cl.normal.z.abs() < 0.5)
+        .count()
 }
 
 #[test]
@@ -123,8 +186,14 @@ fn box_gives_six_faces_and_three_pairs() {
     }
     for p in &finger.pairs {
         let a = &finger.clusters[p.first as usize];
-        assert!((p.overlap_area - a.area).abs() < 1e-9, "opposite faces of a box overlap fully");
-        assert!(p.center.coords.norm() < 1e-9, "grasp centre at the box centre");
+        assert!(
+            (p.overlap_area - a.area).abs() < 1e-9,
+            "opposite faces of a box overlap fully"
+        );
+        assert!(
+            p.center.coords.norm() < 1e-9,
+            "grasp centre at the box centre"
+        );
     }
 }
 
@@ -135,11 +204,23 @@ fn can_gives_the_papers_four_pairs() {
     let c = cluster_surface(&can, &ClusterParams::finger()).expect("valid");
     check_invariants(&can, &c).expect("invariants");
     assert_eq!(c.pairs.len(), 4);
-    let caps = c.pairs.iter().filter(|p| c.clusters[p.first as usize].normal.z.abs() > 0.99).count();
+    let caps = c
+        .pairs
+        .iter()
+        .filter(|p| c.clusters[p.first as usize].normal.z.abs() > 0.99)
+        .count();
     assert_eq!(caps, 1);
     for p in &c.pairs {
-        let expected = if c.clusters[p.first as usize].normal.z.abs() > 0.99 { 0.12 } else { 0.066 };
-        assert!((p.width - expected).abs() < 0.001, "width {} vs {expected}", p.width);
+        let expected = if c.clusters[p.first as usize].normal.z.abs() > 0.99 {
+            0.12
+        } else {
+            0.066
+        };
+        assert!(
+            (p.width - expected).abs() < 0.001,
+            "width {} vs {expected}",
+            p.width
+        );
     }
     // Environment mode: caps whole, side cut into the strips h_max = 1 mm allows.
     let env = cluster_surface(&can, &ClusterParams::environment()).expect("valid");
@@ -147,7 +228,11 @@ fn can_gives_the_papers_four_pairs() {
     let k = facets_per_strip(0.033, 64, 0.001);
     assert_eq!(side_strips(&env), 64usize.div_ceil(k));
     assert_eq!(env.clusters.len() - side_strips(&env), 2);
-    let cap = env.clusters.iter().find(|cl| cl.normal.z > 0.99).expect("top cap");
+    let cap = env
+        .clusters
+        .iter()
+        .find(|cl| cl.normal.z > 0.99)
+        .expect("top cap");
     assert!((cap.bounding_rect.sorted_sides().0 - 0.066).abs() < 0.001);
     assert!(cap.region.holes.is_empty());
 }
@@ -207,26 +292,56 @@ fn json_reports_file_triangle_indices() {
     let json = ClustersJson::new(&c, &mesh, "box.stl");
     assert_eq!(json.triangle_count, 13);
     assert_eq!(json.mode, "finger");
-    let mut all: Vec<u32> = json.clusters.iter().flat_map(|c| c.triangles.iter().copied()).collect();
+    let mut all: Vec<u32> = json
+        .clusters
+        .iter()
+        .flat_map(|c| c.triangles.iter().copied())
+        .collect();
     all.sort_unstable();
     assert_eq!(all, (1..13).collect::<Vec<u32>>());
     assert_eq!(json.pairs.as_ref().map(Vec::len), Some(3));
     let text = serde_json::to_string(&json).expect("serialisable");
-    for key in ["\"format\"", "\"outer_boundary\"", "\"holes\"", "\"overlap_area\"", "\"width\""] {
+    for key in [
+        "\"format\"",
+        "\"outer_boundary\"",
+        "\"holes\"",
+        "\"overlap_area\"",
+        "\"width\"",
+    ] {
         assert!(text.contains(key), "{key} missing");
     }
-    let env = ClustersJson::new(&cluster_surface(&mesh, &ClusterParams::environment()).expect("valid"), &mesh, "b");
-    assert!(!serde_json::to_string(&env).expect("serialisable").contains("\"pairs\""));
+    let env = ClustersJson::new(
+        &cluster_surface(&mesh, &ClusterParams::environment()).expect("valid"),
+        &mesh,
+        "b",
+    );
+    assert!(
+        !serde_json::to_string(&env)
+            .expect("serialisable")
+            .contains("\"pairs\"")
+    );
 }
 
 #[test]
 fn invalid_parameters_are_rejected() {
     let mesh = box_mesh([0.1, 0.1, 0.1]);
     for params in [
-        ClusterParams { h_max: -1.0, ..ClusterParams::default() },
-        ClusterParams { h_max: f64::NAN, ..ClusterParams::default() },
-        ClusterParams { opposite_dot: 0.5, ..ClusterParams::finger() },
-        ClusterParams { max_facet_angle: 2.0, ..ClusterParams::default() },
+        ClusterParams {
+            h_max: -1.0,
+            ..ClusterParams::default()
+        },
+        ClusterParams {
+            h_max: f64::NAN,
+            ..ClusterParams::default()
+        },
+        ClusterParams {
+            opposite_dot: 0.5,
+            ..ClusterParams::finger()
+        },
+        ClusterParams {
+            max_facet_angle: 2.0,
+            ..ClusterParams::default()
+        },
     ] {
         let err = cluster_surface(&mesh, &params).expect_err("invalid");
         assert!(err.to_string().contains("invalid parameter"), "{err}");
@@ -234,7 +349,12 @@ fn invalid_parameters_are_rejected() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        // Fixed seed: every run tests the same cases.
+        rng_seed: RngSeed::Fixed(0x5eed_c1a5),
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn subdivided_boxes_give_six_clusters_and_three_pairs(
@@ -267,16 +387,27 @@ proptest! {
         let discrete = segments.div_ceil(facets_per_strip(radius, segments, h_max));
         let strips = side_strips(&c);
         if finger {
-            // Antipodal clusters grow under the extra "stay opposite" constraint, so the strip
-            // count is not the free one; the caps always pair.
+            // The caps always pair.
             let caps = c.pairs.iter().filter(|p| c.clusters[p.first as usize].normal.z.abs() > 0.99).count();
             prop_assert_eq!(caps, 1);
+            // Antipodal clusters grow under the extra "stay opposite" constraint and start
+            // from the antipode of a strip's centroid, which need not fall on a strip
+            // boundary; the leftover facets between pairs make up to two extra strips. When
+            // the free strip angle exceeds the opposite tolerance (2 × 18°) the constrained
+            // strips are narrower still and the count is not bounded by h_max alone.
+            if theta < 30f64.to_radians() {
+                prop_assert!(
+                    strips + 1 >= discrete && strips <= discrete + 2,
+                    "finger: {} strips, {} expected", strips, discrete
+                );
+            }
             return Ok(());
         }
         prop_assert!(strips.abs_diff(discrete) <= 1, "{} strips, {} expected", strips, discrete);
-        // Facets quantise the strip angle by up to one facet per strip: compare with the
-        // continuous count where that error stays below one strip in total.
-        if segments as f64 >= continuous * continuous {
+        // Facets quantise the strip angle by up to two facets (2Δ) per strip, so the count
+        // may exceed the continuous one by about 2π/(θ - 2Δ) - 2π/θ ≈ 2·continuous²/segments,
+        // plus one for the last, partial strip: compare where the first term is at most 1/2.
+        if segments as f64 >= 4.0 * continuous * continuous {
             prop_assert!((strips as f64 - continuous).abs() <= 1.5, "{} strips, continuous {}", strips, continuous);
         }
     }
@@ -290,5 +421,84 @@ proptest! {
         let params = if finger { ClusterParams::finger() } else { ClusterParams::environment() };
         let c = cluster_surface(&mesh, &params).expect("valid");
         prop_assert_eq!(check_invariants(&mesh, &c), Ok(()));
+    }
+}
+
+/// Every shipped mesh, in both modes.
+#[test]
+fn shipped_meshes_satisfy_the_invariants() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes");
+    for name in ["can.stl", "mug.stl", "box.stl", "pallet.stl", "table.stl"] {
+        let mesh = pickplace_geometry::mesh::load(&dir.join(name), &MeshOptions::default())
+            .expect("shipped mesh");
+        for params in [ClusterParams::environment(), ClusterParams::finger()] {
+            let c = cluster_surface(&mesh, &params).expect("valid");
+            if let Err(e) = check_invariants(&mesh, &c) {
+                panic!("{name} ({}): {e}", params.mode.name());
+            }
+        }
+    }
+}
+
+/// A random triangle soup on a 1 mm grid: repeated corners (degenerate triangles), collinear
+/// corners, shared edges used by more than two triangles, open boundaries, flipped triangles.
+fn random_soup(seed: u64, points: usize, triangles: usize) -> (Vec<Point3>, Vec<[u32; 3]>) {
+    let mut rng = Rng::new(seed);
+    let mut grid = |n: Real| (rng.range(0.0, n) as i64) as Real * 0.001;
+    let positions: Vec<Point3> = (0..points)
+        .map(|_| Point3::new(grid(12.0), grid(12.0), grid(4.0)))
+        .collect();
+    let mut rng = Rng::new(seed ^ 0xa5a5);
+    let tris = (0..triangles)
+        .map(|_| {
+            let a = (rng.next_u64() % points as u64) as u32;
+            // Neighbouring indices more often than not, so that triangles share edges.
+            let mut near = || ((a as u64 + rng.next_u64() % 5) % points as u64) as u32;
+            [a, near(), near()]
+        })
+        .collect();
+    (positions, tris)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        rng_seed: RngSeed::Fixed(0x50_0b),
+        ..ProptestConfig::default()
+    })]
+
+    /// Clusters partition exactly the non-degenerate triangles of any soup (in the input's
+    /// numbering), are edge-connected and thin, in both modes; a soup with no area is an
+    /// error, never a panic.
+    #[test]
+    fn random_soups_are_partitioned_into_thin_connected_clusters(
+        seed in any::<u64>(), points in 3usize..40, triangles in 1usize..120, h_max in 0.0..0.004f64,
+    ) {
+        let (positions, tris) = random_soup(seed, points, triangles);
+        // Degenerate by an independent test: repeated corners or (exactly) collinear ones.
+        let kept: Vec<u32> = (0..tris.len() as u32)
+            .filter(|&i| {
+                let [a, b, c] = tris[i as usize].map(|v| positions[v as usize]);
+                (b - a).cross(&(c - a)).norm() * 0.5 >= MeshOptions::default().degenerate_area
+            })
+            .collect();
+        let mesh = match TriMesh::from_soup(&positions, &tris, &MeshOptions::default()) {
+            Ok(mesh) => mesh,
+            Err(e) => {
+                prop_assert!(kept.is_empty(), "{e}");
+                return Ok(());
+            }
+        };
+        prop_assert_eq!(mesh.source_triangles(), &kept[..]);
+        for mode in [ContactMode::Environment, ContactMode::Finger] {
+            let params = ClusterParams { mode, h_max, ..ClusterParams::finger() };
+            let c = cluster_surface(&mesh, &params).expect("valid");
+            prop_assert_eq!(check_invariants(&mesh, &c), Ok(()));
+            let json = ClustersJson::new(&c, &mesh, "soup");
+            let mut all: Vec<u32> = json.clusters.iter().flat_map(|c| c.triangles.iter().copied()).collect();
+            all.sort_unstable();
+            prop_assert_eq!(&all, &kept);
+            prop_assert_eq!(json.triangle_count, tris.len());
+        }
     }
 }

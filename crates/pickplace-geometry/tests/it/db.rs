@@ -2,16 +2,19 @@
 
 use pickplace_geometry::cluster::ClusterParams;
 use pickplace_geometry::codec;
-use pickplace_geometry::db::{CacheStatus, ClusterDatabase};
+use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
 use pickplace_geometry::error::{DatabaseErrorKind, Error};
 use pickplace_geometry::export;
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::shapes::{box_mesh, cylinder};
 use proptest::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pickplace-geometry-it-{name}-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "pickplace-geometry-it-{name}-{}",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir
 }
@@ -41,12 +44,18 @@ fn round_trip_and_keys() {
         DatabaseErrorKind::Mismatch { what, .. } => assert_eq!(what, "mesh hash"),
         k => panic!("{k}"),
     }
-    let env = ClusterParams { h_max: 0.005, ..ClusterParams::environment() };
+    let env = ClusterParams {
+        h_max: 0.005,
+        ..ClusterParams::environment()
+    };
     match kind(ClusterDatabase::load(&path, mesh_hash(&can), &env).expect_err("other mode")) {
         DatabaseErrorKind::Mismatch { what, .. } => assert_eq!(what, "mode"),
         k => panic!("{k}"),
     }
-    let thinner = ClusterParams { h_max: 0.004, ..params };
+    let thinner = ClusterParams {
+        h_max: 0.004,
+        ..params
+    };
     let err = ClusterDatabase::load(&path, mesh_hash(&can), &thinner).expect_err("other h_max");
     assert!(err.to_string().contains("h_max"), "{err}");
     assert!(err.to_string().contains("can.ppdb"), "{err}");
@@ -62,8 +71,14 @@ fn round_trip_and_keys() {
     let mut bytes = std::fs::read(&path).expect("read");
     let last = bytes.len() - 1;
     bytes[last] ^= 0x40;
-    assert!(matches!(codec::decode(&bytes, mesh_hash(&can), &params), Err(DatabaseErrorKind::Corrupt { .. })));
-    assert!(matches!(codec::decode(b"hello world", 0, &params), Err(DatabaseErrorKind::BadMagic)));
+    assert!(matches!(
+        codec::decode(&bytes, mesh_hash(&can), &params),
+        Err(DatabaseErrorKind::Corrupt { .. })
+    ));
+    assert!(matches!(
+        codec::decode(b"hello world", 0, &params),
+        Err(DatabaseErrorKind::BadMagic)
+    ));
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
@@ -85,15 +100,18 @@ fn load_or_build_rebuilds_stale_files() {
         s => panic!("{s:?}"),
     }
     // No temporary file is left behind.
-    let names: Vec<String> =
-        std::fs::read_dir(&dir).expect("dir").map(|e| e.expect("entry").file_name().to_string_lossy().into_owned()).collect();
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(names, vec!["box.ppdb".to_owned()]);
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
 
 #[test]
 fn saving_into_a_missing_directory_fails_cleanly() {
-    let db = ClusterDatabase::build(&box_mesh([0.1, 0.1, 0.1]), &ClusterParams::default()).expect("valid");
+    let db = ClusterDatabase::build(&box_mesh([0.1, 0.1, 0.1]), &ClusterParams::default())
+        .expect("valid");
     let path = temp_dir("missing").join("no/such/dir/x.ppdb");
     let err = db.save(&path).expect_err("no directory");
     assert!(matches!(err, Error::Io { .. }));
@@ -103,14 +121,21 @@ fn saving_into_a_missing_directory_fails_cleanly() {
 #[test]
 fn ply_export_colours_every_face() {
     let can = cylinder(0.033, 0.12, 16);
-    let c = pickplace_geometry::cluster::cluster_surface(&can, &ClusterParams::finger()).expect("valid");
+    let c = pickplace_geometry::cluster::cluster_surface(&can, &ClusterParams::finger())
+        .expect("valid");
     let ply = export::clusters_ply(&can, &c);
     let lines: Vec<&str> = ply.lines().collect();
-    let header_end = lines.iter().position(|l| *l == "end_header").expect("header");
+    let header_end = lines
+        .iter()
+        .position(|l| *l == "end_header")
+        .expect("header");
     assert!(ply.contains(&format!("element face {}", can.triangle_count())));
     let faces = &lines[header_end + 1 + can.vertices().len()..];
     assert_eq!(faces.len(), can.triangle_count());
-    let mut colours: Vec<String> = faces.iter().map(|f| f.rsplitn(4, ' ').take(3).collect::<Vec<_>>().join(" ")).collect();
+    let mut colours: Vec<String> = faces
+        .iter()
+        .map(|f| f.rsplitn(4, ' ').take(3).collect::<Vec<_>>().join(" "))
+        .collect();
     colours.sort_unstable();
     colours.dedup();
     assert_eq!(colours.len(), c.clusters.len(), "one colour per cluster");
@@ -152,4 +177,63 @@ proptest! {
             prop_assert_eq!(back, db);
         }
     }
+}
+
+#[test]
+fn cache_paths_separate_meshes_and_parameters() {
+    let dir = Path::new("cache");
+    let env = ClusterParams::environment();
+    let finger = ClusterParams::finger();
+    let can = cache_path(dir, Path::new("meshes/can.stl"), &env);
+    assert!(can.starts_with(dir));
+    let name = can
+        .file_name()
+        .and_then(|n| n.to_str())
+        .expect("UTF-8 name");
+    assert!(
+        name.starts_with("can.env.") && name.ends_with(".ppdb"),
+        "{name}"
+    );
+    // Same mesh name and parameters: same file, wherever the mesh is.
+    assert_eq!(can, cache_path(dir, Path::new("/elsewhere/can.stl"), &env));
+    let others = [
+        cache_path(dir, Path::new("meshes/mug.stl"), &env),
+        cache_path(dir, Path::new("meshes/can.stl"), &finger),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                h_max: 0.002,
+                ..env
+            },
+        ),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                opposite_dot: -0.9,
+                ..env
+            },
+        ),
+        cache_path(
+            dir,
+            Path::new("meshes/can.stl"),
+            &ClusterParams {
+                max_facet_angle: 1.0,
+                ..env
+            },
+        ),
+    ];
+    for (i, a) in others.iter().enumerate() {
+        assert_ne!(a, &can);
+        for b in &others[i + 1..] {
+            assert_ne!(a, b);
+        }
+    }
+    // No file name: still a usable path.
+    assert!(
+        cache_path(dir, Path::new(""), &env)
+            .to_string_lossy()
+            .contains("mesh.env.")
+    );
 }

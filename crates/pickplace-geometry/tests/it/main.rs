@@ -3,6 +3,6 @@
 mod cluster;
 mod db;
 mod loaders;
-mod support;
 mod mesh;
 mod polygon;
+mod support;

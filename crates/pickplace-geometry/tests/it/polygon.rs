@@ -16,7 +16,12 @@ fn brute_min_rect_area(hull: &[Point2]) -> Real {
     for i in 0..n {
         let u = (hull[(i + 1) % n] - hull[i]).normalize();
         let v = Vector2::new(-u.y, u.x);
-        let (mut a0, mut a1, mut b0, mut b1) = (Real::INFINITY, Real::NEG_INFINITY, Real::INFINITY, Real::NEG_INFINITY);
+        let (mut a0, mut a1, mut b0, mut b1) = (
+            Real::INFINITY,
+            Real::NEG_INFINITY,
+            Real::INFINITY,
+            Real::NEG_INFINITY,
+        );
         for p in hull {
             let (a, b) = (p.coords.dot(&u), p.coords.dot(&v));
             a0 = a0.min(a);
@@ -89,12 +94,22 @@ fn support_region_minus_holes_and_margin() {
     let base = Polygon::new(regular(32, 0.033, Point2::origin(), 0.0));
     let mut hole = regular(16, 0.01, Point2::new(0.02, 0.0), 0.0);
     hole.reverse();
-    let env = Polygon { outer: regular(4, 0.1, Point2::new(0.02, 0.0), std::f64::consts::FRAC_PI_4), holes: vec![hole] };
+    let env = Polygon {
+        outer: regular(4, 0.1, Point2::new(0.02, 0.0), std::f64::consts::FRAC_PI_4),
+        holes: vec![hole],
+    };
     let region = polygon::support_region(&base, &env);
     let expected = base.area() - polygon::signed_area(&env.holes[0]).abs();
-    assert!((polygon::total_area(&region) - expected).abs() < 1e-8, "{}", polygon::total_area(&region));
+    assert!(
+        (polygon::total_area(&region) - expected).abs() < 1e-8,
+        "{}",
+        polygon::total_area(&region)
+    );
     let hull = polygon::support_hull(&base, &env);
-    assert!((polygon::signed_area(&hull) - base.area()).abs() < 1e-8, "the hull fills the hole back");
+    assert!(
+        (polygon::signed_area(&hull) - base.area()).abs() < 1e-8,
+        "the hull fills the hole back"
+    );
     let margin = polygon::signed_margin(&Point2::origin(), &hull);
     assert!((margin - 0.033 * (std::f64::consts::PI / 32.0).cos()).abs() < 1e-9);
 }

@@ -51,8 +51,13 @@ pub fn subdivided_box(half: [Real; 3], n: usize, noise: Real, rng: &mut Rng) -> 
             }
             for i in 0..n {
                 for j in 0..n {
-                    let (a, bb, c, d) = (ids[i][j], ids[i + 1][j], ids[i + 1][j + 1], ids[i][j + 1]);
-                    if sign > 0.0 { b.quad(a, bb, c, d) } else { b.quad(a, d, c, bb) }
+                    let (a, bb, c, d) =
+                        (ids[i][j], ids[i + 1][j], ids[i + 1][j + 1], ids[i][j + 1]);
+                    if sign > 0.0 {
+                        b.quad(a, bb, c, d)
+                    } else {
+                        b.quad(a, d, c, bb)
+                    }
                 }
             }
         }
@@ -64,7 +69,14 @@ pub fn subdivided_box(half: [Real; 3], n: usize, noise: Real, rng: &mut Rng) -> 
 /// noise. Open mesh (it has a boundary).
 pub fn height_field(n: usize, size: Real, amplitude: Real, rng: &mut Rng) -> TriMesh {
     let waves: Vec<(Real, Real, Real, Real)> = (0..3)
-        .map(|_| (rng.range(0.5, 4.0), rng.range(0.5, 4.0), rng.range(0.0, 6.3), rng.range(0.0, amplitude)))
+        .map(|_| {
+            (
+                rng.range(0.5, 4.0),
+                rng.range(0.5, 4.0),
+                rng.range(0.0, 6.3),
+                rng.range(0.0, amplitude),
+            )
+        })
         .collect();
     let noise = amplitude * 0.05;
     let mut b = MeshBuilder::default();
