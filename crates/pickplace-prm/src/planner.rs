@@ -195,11 +195,12 @@ struct Search {
 
 /// Answers path queries on a shared [`Roadmap`] in one environment (one validity checker).
 ///
-/// On a [`Validation::Lazy`] roadmap, nodes and edges are checked only when a candidate path uses
-/// them (lazy PRM): an invalid one is removed, the search is repaired (LPA*) and run again.
-/// Results are cached for the planner's lifetime, so the planner belongs to one environment;
-/// build another planner (cheap: two status arrays) for another environment. On a [`Validation::Checked`] roadmap, roadmap edges
-/// are trusted and only the start, goal and growth edges are checked.
+/// On a [`Validation::Lazy`] or [`Validation::Prefiltered`] roadmap, nodes and edges are checked
+/// only when a candidate path uses them (lazy PRM): an invalid one is removed, the search is
+/// repaired (LPA*) and run again. Results are cached for the planner's lifetime, so the planner
+/// belongs to one environment; build another planner (cheap: two status arrays) for another
+/// environment. On a [`Validation::Checked`] roadmap, roadmap edges are trusted and only the
+/// start, goal and growth edges are checked.
 ///
 /// When no path is found, the planner grows a per-query overlay of `growth_nodes` valid samples
 /// per round, up to `growth_rounds` rounds, then reports why it failed.
@@ -223,7 +224,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
     pub fn new(roadmap: &'a Roadmap, checker: &'a C, options: QueryOptions) -> Self {
         let initial = match roadmap.validation() {
             Validation::Checked => Status::Valid,
-            Validation::Lazy => Status::Unknown,
+            Validation::Lazy | Validation::Prefiltered => Status::Unknown,
         };
         let n = roadmap.node_count();
         Self {
@@ -878,5 +879,31 @@ mod tests {
                 "query {i}: LPA* {length}, A* {fresh}"
             );
         }
+    }
+
+    #[test]
+    fn prefiltered_roadmaps_are_still_checked_against_the_environment() {
+        // The prefilter (a "self-collision" band) is part of every environment; the wall is not.
+        let band = |q: &[f64]| !(0.2..0.25).contains(&q[1]);
+        let roadmap = Roadmap::build_prefiltered(
+            &square(),
+            &band,
+            &RoadmapOptions {
+                node_count: 400,
+                resolution: 0.005,
+                ..RoadmapOptions::default()
+            },
+        )
+        .expect("roadmap");
+        assert_eq!(roadmap.validation(), Validation::Prefiltered);
+        assert!((0..roadmap.node_count()).all(|i| band(roadmap.state(i))));
+        let scene = |q: &[f64]| band(q) && !((0.45..0.55).contains(&q[0]) && q[1] > 0.3);
+        let mut planner = PrmPlanner::new(&roadmap, &scene, QueryOptions::default());
+        let path = planner.query(&[0.1, 0.9], &[0.9, 0.9]).expect("path");
+        assert!(path.is_valid(&square(), &scene, 0.0005));
+        assert!(
+            planner.last_stats().edges_invalid >= 1,
+            "the direct edge crosses the wall"
+        );
     }
 }

@@ -98,6 +98,10 @@ pub enum Validation {
     /// Nothing was checked: nodes and edges are checked lazily by each query's checker, so one
     /// roadmap serves many environments (lazy PRM).
     Lazy,
+    /// Nodes and edges were checked against an environment-independent checker (the robot's
+    /// self-collisions): queries still check them lazily against their own environment. The
+    /// roadmap serves every environment, without the nodes that no environment can use.
+    Prefiltered,
 }
 
 /// A probabilistic roadmap: states, undirected edges, adjacency and connected components.
@@ -149,6 +153,20 @@ impl Roadmap {
         options: &RoadmapOptions,
     ) -> Result<Self> {
         Self::construct(space, checker, options, Validation::Checked)
+    }
+
+    /// Builds a roadmap valid for `prefilter` ([`Validation::Prefiltered`]), for lazy queries in
+    /// any environment that `prefilter` is part of (e.g. `prefilter` checks self-collisions and
+    /// the queries check self-collisions and the scene).
+    ///
+    /// # Errors
+    /// As [`Roadmap::build`].
+    pub fn build_prefiltered<C: ValidityChecker + ?Sized>(
+        space: &JointSpace,
+        prefilter: &C,
+        options: &RoadmapOptions,
+    ) -> Result<Self> {
+        Self::construct(space, prefilter, options, Validation::Prefiltered)
     }
 
     /// Builds a roadmap without any validity check ([`Validation::Lazy`]), for lazy queries in
@@ -221,7 +239,7 @@ impl Roadmap {
         let state_of = |i: u32| &states[i as usize * dimension..(i as usize + 1) * dimension];
         let edges: Vec<[u32; 2]> = match validation {
             Validation::Lazy => candidates,
-            Validation::Checked => {
+            Validation::Checked | Validation::Prefiltered => {
                 let keep: Vec<bool> = candidates
                     .par_iter()
                     .map_init(
