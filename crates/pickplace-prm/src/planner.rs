@@ -258,7 +258,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
     /// Finds a valid path from `start` to `goal`.
     ///
     /// The path runs start → roadmap nodes → goal; every waypoint and segment has been checked at
-    /// the roadmap's resolution. It is not shortened: see [`crate::shortcut`].
+    /// the roadmap's resolution. It is not shortened: see [`crate::shortcut()`].
     ///
     /// # Errors
     /// [`Error::StateDimension`] / [`Error::StateOutOfBounds`] for a malformed state;

@@ -112,7 +112,7 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
 /// (Kuffner and LaValle's RRT-Connect).
 ///
 /// Nearest neighbours are found by a linear scan, fine for the few thousand nodes a query grows.
-/// The path is not shortened: see [`crate::shortcut`].
+/// The path is not shortened: see [`crate::shortcut()`].
 ///
 /// # Errors
 /// [`Error::StateDimension`] / [`Error::StateOutOfBounds`]; [`Error::StartInvalid`] /

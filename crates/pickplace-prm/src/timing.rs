@@ -112,7 +112,7 @@ impl Profile {
 /// Times a path with synchronised trapezoidal profiles and samples it.
 ///
 /// # Arguments
-/// * `path` — waypoints joined by straight segments (e.g. from [`crate::shortcut`]).
+/// * `path` — waypoints joined by straight segments (e.g. from [`crate::shortcut()`]).
 ///
 /// # Returns
 /// Samples every `sample_period` plus one at each waypoint, with velocities and accelerations.
