@@ -45,7 +45,7 @@ fn lazy_7d_roadmap_is_identical_on_one_and_two_threads() {
 }
 
 #[test]
-fn checked_roadmaps_are_identical_on_one_and_two_threads() {
+fn checked_and_prefiltered_roadmaps_are_identical_on_one_and_two_threads() {
     for (world, resolution) in [(world_2d(), 0.01), (world_7d(), 0.05)] {
         let options = RoadmapOptions {
             node_count: 800,
@@ -63,6 +63,21 @@ fn checked_roadmaps_are_identical_on_one_and_two_threads() {
         assert_eq!(
             codec::encode(&one).expect("encode"),
             codec::encode(&two).expect("encode")
+        );
+        let pre_one = in_pool(1, || {
+            Roadmap::build_prefiltered(&world.space, &checker, &options).expect("roadmap")
+        });
+        let pre_two = in_pool(2, || {
+            Roadmap::build_prefiltered(&world.space, &checker, &options).expect("roadmap")
+        });
+        assert_eq!(
+            codec::encode(&pre_one).expect("encode"),
+            codec::encode(&pre_two).expect("encode")
+        );
+        assert_eq!(
+            pre_one.edges(),
+            one.edges(),
+            "same checks, another validation label"
         );
         // Every node and edge kept is valid.
         let mut scratch = vec![0.0; world.space.dimension()];
