@@ -3,6 +3,7 @@
 mod acm;
 mod gen_meshes;
 mod precompute;
+mod roadmaps;
 
 use std::path::PathBuf;
 
@@ -21,6 +22,7 @@ fn main() -> anyhow::Result<()> {
                  (meshes/*.stl) from pickplace_geometry::shapes\n  \
                  acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
                  precompute   cluster every mesh in meshes/ (env and finger) into the cache \
+                 and a PRM roadmap per arm group of NX-HIRO into the cache \
                  ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
             );
             std::process::exit(2);

@@ -2,6 +2,7 @@
 //! h_max) in parallel and writes the cluster databases into the cache folder where the planner
 //! and `pickplace precompute` look for them: `$PICKPLACE_CACHE`, else `<repo>/target/pickplace-cache`.
 //! A database already valid for its mesh and parameters is kept unless `--force` is given.
+//! Then one PRM roadmap per arm group of NX-HIRO (see `roadmaps`).
 
 use anyhow::{Context, Result};
 use pickplace_geometry::cluster::ClusterParams;
@@ -94,5 +95,6 @@ pub fn run(root: &Path, force: bool) -> Result<()> {
         }
     }
     anyhow::ensure!(failed == 0, "{failed} mesh(es) failed");
-    Ok(())
+    // PRM roadmaps of the shipped robot's arm groups (§III-C).
+    crate::roadmaps::run(root, &out, force)
 }
