@@ -20,6 +20,10 @@ pub struct ArmChecker<'a> {
     variables: &'a [usize],
     template: Vec<Real>,
     margin: Real,
+    /// Arm states near which the margin is not applied (the ends of a motion, which may
+    /// touch or nearly touch what they grasp or release), and the radius (rad).
+    exempt: Vec<Vec<Real>>,
+    exempt_radius: Real,
 }
 
 impl<'a> ArmChecker<'a> {
@@ -38,7 +42,16 @@ impl<'a> ArmChecker<'a> {
             variables,
             template,
             margin,
+            exempt: Vec::new(),
+            exempt_radius: 0.0,
         }
+    }
+
+    /// Applies no margin within `radius` (largest joint difference, rad) of these arm states.
+    pub fn exempt(mut self, states: Vec<Vec<Real>>, radius: Real) -> Self {
+        self.exempt = states;
+        self.exempt_radius = radius;
+        self
     }
 
     /// The full configuration for arm values `q`.
@@ -61,17 +74,16 @@ impl ValidityChecker for ArmChecker<'_> {
             for (&v, &x) in self.variables.iter().zip(q) {
                 full[v] = x;
             }
+            let near_end = self.exempt.iter().any(|e| {
+                e.iter()
+                    .zip(q)
+                    .all(|(a, b)| (a - b).abs() <= self.exempt_radius)
+            });
+            let margin = if near_end { 0.0 } else { self.margin };
             // An error here means a malformed configuration: invalid, never a panic.
             !self
                 .world
-                .in_collision(
-                    self.model,
-                    full,
-                    scratch,
-                    &CheckOptions {
-                        margin: self.margin,
-                    },
-                )
+                .in_collision(self.model, full, scratch, &CheckOptions { margin })
                 .unwrap_or(true)
         })
     }

@@ -42,6 +42,10 @@ use std::time::Instant;
 /// IK solutions tried per key pose before it is rejected (see `free_ik`).
 const IK_SOLUTIONS: usize = 4;
 
+/// Within this joint distance (rad, every joint) of a motion's ends the PRM applies no
+/// clearance margin: the ends are grasp and release poses that may be close to the object.
+const END_EXEMPT_RADIUS: Real = 0.1;
+
 /// Name of the object in collision worlds.
 pub const OBJECT_NAME: &str = "object";
 
@@ -677,15 +681,16 @@ impl Ctx<'_> {
         salt: u64,
     ) -> std::result::Result<Vec<Vec<Real>>, String> {
         let a = self.setup.arm(arm);
+        let project = |q: &[Real]| -> Vec<Real> { a.variables.iter().map(|&v| q[v]).collect() };
+        let (qa, qb) = (project(from), project(to));
         let checker = ArmChecker::new(
             &self.setup.model,
             world,
             &a.variables,
             from.to_vec(),
             self.options.motion_margin,
-        );
-        let project = |q: &[Real]| -> Vec<Real> { a.variables.iter().map(|&v| q[v]).collect() };
-        let (qa, qb) = (project(from), project(to));
+        )
+        .exempt(vec![qa.clone(), qb.clone()], END_EXEMPT_RADIUS);
         for (what, q) in [("start", from), ("goal", to)] {
             if let Some(c) = self.collision(world, q, 0.0) {
                 return Err(format!("{what} in {c}"));
@@ -858,18 +863,9 @@ impl Ctx<'_> {
         });
         let left = self.world_with_object_at(&p.world_from_object);
         let retreated = place.retreat.last().expect("non-empty");
-        let mut home = retreated.clone();
-        for &v in &self.setup.arm(arm).variables {
-            home[v] = start[v];
+        if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
+            segments.push(back);
         }
-        let back = self
-            .motion(arm, &left, retreated, &home, salt ^ 3)
-            .map_err(|r| format!("back to start: {r}"))?;
-        segments.push(Segment {
-            path: back,
-            key: Some(("home", arm)),
-            event: None,
-        });
         Ok(segments)
     }
 
@@ -1258,19 +1254,38 @@ impl Ctx<'_> {
             event: None,
         });
         let left = self.world_with_object_at(&self.placements[pi].world_from_object);
-        let mut home = here(&retreat);
-        for &v in &self.setup.arm(b).variables {
+        if let Some(back) = self.back_to_start(b, &left, &here(&retreat), start, salt ^ 6)? {
+            segments.push(back);
+        }
+        Ok(segments)
+    }
+
+    /// The arm's motion back to its start configuration after the retreat, or `None` when
+    /// the start configuration itself now collides (the object was placed where the hand
+    /// rests): the plan then ends at the retreat pose.
+    fn back_to_start(
+        &self,
+        arm: Arm,
+        world: &CollisionWorld,
+        from: &[Real],
+        start: &[Real],
+        salt: u64,
+    ) -> std::result::Result<Option<Segment>, String> {
+        let mut home = from.to_vec();
+        for &v in &self.setup.arm(arm).variables {
             home[v] = start[v];
         }
+        if self.collision(world, &home, 0.0).is_some() {
+            return Ok(None);
+        }
         let back = self
-            .motion(b, &left, &here(&retreat), &home, salt ^ 6)
+            .motion(arm, world, from, &home, salt)
             .map_err(|r| format!("back to start: {r}"))?;
-        segments.push(Segment {
+        Ok(Some(Segment {
             path: back,
-            key: Some(("home", b)),
+            key: Some(("home", arm)),
             event: None,
-        });
-        Ok(segments)
+        }))
     }
 
     /// `q` with arm `other`'s joints and fingers taken from `from`.
@@ -1462,29 +1477,58 @@ struct Handover {
     retreat: Vec<Vec<Real>>,
 }
 
-/// Whether the gripper of `second` would overlap the gripper of `first` on the same object:
-/// their palms' and fingers' boxes (object frame) intersect, or their TCPs are closer than a
-/// palm's width.
+/// Whether the gripper of `second` (open) would overlap the gripper of `first` (closed on
+/// the object) when both hold the object: any of their palm and finger boxes intersect
+/// (separating-axis test on oriented boxes, object frame), with a 1 cm clearance.
 fn hands_overlap(gripper: &pickplace_grasp::GripperParams, first: &Grasp, second: &Grasp) -> bool {
-    let centre = |grasp: &Grasp, body: &pickplace_grasp::GripperBox| -> (Point3, Vector3) {
-        let c = grasp.object_from_tcp * body.center;
-        (c, body.half_extents)
-    };
-    let bodies = |grasp: &Grasp, opening: Real| {
+    let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
         let [f1, f2] = gripper.fingers(opening);
         [gripper.palm_box(), f1, f2]
             .into_iter()
-            .map(|b| {
-                let (c, h) = centre(grasp, &b);
-                // A bounding sphere of the box: conservative.
-                (c, h.norm())
+            .map(|b| Obb {
+                center: grasp.object_from_tcp * b.center,
+                axes: grasp.object_from_tcp.rotation.to_rotation_matrix().matrix() * b.tcp_from_box,
+                half: b.half_extents.add_scalar(0.005),
             })
-            .collect::<Vec<_>>()
+            .collect()
     };
-    let a = bodies(first, first.width);
-    let b = bodies(second, gripper.opening_max);
-    a.iter()
-        .any(|(ca, ra)| b.iter().any(|(cb, rb)| (ca - cb).norm() < ra + rb))
+    let a = boxes(first, first.width);
+    let b = boxes(second, gripper.opening_max);
+    a.iter().any(|x| b.iter().any(|y| x.intersects(y)))
+}
+
+/// An oriented box: centre, axes as matrix columns, half extents.
+struct Obb {
+    center: Point3,
+    axes: pickplace_geometry::math::Matrix3,
+    half: Vector3,
+}
+
+impl Obb {
+    /// Separating-axis test over the 15 candidate axes.
+    fn intersects(&self, other: &Obb) -> bool {
+        let d = other.center - self.center;
+        let mut axes: Vec<Vector3> = Vec::with_capacity(15);
+        for i in 0..3 {
+            axes.push(self.axes.column(i).into_owned());
+            axes.push(other.axes.column(i).into_owned());
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                let c = self.axes.column(i).cross(&other.axes.column(j));
+                if c.norm_squared() > 1e-12 {
+                    axes.push(c.normalize());
+                }
+            }
+        }
+        let radius = |b: &Obb, axis: &Vector3| -> Real {
+            (0..3)
+                .map(|i| b.half[i] * b.axes.column(i).dot(axis).abs())
+                .sum()
+        };
+        axes.iter()
+            .all(|axis| d.dot(axis).abs() <= radius(self, axis) + radius(other, axis))
+    }
 }
 
 /// Object poses tried for a handover, best guess first: in front of the torso between the
