@@ -131,7 +131,6 @@ impl CollisionMesh {
         &self,
         object: &CollisionMesh,
         world_from_object: &Isometry3,
-        _deeper: &Isometry3,
         reach: Real,
     ) -> Vec<Point3> {
         use parry3d_f64::bounding_volume::Aabb;
