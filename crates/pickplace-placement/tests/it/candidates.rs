@@ -35,7 +35,7 @@ pub fn scene(object_mesh: TriMesh, env_mesh: TriMesh) -> Scene {
     }
 }
 
-pub fn can_on_pallet() -> Scene {
+fn can_on_pallet() -> Scene {
     scene(
         shapes::can_builder().build().expect("can"),
         shapes::pallet_builder().build().expect("pallet"),
@@ -52,7 +52,14 @@ fn dent_floor(i: usize) -> Point3 {
 fn drifts(scene: &Scene, placements: &[Placement], env: &[Obstacle]) -> Vec<Drift> {
     placements
         .iter()
-        .map(|p| drop_test(&scene.object_mesh, &scene.object.cog, &p.world_from_object, env))
+        .map(|p| {
+            drop_test(
+                &scene.object_mesh,
+                &scene.object.cog,
+                &p.world_from_object,
+                env,
+            )
+        })
         .collect()
 }
 
@@ -181,6 +188,61 @@ fn can_tilts_on_the_narrow_groove_edge_face() {
     assert_eq!(unsettled(in_dent, &d), Vec::<String>::new());
 }
 
+/// The independent check over every pose the planner returns on the pallet, for
+/// targets on each dent, on the top (its middle and a corner) and at the groove's end: 96
+/// poses, face-face and edge-face. The simulated pallet is the cuboids it is made of (exact
+/// flat faces and edges): every pose holds within 5 mm and 3°, no exception.
+///
+/// On the pallet's triangle mesh instead, 3 of the 96 poses fail, all the same artefact: the
+/// can standing upright on the pallet's top at x = 0, where the top's triangulation has a long
+/// edge (the grid line of the groove's end) under the centre of the can's fan-triangulated
+/// base; rapier's triangle-triangle contacts there push the can sideways (30-60 mm) or through
+/// the top. The same poses on the cuboids move 0.1 mm. The test allows these, and only these:
+/// face-face poses on the top cluster, at most 5 % of the poses.
+#[test]
+fn every_pallet_pose_passes_the_drop_test() {
+    let s = can_on_pallet();
+    let top = shapes::PALLET_SIZE[2];
+    let mut targets: Vec<Point3> = (0..4).map(dent_floor).collect();
+    targets.extend([
+        Point3::new(0.0, -0.03, top),
+        Point3::new(0.17, 0.12, top),
+        Point3::new(-0.15, -0.09, dent_floor(3).z),
+    ]);
+    let options = PlacementOptions::default();
+    let mut all = Vec::new();
+    let mut top_cluster = None;
+    for t in &targets {
+        let set = candidates(&s.object, &s.env, t, &options).expect("target");
+        if t.z == top {
+            top_cluster = Some(set.target_cluster);
+        }
+        all.extend(set.placements);
+    }
+    assert_eq!(all.len(), 96, "poses over the scenes");
+    assert!(all.iter().any(|p| p.contact == ContactKind::EdgeFace));
+    let d = drifts(&s, &all, &pallet_cuboids());
+    assert_eq!(unsettled(&all, &d), Vec::<String>::new());
+
+    let d = drifts(&s, &all, &[Obstacle::Mesh(s.env_mesh.clone())]);
+    let failed: Vec<&Placement> = all
+        .iter()
+        .zip(&d)
+        .filter(|(_, d)| !d.settled())
+        .map(|(p, _)| p)
+        .collect();
+    assert!(
+        failed.len() * 20 <= all.len(),
+        "{}",
+        unsettled(&all, &d).join("; ")
+    );
+    for p in failed {
+        assert_eq!(p.contact, ContactKind::FaceFace);
+        assert_eq!(Some(p.env_cluster), top_cluster);
+        assert!(p.world_from_object.translation.x.abs() < 1e-9, "{p:?}");
+    }
+}
+
 /// The square dent (0.05 x 0.05 m) is smaller than the can's base both ways: neither
 /// face-face nor edge-face fits, and every object region is reported as not fitting.
 #[test]
@@ -217,6 +279,11 @@ fn mug_on_the_table_among_obstacles() {
         set.rejections.iter().any(|(_, r)| r.penetrates > 0),
         "the obstacle rejected some poses"
     );
+    assert_all_settle(&s, &set);
+    // In the open, in the middle of the table: every pose settles too.
+    let open = Point3::new(0.0, 0.0, shapes::TABLE_HEIGHT);
+    let set = candidates(&s.object, &s.env, &open, &PlacementOptions::default()).expect("target");
+    assert!(!set.placements.is_empty());
     assert_all_settle(&s, &set);
 }
 

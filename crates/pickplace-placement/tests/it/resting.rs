@@ -61,7 +61,12 @@ fn l_shape_rejects_the_tipping_face() {
     // Lying on the bar's bottom (normal -z, support spans the whole L footprint) is stable.
     assert!(poses.iter().any(|p| p.support_normal.z < -0.99));
     for p in &poses {
-        let drift = drop_test(&mesh, &cog, &p.world_from_object, &[Obstacle::Mesh(floor())]);
+        let drift = drop_test(
+            &mesh,
+            &cog,
+            &p.world_from_object,
+            &[Obstacle::Mesh(floor())],
+        );
         assert!(drift.settled(), "{p:?}: {drift:?}");
     }
 }

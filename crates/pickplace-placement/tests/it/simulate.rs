@@ -114,8 +114,9 @@ pub fn drop_test(
                 )
                 .expect("environment mesh")
             }
-            Obstacle::Cuboid(c, h) => ColliderBuilder::cuboid(h[0], h[1], h[2])
-                .translation(Vector::new(c[0], c[1], c[2])),
+            Obstacle::Cuboid(c, h) => {
+                ColliderBuilder::cuboid(h[0], h[1], h[2]).translation(Vector::new(c[0], c[1], c[2]))
+            }
         };
         world.colliders.insert_with_parent(
             collider.friction(0.8).restitution(0.0),
