@@ -348,13 +348,14 @@ pub fn candidates(
     others.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     env_indices.extend(others.into_iter().map(|(_, i)| i));
 
+    let supporting = supporting_regions(object);
     let mut placements = Vec::new();
     let mut rejections = Vec::new();
     for &e in &env_indices {
         let env_region = &env.regions[e];
         let mut counts = Rejections::default();
         for (o, object_region) in object.regions.iter().enumerate() {
-            if !supporting(object, o) {
+            if !supporting[o] {
                 continue;
             }
             if object_region.support.len() < 3 {
@@ -428,18 +429,31 @@ fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
 /// Resolution (m) at which distances and margins are compared when ranking (0.1 mm).
 pub const RANK_RESOLUTION: Real = 1e-4;
 
-/// Whether object region `o` can touch a plane at all: every other object region lies on the
-/// inner side of its contact plane. Checked on the regions' boundary points (cheap and exact for
-/// clusters on the convex hull, such as a can's caps or a box's faces).
-fn supporting(object: &ObjectModel, o: usize) -> bool {
-    let r = &object.regions[o];
+/// Which object regions can touch a plane at all: every other object region lies on the inner
+/// side of the region's contact plane. Checked on the regions' boundary points (cheap and exact
+/// for clusters on the convex hull, such as a can's caps or a box's faces).
+fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
     let tolerance = 0.002;
-    object.regions.iter().all(|other| {
-        other.polygon.outer.iter().all(|q| {
-            let p = other.parent_from_plane * Point3::new(q.x, q.y, 0.0);
-            r.to_plane(&p).1 <= tolerance
+    let boundary: Vec<Point3> = object
+        .regions
+        .iter()
+        .flat_map(|r| {
+            r.polygon
+                .outer
+                .iter()
+                .map(|q| r.parent_from_plane * Point3::new(q.x, q.y, 0.0))
         })
-    })
+        .collect();
+    object
+        .regions
+        .iter()
+        .map(|r| {
+            let (n, origin) = (r.normal(), r.parent_from_plane.translation.vector);
+            boundary
+                .iter()
+                .all(|p| n.dot(&(p.coords - origin)) <= tolerance)
+        })
+        .collect()
 }
 
 /// A bound checked before any face-face pose of object region `o` is tried: the support hull
