@@ -11,13 +11,16 @@
 //!
 //! Every pose must pass the stability test (Fig. 7): for face-face contacts the common area of
 //! the two outer boundaries minus both regions' holes, its convex hull, and the vertical through
-//! the CoG must pass inside it; for edge-face contacts the hull of the contact points. And it
-//! must not penetrate the environment (parry3d-f64, object mesh against environment mesh, with a
-//! small clearance).
+//! the CoG must pass inside it; for edge-face contacts the hull of the segment and the points
+//! where C_j meets the environment. And it must not penetrate the environment (parry3d-f64, with
+//! a small clearance; a convex object is tested as its convex hull against the environment
+//! mesh, others mesh against mesh).
 //!
 //! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
 //! a grid in order of distance to the target so the first candidates are the best ranked;
-//! the stability margin is reported; every rejection is counted with its reason.
+//! the stability margin is reported; every rejection is counted with its reason; object regions
+//! and hull segments that cannot pass the stability test are rejected by cheap bounds before
+//! any collision test.
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
@@ -643,9 +646,10 @@ fn search_face_face(
 /// longer penetrates the environment: the second contact (bisection to
 /// [`PlacementOptions::tilt_tolerance`]).
 ///
-/// Improvement: the rotation stops where the CoG would cross the segment (past that angle the
+/// Improvements: the rotation stops where the CoG would cross the segment (past that angle the
 /// object tips over whatever it touches), so hopeless positions cost one collision test
-/// instead of a bisection.
+/// instead of a bisection; a segment whose region is too narrow along it for the margin is
+/// rejected before any collision test (the support is the segment and [`second_contacts`]).
 fn search_edge_face(
     object: &ObjectModel,
     o: &Region,
