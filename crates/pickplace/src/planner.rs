@@ -46,6 +46,9 @@ const IK_SOLUTIONS: usize = 4;
 /// clearance margin: the ends are grasp and release poses that may be close to the object.
 const END_EXEMPT_RADIUS: Real = 0.1;
 
+/// Picks by the first arm kept for a handover search.
+const HANDOVER_PICKS: usize = 12;
+
 /// Clearance kept between the two hands at a handover (m).
 const HAND_CLEARANCE: Real = 0.004;
 
@@ -879,10 +882,14 @@ impl Ctx<'_> {
     ) -> Result<Option<Found>> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
         let start = self.setup.start.clone();
-        let n_grasps = self.grasps.len().min(self.options.max_grasps);
-        // Picks by arm A (independent of the placement).
+        // Picks by arm A (independent of the placement): a handover needs two grasps that
+        // leave room for each other, so the search goes down the whole ranked list until it
+        // has [`HANDOVER_PICKS`] picks, not only the best grasps.
         let mut picks = Vec::new();
-        for gi in 0..n_grasps {
+        for gi in 0..self.grasps.len() {
+            if picks.len() >= HANDOVER_PICKS {
+                break;
+            }
             match self.pick(a, gi, &start) {
                 Ok(p) => {
                     stage(report, "pick").accept();
@@ -896,36 +903,64 @@ impl Ctx<'_> {
         }
         let handovers = handover_candidates(self.setup, a, self.options.handover_poses);
         for pi in 0..self.placements.len().min(self.options.max_placements) {
-            // Places by arm B, seeded from its start configuration.
-            let mut places = Vec::new();
-            for gi in 0..n_grasps {
-                match self.place(b, pi, gi, &start) {
-                    Ok(p) => {
-                        stage(report, "place").accept();
-                        places.push((gi, p));
-                    }
-                    Err(r) => stage(report, "place").reject(r),
-                }
-            }
-            if places.is_empty() {
-                stage(report, "placement").reject("no grasp of the placing arm reaches it");
-                continue;
-            }
+            // Places by arm B, seeded from its start configuration, computed once per grasp:
+            // for each pick grasp, the grasps whose hand clears the picking hand, best first.
+            let mut places: BTreeMap<usize, Option<Place>> = BTreeMap::new();
+            let mut feasible: Vec<(Real, Handover)> = Vec::new();
             // The handover: object poses in front of the torso (where the picking hand
             // holds it at a searched tool pose), scored by both arms' reach and clearance.
-            let mut feasible: Vec<(Real, Handover)> = Vec::new();
-            'poses: for (hi, h) in handovers.iter().enumerate() {
-                for (g1, pick) in &picks {
+            'picks: for (g1, pick) in &picks {
+                let mut mine = Vec::new();
+                for g2 in 0..self.grasps.len() {
+                    if mine.len() >= self.options.max_grasps {
+                        break;
+                    }
+                    if hands_overlap(&self.setup.gripper, &self.grasps[*g1], &self.grasps[g2]) {
+                        continue;
+                    }
+                    let entry =
+                        places
+                            .entry(g2)
+                            .or_insert_with(|| match self.place(b, pi, g2, &start) {
+                                Ok(p) => {
+                                    stage(report, "place").accept();
+                                    Some(p)
+                                }
+                                Err(r) => {
+                                    stage(report, "place").reject(r);
+                                    None
+                                }
+                            });
+                    if let Some(p) = entry {
+                        mine.push((g2, p.clone()));
+                    }
+                }
+                if mine.is_empty() {
+                    stage(report, "handover")
+                        .reject("no second grasp clears the first hand and places");
+                    continue;
+                }
+                for (hi, h) in handovers.iter().enumerate() {
                     // The object where the picking hand holds it at this tool pose.
                     let world_from_object = h * self.grasps[*g1].object_from_tcp.inverse();
-                    match self.handover_at(strategy, hi, &world_from_object, *g1, pick, &places) {
+                    let mut regrasp = std::mem::take(stage(report, "regrasp"));
+                    let result = self.handover_at(
+                        strategy,
+                        hi,
+                        &world_from_object,
+                        *g1,
+                        pick,
+                        &mine,
+                        &mut regrasp,
+                    );
+                    *stage(report, "regrasp") = regrasp;
+                    match result {
                         Ok(found) => {
                             stage(report, "handover").accept();
                             feasible.push(found);
                             if feasible.len() >= self.options.handover_feasible {
-                                break 'poses;
+                                break 'picks;
                             }
-                            continue 'poses;
                         }
                         Err(r) => stage(report, "handover").reject(r),
                     }
@@ -939,11 +974,10 @@ impl Ctx<'_> {
                         .find(|(g, _)| *g == h.g1)
                         .expect("from picks")
                         .1,
-                    &places
-                        .iter()
-                        .find(|(g, _)| *g == h.g2)
-                        .expect("from places")
-                        .1,
+                    places
+                        .get(&h.g2)
+                        .and_then(Option::as_ref)
+                        .expect("a handover's second grasp places"),
                 );
                 match self.handover_motions(strategy, pi, &start, pick, place, &h) {
                     Ok(segments) => {
@@ -973,6 +1007,7 @@ impl Ctx<'_> {
         g1: usize,
         pick: &Pick,
         places: &[(usize, Place)],
+        regrasp: &mut StageCount,
     ) -> std::result::Result<(Real, Handover), String> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
         let grasp1 = &self.grasps[g1];
@@ -990,24 +1025,23 @@ impl Ctx<'_> {
             .free_ik(a, &pose_a, lifted, salt, &holding_a)
             .map_err(|r| format!("picking arm: {r}"))?;
         let arm_b = self.setup.arm(b);
-        let mut last_reason = "no regrasp".to_owned();
         for (g2, _) in places {
             let grasp2 = &self.grasps[*g2];
             let pose_b = world_from_object * grasp2.object_from_tcp;
             if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
-                last_reason = "placing arm out of reach".to_owned();
+                regrasp.reject("placing arm out of reach".to_owned());
                 continue;
             }
             // The two hands must not overlap: the second grasp's gripper against the first.
             if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
-                last_reason = "the second hand would collide with the first".to_owned();
+                regrasp.reject("the second hand would collide with the first".to_owned());
                 continue;
             }
             let seed = self.with_fingers(b, &q_a, self.open_half());
             let q_b = match self.free_ik(b, &pose_b, &seed, salt ^ (*g2 as u64) << 40, &holding_a) {
                 Ok(q) => q,
                 Err(r) => {
-                    last_reason = format!("regrasp: {r}");
+                    regrasp.reject(format!("regrasp: {r}"));
                     continue;
                 }
             };
@@ -1020,7 +1054,7 @@ impl Ctx<'_> {
                     p
                 }
                 Err(r) => {
-                    last_reason = format!("regrasp approach: {r}");
+                    regrasp.reject(format!("regrasp approach: {r}"));
                     continue;
                 }
             };
@@ -1032,7 +1066,7 @@ impl Ctx<'_> {
             };
             let a_open = self.with_fingers(a, &both, self.open_half());
             if let Some(c) = self.collision(&holding_b, &a_open, 0.0) {
-                last_reason = format!("release of the first hand: {c}");
+                regrasp.reject(format!("release of the first hand: {c}"));
                 continue;
             }
             let retreat_pose =
@@ -1041,7 +1075,7 @@ impl Ctx<'_> {
                 match self.cartesian(a, &a_open, &retreat_pose, &|_, _| &holding_b, salt ^ 0x66) {
                     Ok(p) => p,
                     Err(r) => {
-                        last_reason = format!("first hand retreat: {r}");
+                        regrasp.reject(format!("first hand retreat: {r}"));
                         continue;
                     }
                 };
@@ -1057,6 +1091,7 @@ impl Ctx<'_> {
             let reach_margin = (arm_a.reach
                 - (pose_a.translation.vector - arm_a.shoulder.coords).norm())
             .min(arm_b.reach - (pose_b.translation.vector - arm_b.shoulder.coords).norm());
+            regrasp.accept();
             return Ok((
                 clearance.min(0.1) + reach_margin,
                 Handover {
@@ -1068,7 +1103,7 @@ impl Ctx<'_> {
                 },
             ));
         }
-        Err(last_reason)
+        Err("no regrasp".to_owned())
     }
 
     fn handover_motions(
@@ -1562,7 +1597,11 @@ pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Iso
                 for roll in 0..4 {
                     let p = mid + forward * ahead + up * height;
                     // A frame with z along the approach; x from a reference not parallel to it.
-                    let reference = if approach.cross(&up).norm() > 1e-6 { up } else { forward };
+                    let reference = if approach.cross(&up).norm() > 1e-6 {
+                        up
+                    } else {
+                        forward
+                    };
                     let x0 = reference.cross(approach).normalize();
                     let y0 = approach.cross(&x0);
                     let angle = Real::from(roll) * std::f64::consts::FRAC_PI_2;
@@ -1570,7 +1609,11 @@ pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Iso
                     let y = approach.cross(&x);
                     let m = pickplace_geometry::math::Matrix3::from_columns(&[x, y, *approach]);
                     let rotation = UnitQuaternion::from_matrix(&m);
-                    out.push((d, out.len(), Isometry3::from_parts(Translation3::from(p.coords), rotation)));
+                    out.push((
+                        d,
+                        out.len(),
+                        Isometry3::from_parts(Translation3::from(p.coords), rotation),
+                    ));
                 }
             }
         }
