@@ -12,7 +12,11 @@ fn weld(c: &mut Criterion) {
         for j in 0..n {
             let (x, y) = (i as f64, j as f64);
             let b = p.len() as u32;
-            p.extend([Point3::new(x, y, 0.0), Point3::new(x + 1.0, y, 0.0), Point3::new(x + 1.0, y + 1.0, 0.0)]);
+            p.extend([
+                Point3::new(x, y, 0.0),
+                Point3::new(x + 1.0, y, 0.0),
+                Point3::new(x + 1.0, y + 1.0, 0.0),
+            ]);
             t.push([b, b + 1, b + 2]);
         }
     }

@@ -1,13 +1,30 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
+mod acm;
+mod gen_meshes;
+mod precompute;
+mod roadmaps;
+
 use std::path::PathBuf;
 
 fn main() -> anyhow::Result<()> {
     let task = std::env::args().nth(1);
     match task.as_deref() {
+        Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
+        Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
+        Some("precompute") => {
+            let force = std::env::args().skip(2).any(|a| a == "--force");
+            precompute::run(&repo_root(), force)
+        }
         _ => {
-            eprintln!("usage: cargo xtask <task>\n\ntasks: (none yet)");
-            let _ = repo_root();
+            eprintln!(
+                "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
+                 (meshes/*.stl) from pickplace_geometry::shapes\n  \
+                 acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
+                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
+                 and a PRM roadmap per arm group of NX-HIRO into the cache \
+                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
+            );
             std::process::exit(2);
         }
     }
@@ -15,5 +32,8 @@ fn main() -> anyhow::Result<()> {
 
 /// The repository root, found from this crate's manifest directory.
 fn repo_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().map(PathBuf::from).unwrap_or_default()
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default()
 }

@@ -1,11 +1,21 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod clusters;
+mod demo;
+mod grasps;
+mod placements;
+mod robot;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Debug, Parser)]
-#[command(name = "pickplace", version, about = "Pick-and-place planning for dual-arm robots")]
+#[command(
+    name = "pickplace",
+    version,
+    about = "Pick-and-place planning for dual-arm robots"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -13,11 +23,27 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
+    /// The main job on the built-in scene (the paper's Fig. 9): clusters, placements, grasps.
+    Demo(demo::DemoArgs),
     /// Print what loading a mesh did (welding, degenerate triangles, open edges).
     MeshInfo {
         /// Mesh file (.stl, .obj, .ply).
         mesh: std::path::PathBuf,
     },
+    /// Cluster a mesh's surface into planar contact regions (paper §III-A, Algorithm 1).
+    Clusters(clusters::ClustersArgs),
+    /// Build the cluster databases of meshes (both contact modes unless --mode is given).
+    Precompute(clusters::PrecomputeArgs),
+    /// Stable placements of an object on an environment (Algorithm 2), best first; without
+    /// `--on`, its resting poses on a horizontal plane.
+    Placements(placements::PlacementsArgs),
+    /// Robot model: check a URDF/SRDF, forward and inverse kinematics.
+    Robot {
+        #[command(subcommand)]
+        command: robot::RobotCommand,
+    },
+    /// Plan parallel-gripper grasps of an object (ranked, with rejection counts).
+    Grasps(grasps::GraspsArgs),
 }
 
 fn main() -> ExitCode {
@@ -25,13 +51,17 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         Err(e) => {
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
         }
     };
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", message(&e));
             ExitCode::from(2)
         }
     }
@@ -39,10 +69,35 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
+        Command::Demo(args) => demo::run(&args),
         Command::MeshInfo { mesh } => {
             let m = pickplace_geometry::mesh::load(&mesh, &Default::default())?;
             println!("{}", serde_json::to_string_pretty(m.report())?);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Clusters(args) => clusters::run_clusters(args),
+        Command::Precompute(args) => clusters::run_precompute(args),
+        Command::Placements(args) => placements::run(&args),
+        Command::Robot { command } => robot::run(command),
+        Command::Grasps(args) => grasps::run(&args),
     }
+}
+
+/// The error and its causes on one line, each cause once: library errors already quote their
+/// source in their message, so a cause whose text the previous message contains is skipped.
+fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    let mut previous = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if previous.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+        previous = text;
+    }
+    out
 }

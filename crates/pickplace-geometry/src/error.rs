@@ -71,7 +71,9 @@ pub enum MeshErrorKind {
         vertex: usize,
     },
     /// A face refers to a vertex that does not exist.
-    #[error("triangle {triangle} refers to vertex {index}, but the mesh has {vertex_count} vertices")]
+    #[error(
+        "triangle {triangle} refers to vertex {index}, but the mesh has {vertex_count} vertices"
+    )]
     IndexOutOfRange {
         /// Index of the triangle in the file.
         triangle: usize,
@@ -102,7 +104,9 @@ pub enum DatabaseErrorKind {
     #[error("not a pickplace cluster database (bad magic)")]
     BadMagic,
     /// The database was written by another format version.
-    #[error("database format version {found}, this build reads version {expected}; rebuild it with `pickplace precompute`")]
+    #[error(
+        "database format version {found}, this build reads version {expected}; rebuild it with `pickplace precompute`"
+    )]
     Version {
         /// Version in the file.
         found: u32,
@@ -110,7 +114,9 @@ pub enum DatabaseErrorKind {
         expected: u32,
     },
     /// The database was built for another mesh or other parameters.
-    #[error("database was built for {what} {found}, expected {expected}; rebuild it with `pickplace precompute`")]
+    #[error(
+        "database was built for {what} {found}, expected {expected}; rebuild it with `pickplace precompute`"
+    )]
     Mismatch {
         /// What differs ("mesh hash", "h_max", "mode", ...).
         what: &'static str,

@@ -4,9 +4,15 @@
 //! This crate knows no robot and no planner.
 #![warn(missing_docs)]
 
+pub mod cluster;
+pub mod codec;
+pub mod db;
 pub mod error;
+pub mod export;
+pub mod hash;
 pub mod math;
 pub mod mesh;
+pub mod polygon;
 pub mod shapes;
 
 pub use error::{Error, Result};

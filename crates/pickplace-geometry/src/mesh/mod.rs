@@ -6,9 +6,28 @@
 //! ([`TriMesh::source_triangle`]), so that results (clusters, say) can be reported in the
 //! numbering of the user's file. Open boundaries and non-manifold edges are allowed: they are
 //! counted in the [`MeshReport`] and never make a query panic.
+//!
+//! # Files
+//! [`load`] reads STL (binary and ASCII), OBJ and PLY (ASCII, binary little- and big-endian),
+//! chosen by the file extension; [`read_stl`], [`read_obj`] and [`read_ply`] parse bytes
+//! already in memory. Coordinates are taken as metres times [`MeshOptions::scale`]. Polygons
+//! with more than three corners (OBJ, PLY, and ASCII STL loops) are fan-triangulated: corners
+//! `a b c d …` give `a b c`, `a c d`, …, so **the input file's triangle order** (the numbering of
+//! [`TriMesh::source_triangle`]) is the order of the file's faces with each polygon replaced by
+//! its fan. Every error names the file and what is wrong ([`Error::Mesh`]); no byte input
+//! makes a reader panic.
+//!
+//! [`write_stl_binary`] writes a mesh atomically; [`MassProperties`] gives volume, centre of
+//! gravity and inertia.
 
+mod mass;
+mod obj;
+mod ply;
+mod stl;
 mod topology;
 
+pub use mass::{MassMethod, MassProperties};
+pub use stl::{encode_stl_binary, write_stl_binary};
 pub use topology::Adjacency;
 
 use crate::error::{Error, MeshErrorKind, Result, memory_path};
@@ -29,7 +48,11 @@ pub struct MeshOptions {
 
 impl Default for MeshOptions {
     fn default() -> Self {
-        Self { scale: 1.0, weld_tolerance: 1e-7, degenerate_area: 1e-14 }
+        Self {
+            scale: 1.0,
+            weld_tolerance: 1e-7,
+            degenerate_area: 1e-14,
+        }
     }
 }
 
@@ -87,8 +110,10 @@ impl TriMesh {
         triangles: &[[u32; 3]],
         options: &MeshOptions,
     ) -> Result<Self> {
-        Self::from_soup_inner(positions, triangles, options)
-            .map_err(|kind| Error::Mesh { path: memory_path(), kind })
+        Self::from_soup_inner(positions, triangles, options).map_err(|kind| Error::Mesh {
+            path: memory_path(),
+            kind,
+        })
     }
 
     pub(crate) fn from_soup_inner(
@@ -97,7 +122,9 @@ impl TriMesh {
         options: &MeshOptions,
     ) -> std::result::Result<Self, MeshErrorKind> {
         if !(options.scale.is_finite() && options.scale > 0.0) {
-            return Err(MeshErrorKind::InvalidScale { scale: options.scale });
+            return Err(MeshErrorKind::InvalidScale {
+                scale: options.scale,
+            });
         }
         if triangles.is_empty() {
             return Err(MeshErrorKind::Empty);
@@ -129,14 +156,20 @@ impl TriMesh {
                 continue;
             }
             let area = triangle_area(&vertices, w);
-            if !(area >= options.degenerate_area) {
+            // Also drops NaN areas (and everything when the threshold is NaN).
+            if !matches!(
+                area.partial_cmp(&options.degenerate_area),
+                Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+            ) {
                 continue;
             }
             kept.push(w);
             source_triangles.push(i as u32);
         }
         if kept.is_empty() {
-            return Err(MeshErrorKind::ZeroArea { triangles: triangles.len() });
+            return Err(MeshErrorKind::ZeroArea {
+                triangles: triangles.len(),
+            });
         }
         // Drop vertices no kept triangle uses, keeping first-use order stable.
         let mut used = vec![u32::MAX; vertices.len()];
@@ -160,7 +193,13 @@ impl TriMesh {
             boundary_edges: adjacency.boundary_edges(),
             non_manifold_edges: adjacency.non_manifold_edges(),
         };
-        Ok(Self { vertices: compact, triangles: kept, source_triangles, adjacency, report })
+        Ok(Self {
+            vertices: compact,
+            triangles: kept,
+            source_triangles,
+            adjacency,
+            report,
+        })
     }
 
     /// Vertex positions (m).
@@ -221,7 +260,9 @@ impl TriMesh {
 
     /// Total surface area (m²).
     pub fn area(&self) -> Real {
-        (0..self.triangles.len()).map(|t| self.triangle_area(t)).sum()
+        (0..self.triangles.len())
+            .map(|t| self.triangle_area(t))
+            .sum()
     }
 
     /// Axis-aligned bounds `(min, max)`.
@@ -270,7 +311,11 @@ fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
     }
     let inv = 1.0 / tolerance;
     let cell_of = |p: &Point3| -> [i64; 3] {
-        [(p.x * inv).floor() as i64, (p.y * inv).floor() as i64, (p.z * inv).floor() as i64]
+        [
+            (p.x * inv).floor() as i64,
+            (p.y * inv).floor() as i64,
+            (p.z * inv).floor() as i64,
+        ]
     };
     let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(positions.len());
     let tol2 = tolerance * tolerance;
@@ -280,7 +325,13 @@ fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let Some(list) = grid.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) else {
+                    // Saturating: coordinates beyond ±9.2e11 tolerances share the extreme cells.
+                    let cell = [
+                        c[0].saturating_add(dx),
+                        c[1].saturating_add(dy),
+                        c[2].saturating_add(dz),
+                    ];
+                    let Some(list) = grid.get(&cell) else {
                         continue;
                     };
                     for &id in list {
@@ -307,15 +358,176 @@ fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
     (out, remap)
 }
 
-/// Loads a mesh file; see the file loaders for the formats read.
+/// A triangle soup as a parser produces it: positions and index triples in file order.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Soup {
+    pub(crate) positions: Vec<Point3>,
+    pub(crate) triangles: Vec<[u32; 3]>,
+}
+
+impl Soup {
+    fn with_capacity(vertices: usize, triangles: usize) -> Self {
+        Self {
+            positions: Vec::with_capacity(vertices),
+            triangles: Vec::with_capacity(triangles),
+        }
+    }
+}
+
+/// Appends the fan `p0 p1 p2`, `p0 p2 p3`, … of a polygon (at least three corners).
+pub(crate) fn fan_triangulate(polygon: &[u32], out: &mut Vec<[u32; 3]>) {
+    for k in 1..polygon.len().saturating_sub(1) {
+        out.push([polygon[0], polygon[k], polygon[k + 1]]);
+    }
+}
+
+/// Anything that is positions plus index triples: a [`TriMesh`], a
+/// [`MeshBuilder`](crate::shapes::MeshBuilder). Used by the writers.
+pub trait TriangleSource {
+    /// Vertex positions (m).
+    fn soup_positions(&self) -> &[Point3];
+    /// Index triples into [`TriangleSource::soup_positions`], counter-clockwise seen from outside.
+    fn soup_triangles(&self) -> &[[u32; 3]];
+}
+
+impl TriangleSource for TriMesh {
+    fn soup_positions(&self) -> &[Point3] {
+        &self.vertices
+    }
+    fn soup_triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+}
+
+impl TriangleSource for crate::shapes::MeshBuilder {
+    fn soup_positions(&self) -> &[Point3] {
+        &self.positions
+    }
+    fn soup_triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+}
+
+impl TriangleSource for Soup {
+    fn soup_positions(&self) -> &[Point3] {
+        &self.positions
+    }
+    fn soup_triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+}
+
+/// A mesh file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum MeshFormat {
+    /// STL, binary or ASCII (`.stl`).
+    Stl,
+    /// Wavefront OBJ (`.obj`).
+    Obj,
+    /// PLY, ASCII or binary (`.ply`).
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format named by a path's extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`MeshErrorKind::UnsupportedFormat`] (with `path`) for any other extension.
+    pub fn from_path(path: &Path) -> Result<Self> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match extension.as_str() {
+            "stl" => Ok(Self::Stl),
+            "obj" => Ok(Self::Obj),
+            "ply" => Ok(Self::Ply),
+            _ => Err(Error::Mesh {
+                path: path.to_path_buf(),
+                kind: MeshErrorKind::UnsupportedFormat { extension },
+            }),
+        }
+    }
+}
+
+/// Loads a mesh file (STL, OBJ or PLY, chosen by the extension); see the [module](self) doc.
+/// What loading did (welded vertices, dropped degenerate triangles, open edges) is in
+/// [`TriMesh::report`].
+///
+/// # Errors
+/// [`Error::Io`] when the file cannot be read; [`Error::Mesh`] naming the file when the
+/// extension is unknown, the file is empty, malformed (truncated binary STL, a bad number or
+/// keyword, with its line), has a non-finite coordinate, an out-of-range face index, or only
+/// zero-area triangles, or when `options.scale` is not positive.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<TriMesh> {
-    let _ = (path, options);
-    Err(Error::Mesh {
+    let format = MeshFormat::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
-        kind: MeshErrorKind::UnsupportedFormat {
-            extension: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
-        },
-    })
+        source,
+    })?;
+    read_format(format, &bytes, path, options)
+}
+
+/// Like [`load`], also returning the [`MeshReport`] (a copy of [`TriMesh::report`]).
+///
+/// # Errors
+/// As [`load`].
+pub fn load_with_report(path: &Path, options: &MeshOptions) -> Result<(TriMesh, MeshReport)> {
+    let mesh = load(path, options)?;
+    let report = *mesh.report();
+    Ok((mesh, report))
+}
+
+/// Parses mesh bytes in the format named by `path`'s extension; `path` is used for the format
+/// and in errors only.
+///
+/// # Errors
+/// As [`load`], without the I/O errors.
+pub fn read_mesh(bytes: &[u8], path: &Path, options: &MeshOptions) -> Result<TriMesh> {
+    read_format(MeshFormat::from_path(path)?, bytes, path, options)
+}
+
+/// Parses binary or ASCII STL bytes; `path` is used in errors only.
+///
+/// # Errors
+/// As [`load`], without the I/O errors.
+pub fn read_stl(bytes: &[u8], path: &Path, options: &MeshOptions) -> Result<TriMesh> {
+    read_format(MeshFormat::Stl, bytes, path, options)
+}
+
+/// Parses OBJ bytes; `path` is used in errors only.
+///
+/// # Errors
+/// As [`load`], without the I/O errors.
+pub fn read_obj(bytes: &[u8], path: &Path, options: &MeshOptions) -> Result<TriMesh> {
+    read_format(MeshFormat::Obj, bytes, path, options)
+}
+
+/// Parses PLY bytes (ASCII or binary); `path` is used in errors only.
+///
+/// # Errors
+/// As [`load`], without the I/O errors.
+pub fn read_ply(bytes: &[u8], path: &Path, options: &MeshOptions) -> Result<TriMesh> {
+    read_format(MeshFormat::Ply, bytes, path, options)
+}
+
+fn read_format(
+    format: MeshFormat,
+    bytes: &[u8],
+    path: &Path,
+    options: &MeshOptions,
+) -> Result<TriMesh> {
+    let soup = match format {
+        MeshFormat::Stl => stl::parse(bytes),
+        MeshFormat::Obj => obj::parse(bytes),
+        MeshFormat::Ply => ply::parse(bytes),
+    };
+    soup.and_then(|s| TriMesh::from_soup_inner(&s.positions, &s.triangles, options))
+        .map_err(|kind| Error::Mesh {
+            path: path.to_path_buf(),
+            kind,
+        })
 }
 
 #[cfg(test)]
@@ -353,6 +565,18 @@ mod tests {
         let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid");
         assert_eq!(mesh.report().degenerate_triangles, 1);
         assert_eq!(mesh.source_triangles(), &[1, 2]);
+    }
+
+    #[test]
+    fn welding_huge_coordinates_does_not_overflow() {
+        // Regression: cell indices saturate at i64::MAX and the neighbour scan overflowed.
+        let p = [
+            Point3::new(1e30, 0.0, 0.0),
+            Point3::new(-1e30, 1.0, 0.0),
+            Point3::new(0.0, 1e30, 0.0),
+        ];
+        let mesh = TriMesh::from_soup(&p, &[[0, 1, 2]], &MeshOptions::default()).expect("valid");
+        assert_eq!(mesh.vertices().len(), 3);
     }
 
     #[test]

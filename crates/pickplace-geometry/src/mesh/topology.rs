@@ -53,7 +53,12 @@ impl Adjacency {
             neighbours.extend_from_slice(&list);
             offsets.push(neighbours.len() as u32);
         }
-        Self { offsets, neighbours, boundary_edges, non_manifold_edges }
+        Self {
+            offsets,
+            neighbours,
+            boundary_edges,
+            non_manifold_edges,
+        }
     }
 
     /// Triangles sharing an edge with `triangle`, in increasing order.

@@ -1,3 +1,8 @@
 //! Integration tests of pickplace-geometry.
 
+mod cluster;
+mod db;
+mod loaders;
 mod mesh;
+mod polygon;
+mod support;

@@ -1,0 +1,408 @@
+//! Benchmarks of pickplace-prm (issue 5): roadmap construction, lazy queries, RRT-Connect,
+//! shortcutting and time parameterization on a 7-joint problem, on a rayon pool of two threads.
+//!
+//! Two problems, each benched by [`bench_problem`], which sees only a [`Problem`]:
+//! - `prm_toy`: a 7-D toy space shaped like NX-HIRO's right arm with the waist, with analytic
+//!   obstacles (a slab across the waist joint with one opening, eight balls): the cost of the
+//!   planner itself, with near-free checks;
+//! - `prm_nxhiro`: the issue's real problem, NX-HIRO's `right_arm_waist` group (7 joints) in the
+//!   pallet scene of the robot benches, checked by `pickplace_robot`'s collision world (full
+//!   robot, 1 cm margin), the other joints at the SRDF `home` state.
+
+use std::cell::RefCell;
+use std::hint::black_box;
+use std::path::PathBuf;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use pickplace_geometry::math::{Isometry3, Vector3};
+use pickplace_prm::{
+    JointSpace, PrmPlanner, QueryOptions, Roadmap, RoadmapOptions, RrtOptions, ShortcutOptions,
+    TimingOptions, ValidityChecker, rrt_connect, shortcut, time_parameterize,
+};
+use pickplace_robot::collision::{
+    AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionShape, CollisionWorld,
+};
+use pickplace_robot::{LoadOptions, RobotModel, Semantics};
+
+/// A planning problem: a joint space, a validity checker and one hard query.
+struct Problem {
+    space: JointSpace,
+    checker: Box<dyn ValidityChecker + Send>,
+    /// An environment-independent part of `checker` (self-collisions) to prebuild the roadmap
+    /// with ([`Roadmap::build_prefiltered`]); `None`: the queried roadmap is built lazy.
+    prefilter: Option<Box<dyn ValidityChecker + Send>>,
+    /// Largest weighted distance between two checked states along a motion.
+    resolution: f64,
+    /// Start and goal pairs whose direct motion is blocked; the query benches cycle through them.
+    queries: Vec<(Vec<f64>, Vec<f64>)>,
+    max_velocities: Vec<f64>,
+    max_accelerations: Vec<f64>,
+}
+
+/// Balls of the weighted metric and a slab, checked by exact clearance.
+struct ToyWorld {
+    space: JointSpace,
+    balls: Vec<[f64; 7]>,
+    radius: f64,
+    margin: f64,
+}
+
+impl ValidityChecker for ToyWorld {
+    fn is_state_valid(&self, q: &[f64]) -> bool {
+        // Slab |q0| < 0.15 except where q1 > 0.3, inflated by the margin (weight of q0: 2, of q1: 1.5).
+        let m0 = self.margin / 2f64.sqrt();
+        let m1 = self.margin / 1.5f64.sqrt();
+        let in_slab = q[0].abs() < 0.15 + m0 && q[1] < 0.3 + m1;
+        !in_slab
+            && self
+                .balls
+                .iter()
+                .all(|c| self.space.distance(q, c) > self.radius + self.margin)
+    }
+}
+
+/// The 7-D toy problem shaped like NX-HIRO's right arm with the waist.
+fn problem() -> Problem {
+    let lower = vec![-2.8, -2.9, -2.4, -2.8, -1.8, -2.9, -2.9];
+    let upper = vec![2.8, 1.5, 0.3, 2.8, 1.8, 2.9, 2.9];
+    let weights = vec![2.0, 1.5, 1.5, 1.0, 0.8, 0.5, 0.3];
+    let space = JointSpace::new(lower, upper, weights).expect("space");
+    let resolution = 0.05;
+    let world = ToyWorld {
+        space: space.clone(),
+        balls: vec![
+            [-1.5, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0],
+            [1.5, -1.0, -1.0, 0.0, 0.0, 0.0, 0.0],
+            [-1.0, 0.5, -0.5, 1.5, 0.5, -1.0, 0.0],
+            [1.0, 0.5, -0.5, -1.5, -0.5, 1.0, 0.0],
+            [-2.0, -2.0, -2.0, -1.0, 1.0, 2.0, 1.0],
+            [2.0, -2.0, -2.0, 1.0, -1.0, -2.0, -1.0],
+            [0.0, 1.0, -1.5, 0.0, 0.0, 0.0, 2.0],
+            [0.0, -2.0, 0.0, 2.0, 1.0, 0.0, -2.0],
+        ],
+        radius: 0.9,
+        margin: 0.5 * resolution,
+    };
+    Problem {
+        space,
+        checker: Box::new(world),
+        prefilter: None,
+        resolution,
+        // Either side of the slab, below its opening: the direct motion is blocked.
+        queries: vec![(
+            vec![-1.0, -1.5, 0.0, 0.0, 0.0, 1.0, 0.0],
+            vec![1.0, -1.5, 0.0, 0.0, 0.0, -1.0, 0.0],
+        )],
+        max_velocities: vec![1.0, 1.2, 1.2, 1.5, 1.5, 2.0, 2.0],
+        max_accelerations: vec![3.0, 3.0, 3.0, 4.0, 4.0, 5.0, 5.0],
+    }
+}
+
+fn roadmap_options(problem: &Problem) -> RoadmapOptions {
+    RoadmapOptions {
+        node_count: 5000,
+        neighbors: 10,
+        resolution: problem.resolution,
+        seed: 1,
+        ..RoadmapOptions::default()
+    }
+}
+
+/// WAIST is 0.97 m above the floor; the table top is 0.72 m high (as in the robot benches).
+const TABLE_TOP_Z: f64 = 0.72 - 0.97;
+const GROUP: &str = "right_arm_waist";
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default()
+}
+
+/// NX-HIRO in the pallet scene; only the group's joints move, the others stay at `home`.
+struct RobotChecker {
+    model: RobotModel,
+    world: CollisionWorld,
+    variables: Vec<usize>,
+    home: Vec<f64>,
+    options: CheckOptions,
+}
+
+thread_local! {
+    /// Per-thread collision scratch and full configuration (the checker is shared by threads).
+    static SCRATCH: RefCell<(CollisionScratch, Vec<f64>)> = RefCell::new(Default::default());
+}
+
+impl ValidityChecker for RobotChecker {
+    fn is_state_valid(&self, q: &[f64]) -> bool {
+        SCRATCH.with(|cell| {
+            let mut guard = cell.borrow_mut();
+            let (scratch, full) = &mut *guard;
+            full.clear();
+            full.extend_from_slice(&self.home);
+            for (&v, &x) in self.variables.iter().zip(q) {
+                full[v] = x;
+            }
+            !self
+                .world
+                .in_collision(&self.model, full, scratch, &self.options)
+                .unwrap_or(true)
+        })
+    }
+}
+
+/// The issue's problem: NX-HIRO's right arm with the waist in the pallet scene. The roadmap is
+/// prefiltered by self-collisions (no scene), the queries check the full scene lazily. Start and
+/// goal are the first pair of seeded collision-free configurations whose direct motion collides
+/// and that the roadmap joins (the first 8 such pairs).
+fn nxhiro_problem() -> Problem {
+    let model = RobotModel::from_urdf_file(
+        &repo().join("robots/nx-hiro/nx-hiro.urdf"),
+        &LoadOptions::default(),
+    )
+    .expect("shipped URDF loads");
+    let semantics = Semantics::from_file(&model, &repo().join("robots/nx-hiro/nx-hiro.srdf"))
+        .expect("shipped SRDF resolves");
+    let mut home = model.zero_configuration();
+    semantics
+        .apply_state(&model, "home", &mut home)
+        .expect("home exists");
+    let variables = semantics
+        .chain(&model, GROUP)
+        .expect("group")
+        .variables()
+        .to_vec();
+    let limits: Vec<_> = model.variable_limits().copied().collect();
+    let lower: Vec<f64> = variables.iter().map(|&v| limits[v].lower).collect();
+    let upper: Vec<f64> = variables.iter().map(|&v| limits[v].upper).collect();
+    let max_velocities: Vec<f64> = variables
+        .iter()
+        .map(|&v| {
+            if limits[v].velocity > 0.0 {
+                limits[v].velocity
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let space = JointSpace::with_unit_weights(lower, upper).expect("group space");
+    let mut world =
+        CollisionWorld::new(&model, AllowedCollisionMatrix::from_srdf(semantics.srdf()))
+            .expect("valid robot shapes");
+    let self_collisions = RobotChecker {
+        model: model.clone(),
+        world: world.clone(),
+        variables: variables.clone(),
+        home: home.clone(),
+        options: CheckOptions { margin: 0.01 },
+    };
+    world.add_environment(
+        "table",
+        CollisionShape::cuboid(Vector3::new(0.3, 0.5, 0.015)).expect("valid box"),
+        &Isometry3::translation(0.55, 0.0, TABLE_TOP_Z - 0.015),
+    );
+    world.add_environment(
+        "pallet",
+        CollisionShape::mesh_file(&repo().join("meshes/pallet.stl"), &Default::default())
+            .expect("shipped pallet loads"),
+        &Isometry3::translation(0.45, 0.0, TABLE_TOP_Z),
+    );
+    let checker = RobotChecker {
+        model,
+        world,
+        variables,
+        home,
+        options: CheckOptions { margin: 0.01 },
+    };
+    let resolution = 0.05;
+    // Seeded collision-free configurations (splitmix64).
+    let mut state = 5u64;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut free = Vec::new();
+    while free.len() < 32 {
+        let q: Vec<f64> = space
+            .lower()
+            .iter()
+            .zip(space.upper())
+            .map(|(lo, hi)| lo + next() * (hi - lo))
+            .collect();
+        if checker.is_state_valid(&q) {
+            free.push(q);
+        }
+    }
+    let roadmap = Roadmap::build_prefiltered(
+        &space,
+        &self_collisions,
+        &RoadmapOptions {
+            node_count: 5000,
+            resolution,
+            seed: 1,
+            ..RoadmapOptions::default()
+        },
+    )
+    .expect("roadmap");
+    let mut scratch = vec![0.0; space.dimension()];
+    let queries: Vec<(Vec<f64>, Vec<f64>)> = free
+        .iter()
+        .enumerate()
+        .flat_map(|(i, a)| free[i + 1..].iter().map(move |b| (a, b)))
+        .filter(|(a, b)| {
+            !checker.is_motion_valid(&space, a, b, resolution, &mut scratch)
+                && PrmPlanner::new(&roadmap, &checker, QueryOptions::default())
+                    .query(a, b)
+                    .is_ok()
+        })
+        .take(8)
+        .map(|(a, b)| (a.clone(), b.clone()))
+        .collect();
+    assert_eq!(
+        queries.len(),
+        8,
+        "8 blocked, solvable pairs among 32 free configurations"
+    );
+    Problem {
+        space,
+        checker: Box::new(checker),
+        prefilter: Some(Box::new(self_collisions)),
+        resolution,
+        queries,
+        max_accelerations: vec![3.0; max_velocities.len()],
+        max_velocities,
+    }
+}
+
+/// Benches the planner on `problem` under the criterion group `name`; `checked_samples` is the
+/// sample count of the (slow) checked roadmap build.
+fn bench_problem(c: &mut Criterion, name: &str, problem: &Problem, checked_samples: usize) {
+    let checker: &dyn ValidityChecker = problem.checker.as_ref();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .expect("thread pool");
+    let options = roadmap_options(problem);
+
+    let mut group = c.benchmark_group(name);
+    group.sample_size(20);
+    group.bench_function("roadmap_5000_lazy_2_threads", |b| {
+        b.iter(|| pool.install(|| Roadmap::build_lazy(&problem.space, &options).expect("roadmap")))
+    });
+    group.sample_size(checked_samples);
+    group.bench_function("roadmap_5000_checked_2_threads", |b| {
+        b.iter(|| {
+            pool.install(|| Roadmap::build(&problem.space, checker, &options).expect("roadmap"))
+        })
+    });
+    if let Some(prefilter) = &problem.prefilter {
+        let prefilter: &dyn ValidityChecker = prefilter.as_ref();
+        group.bench_function("roadmap_5000_prefiltered_2_threads", |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    Roadmap::build_prefiltered(&problem.space, prefilter, &options)
+                        .expect("roadmap")
+                })
+            })
+        });
+    }
+    group.finish();
+
+    // The roadmap queried: prefiltered when the problem has a prefilter, lazy otherwise.
+    let roadmap = match &problem.prefilter {
+        Some(prefilter) => Roadmap::build_prefiltered(&problem.space, prefilter.as_ref(), &options)
+            .expect("roadmap"),
+        None => Roadmap::build_lazy(&problem.space, &options).expect("roadmap"),
+    };
+    let mut group = c.benchmark_group(name);
+    // A new environment each time: every node and edge on the way is checked (cold cache).
+    let mut next = 0;
+    group.bench_function("lazy_query_cold", |b| {
+        b.iter(|| {
+            next = (next + 1) % problem.queries.len();
+            let (start, goal) = &problem.queries[next];
+            let mut planner = PrmPlanner::new(&roadmap, checker, QueryOptions::default());
+            black_box(planner.query(start, goal).expect("path"))
+        })
+    });
+    // The same environment again: statuses cached by the previous queries.
+    let mut warm = PrmPlanner::new(&roadmap, checker, QueryOptions::default());
+    group.bench_function("lazy_query_warm", |b| {
+        b.iter(|| {
+            next = (next + 1) % problem.queries.len();
+            let (start, goal) = &problem.queries[next];
+            black_box(warm.query(start, goal).expect("path"))
+        })
+    });
+    let rrt_options = RrtOptions {
+        step: 0.5,
+        resolution: problem.resolution,
+        ..RrtOptions::default()
+    };
+    let mut seed = 0u64;
+    group.bench_function("rrt_connect", |b| {
+        b.iter(|| {
+            seed += 1;
+            let (start, goal) = &problem.queries[seed as usize % problem.queries.len()];
+            let options = RrtOptions {
+                seed,
+                ..rrt_options.clone()
+            };
+            black_box(rrt_connect(&problem.space, checker, start, goal, &options).is_ok())
+        })
+    });
+
+    let (start, goal) = &problem.queries[0];
+    let mut planner = PrmPlanner::new(&roadmap, checker, QueryOptions::default());
+    let path = planner.query(start, goal).expect("path");
+    let cold = planner.last_stats();
+    planner.query(start, goal).expect("path");
+    let rrt = rrt_connect(&problem.space, checker, start, goal, &rrt_options).expect("path");
+    println!(
+        "{name}: roadmap {} nodes, {} edges, {} components; {} queries; the first from {:.3?} to {:.3?}; \
+         cold {cold:?}; warm {:?}; path length {:.3} ({} waypoints), RRT-Connect {:.3} ({} waypoints)",
+        roadmap.node_count(),
+        roadmap.edge_count(),
+        roadmap.component_count(),
+        problem.queries.len(),
+        start,
+        goal,
+        planner.last_stats(),
+        path.length(&problem.space),
+        path.len(),
+        rrt.length(&problem.space),
+        rrt.len(),
+    );
+    let shortcut_options = ShortcutOptions {
+        resolution: problem.resolution,
+        ..ShortcutOptions::default()
+    };
+    group.bench_function("shortcut_100", |b| {
+        b.iter(|| {
+            black_box(
+                shortcut(&problem.space, checker, &path, &shortcut_options).expect("shortcut"),
+            )
+        })
+    });
+    let short = shortcut(&problem.space, checker, &path, &shortcut_options).expect("shortcut");
+    let timing = TimingOptions {
+        max_velocities: problem.max_velocities.clone(),
+        max_accelerations: problem.max_accelerations.clone(),
+        sample_period: 0.01,
+    };
+    group.bench_function("time_parameterize_10ms", |b| {
+        b.iter(|| black_box(time_parameterize(&short, &timing).expect("timing")))
+    });
+    group.finish();
+}
+
+fn prm(c: &mut Criterion) {
+    bench_problem(c, "prm_toy", &problem(), 20);
+    bench_problem(c, "prm_nxhiro", &nxhiro_problem(), 10);
+}
+
+criterion_group!(benches, prm);
+criterion_main!(benches);

@@ -1,0 +1,330 @@
+//! `pickplace placements`: stable placements of an object on an environment (Algorithm 2), or
+//! its resting poses on a horizontal plane when no environment is given.
+
+use anyhow::{Context, bail};
+use pickplace_geometry::cluster::{ClusterParams, ContactMode, cluster_surface};
+use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion};
+use pickplace_geometry::mesh::{self, MassProperties, MeshOptions};
+use pickplace_placement::{
+    ContactKind, EnvironmentModel, ObjectModel, PlacementOptions, RestingOptions, candidates,
+    resting_poses,
+};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Format tag of the JSON output.
+pub const FORMAT: &str = "pickplace.placements.v1";
+
+/// Arguments of `pickplace placements`.
+#[derive(Debug, clap::Args)]
+pub struct PlacementsArgs {
+    /// Object mesh (.stl, .obj, .ply), in metres.
+    pub object: PathBuf,
+    /// Environment mesh to place the object on. Without it, the object's resting poses on an
+    /// infinite horizontal plane are listed.
+    #[arg(long = "on", value_name = "ENV_MESH")]
+    pub on: Option<PathBuf>,
+    /// Pose of the environment in the world: `x,y,z` or `x,y,z,qx,qy,qz,qw` (default: identity).
+    #[arg(long, value_name = "POSE", requires = "on", allow_hyphen_values = true)]
+    pub env_pose: Option<String>,
+    /// The point on the environment where the object should go (the paper's click), world
+    /// frame. Default: the centre of the environment's largest upward-facing cluster.
+    #[arg(
+        long,
+        value_name = "X,Y,Z",
+        requires = "on",
+        allow_hyphen_values = true
+    )]
+    pub target: Option<String>,
+    /// Scale applied to both meshes on loading (default: 1, the files are in metres).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: Real,
+    /// h_max of the environment-contact clustering (m).
+    #[arg(long, default_value_t = 0.001)]
+    pub h_max: Real,
+    /// Maximum number of placements listed.
+    #[arg(long, default_value_t = 32)]
+    pub max: usize,
+    /// Print JSON on stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct JsonPose {
+    position: [Real; 3],
+    orientation: [Real; 4],
+}
+
+impl From<&Isometry3> for JsonPose {
+    fn from(p: &Isometry3) -> Self {
+        let t = p.translation.vector;
+        let q = p.rotation.quaternion();
+        Self {
+            position: [t.x, t.y, t.z],
+            orientation: [q.i, q.j, q.k, q.w],
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct JsonPlacement {
+    pose: JsonPose,
+    contact: ContactKind,
+    object_cluster: Option<usize>,
+    env_cluster: Option<usize>,
+    stability_margin: Real,
+    distance_to_target: Option<Real>,
+    tilt: Real,
+}
+
+#[derive(Serialize)]
+struct JsonRejection {
+    env_cluster: usize,
+    did_not_fit: usize,
+    unstable: usize,
+    penetrates: usize,
+    accepted: usize,
+}
+
+#[derive(Serialize)]
+struct JsonOutput {
+    format: &'static str,
+    object: String,
+    environment: Option<String>,
+    target: Option<[Real; 3]>,
+    target_cluster: Option<usize>,
+    placements: Vec<JsonPlacement>,
+    rejections: Vec<JsonRejection>,
+}
+
+fn parse_numbers(text: &str, what: &str) -> anyhow::Result<Vec<Real>> {
+    text.split(',')
+        .map(|s| {
+            let v: Real = s
+                .trim()
+                .parse()
+                .with_context(|| format!("{what} `{text}`: `{s}` is not a number"))?;
+            if !v.is_finite() {
+                bail!("{what} `{text}`: `{s}` is not finite");
+            }
+            Ok(v)
+        })
+        .collect()
+}
+
+/// Parses `x,y,z` or `x,y,z,qx,qy,qz,qw` (quaternion in ROS order, normalised).
+pub fn parse_pose(text: &str) -> anyhow::Result<Isometry3> {
+    let v = parse_numbers(text, "--env-pose")?;
+    let rotation = match v.len() {
+        3 => UnitQuaternion::identity(),
+        7 => {
+            let q = pickplace_geometry::math::nalgebra::Quaternion::new(v[6], v[3], v[4], v[5]);
+            if q.norm() < 1e-9 {
+                bail!("--env-pose `{text}`: the quaternion is zero");
+            }
+            UnitQuaternion::from_quaternion(q)
+        }
+        n => bail!(
+            "--env-pose `{text}`: expected 3 numbers (x,y,z) or 7 (x,y,z,qx,qy,qz,qw), got {n}"
+        ),
+    };
+    Ok(Isometry3::from_parts(
+        Translation3::new(v[0], v[1], v[2]),
+        rotation,
+    ))
+}
+
+fn parse_point(text: &str) -> anyhow::Result<Point3> {
+    let v = parse_numbers(text, "--target")?;
+    if v.len() != 3 {
+        bail!(
+            "--target `{text}`: expected 3 numbers X,Y,Z, got {}",
+            v.len()
+        );
+    }
+    Ok(Point3::new(v[0], v[1], v[2]))
+}
+
+/// Runs the subcommand; exit 1 when no placement exists.
+pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        bail!("--scale {}: must be a positive number", args.scale);
+    }
+    let options = MeshOptions {
+        scale: args.scale,
+        ..Default::default()
+    };
+    let object_mesh = mesh::load(&args.object, &options)?;
+    let mass = MassProperties::of(&object_mesh);
+    let cog = mass.center_of_mass;
+    let object_name = args.object.display().to_string();
+
+    let Some(env_path) = &args.on else {
+        let poses = resting_poses(&object_mesh, &cog, &RestingOptions::default())
+            .with_context(|| format!("{object_name}: resting poses"))?;
+        let placements: Vec<JsonPlacement> = poses
+            .iter()
+            .take(args.max)
+            .map(|p| JsonPlacement {
+                pose: (&p.world_from_object).into(),
+                contact: ContactKind::FaceFace,
+                object_cluster: None,
+                env_cluster: None,
+                stability_margin: p.stability_margin,
+                distance_to_target: None,
+                tilt: 0.0,
+            })
+            .collect();
+        let out = JsonOutput {
+            format: FORMAT,
+            object: object_name,
+            environment: None,
+            target: None,
+            target_cluster: None,
+            placements,
+            rejections: Vec::new(),
+        };
+        return print(&out, args.json);
+    };
+
+    let world_from_env = match &args.env_pose {
+        Some(text) => parse_pose(text)?,
+        None => Isometry3::identity(),
+    };
+    let env_mesh = mesh::load(env_path, &options)?;
+    let params = ClusterParams {
+        h_max: args.h_max,
+        ..ClusterParams::environment()
+    };
+    debug_assert_eq!(params.mode, ContactMode::Environment);
+    let object_clusters = cluster_surface(&object_mesh, &params)
+        .with_context(|| format!("{object_name}: clustering"))?;
+    let env_clusters = cluster_surface(&env_mesh, &params)
+        .with_context(|| format!("{}: clustering", env_path.display()))?;
+    let object = ObjectModel::new(&object_mesh, &object_clusters, cog)?;
+    let env = EnvironmentModel::new(&env_mesh, &env_clusters, &world_from_env)?;
+    let placement_options = PlacementOptions {
+        max_candidates: args.max,
+        ..Default::default()
+    };
+    let target = match &args.target {
+        Some(text) => parse_point(text)?,
+        None => default_target(&env, &placement_options).with_context(|| {
+            format!(
+                "{}: no upward-facing cluster to place on",
+                env_path.display()
+            )
+        })?,
+    };
+    let set = candidates(&object, &env, &target, &placement_options)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", env_path.display()))?;
+    let out = JsonOutput {
+        format: FORMAT,
+        object: object_name,
+        environment: Some(env_path.display().to_string()),
+        target: Some([target.x, target.y, target.z]),
+        target_cluster: Some(set.target_cluster),
+        placements: set
+            .placements
+            .iter()
+            .map(|p| JsonPlacement {
+                pose: (&p.world_from_object).into(),
+                contact: p.contact,
+                object_cluster: Some(p.object_cluster),
+                env_cluster: Some(p.env_cluster),
+                stability_margin: p.stability_margin,
+                distance_to_target: Some(p.distance_to_target),
+                tilt: p.tilt,
+            })
+            .collect(),
+        rejections: set
+            .rejections
+            .iter()
+            .map(|(id, r)| JsonRejection {
+                env_cluster: *id,
+                did_not_fit: r.did_not_fit,
+                unstable: r.unstable,
+                penetrates: r.penetrates,
+                accepted: r.accepted,
+            })
+            .collect(),
+    };
+    print(&out, args.json)
+}
+
+/// The centre of the largest upward-facing environment region (world frame).
+fn default_target(env: &EnvironmentModel, options: &PlacementOptions) -> Option<Point3> {
+    env.regions
+        .iter()
+        .filter(|r| r.normal().z >= options.max_slope.cos())
+        .max_by(|a, b| {
+            a.area
+                .total_cmp(&b.area)
+                .then(b.cluster_id.cmp(&a.cluster_id))
+        })
+        .and_then(|r| {
+            let c = r.polygon.centroid()?;
+            // The centroid of a region with holes may fall in a hole: take the nearest point
+            // of the region's own grid then (the rectangle's centre is as good a guess).
+            let c = if r.polygon.contains(&c) {
+                c
+            } else {
+                r.rect.center
+            };
+            Some(r.parent_from_plane * Point3::new(c.x, c.y, 0.0))
+        })
+}
+
+fn print(out: &JsonOutput, json: bool) -> anyhow::Result<ExitCode> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(out)?);
+    } else {
+        if let Some(t) = out.target {
+            println!(
+                "target ({:.4}, {:.4}, {:.4}) on environment cluster {}",
+                t[0],
+                t[1],
+                t[2],
+                out.target_cluster
+                    .map_or_else(|| "-".into(), |c| c.to_string())
+            );
+        }
+        println!(
+            "{:>3}  {:<9}  {:>7}  {:>10}  {:>9}  {:>7}  position",
+            "#", "contact", "object", "margin(m)", "dist(m)", "tilt(°)"
+        );
+        for (i, p) in out.placements.iter().enumerate() {
+            let contact = match p.contact {
+                ContactKind::FaceFace => "face-face",
+                ContactKind::EdgeFace => "edge-face",
+            };
+            println!(
+                "{:>3}  {:<9}  {:>7}  {:>10.4}  {:>9}  {:>7.2}  ({:.4}, {:.4}, {:.4})",
+                i,
+                contact,
+                p.object_cluster
+                    .map_or_else(|| "-".into(), |c| c.to_string()),
+                p.stability_margin,
+                p.distance_to_target
+                    .map_or_else(|| "-".into(), |d| format!("{d:.4}")),
+                p.tilt.to_degrees(),
+                p.pose.position[0],
+                p.pose.position[1],
+                p.pose.position[2],
+            );
+        }
+    }
+    if out.placements.is_empty() {
+        eprintln!("no stable placement found:");
+        for r in &out.rejections {
+            eprintln!(
+                "  environment cluster {}: {} object regions did not fit, {} poses unstable, {} penetrate the environment",
+                r.env_cluster, r.did_not_fit, r.unstable, r.penetrates
+            );
+        }
+        return Ok(ExitCode::from(1));
+    }
+    Ok(ExitCode::SUCCESS)
+}

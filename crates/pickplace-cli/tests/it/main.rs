@@ -1,0 +1,25 @@
+//! End-to-end tests of the `pickplace` command on the shipped meshes.
+
+mod bad_input;
+mod clusters;
+mod demo;
+mod placements;
+mod precompute;
+mod support;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// The repository's root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Runs `pickplace ARGS…` from the repository's root.
+pub fn pickplace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pickplace"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run pickplace")
+}

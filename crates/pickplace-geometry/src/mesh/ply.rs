@@ -1,0 +1,168 @@
+//! PLY reading (ASCII, binary little- and big-endian) through `ply-rs-bw`.
+//!
+//! Reads the `vertex` element's `x`, `y`, `z` (any scalar type) and the `face` element's
+//! `vertex_indices` (or `vertex_index`) list (any integer type). Other elements and properties
+//! are skipped. A face with more than three corners is fan-triangulated (`a b c`, `a c d`, …),
+//! so "the file's triangle order" is the order of faces with each polygon replaced by its fan.
+
+use super::{Soup, fan_triangulate};
+use crate::error::MeshErrorKind;
+use crate::math::{Point3, Real};
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{DefaultElement, Property};
+
+fn malformed(detail: String) -> MeshErrorKind {
+    MeshErrorKind::Malformed {
+        format: "PLY",
+        detail,
+    }
+}
+
+fn scalar(p: &Property) -> Option<Real> {
+    Some(match *p {
+        Property::Char(v) => Real::from(v),
+        Property::UChar(v) => Real::from(v),
+        Property::Short(v) => Real::from(v),
+        Property::UShort(v) => Real::from(v),
+        Property::Int(v) => Real::from(v),
+        Property::UInt(v) => Real::from(v),
+        Property::Float(v) => Real::from(v),
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+/// The integer list of a face, as `i64` (negative values kept, to be reported).
+fn index_list(p: &Property) -> Option<Vec<i64>> {
+    Some(match p {
+        Property::ListChar(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        Property::ListUChar(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        Property::ListShort(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        Property::ListUShort(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        Property::ListInt(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        Property::ListUInt(v) => v.iter().map(|&i| i64::from(i)).collect(),
+        _ => return None,
+    })
+}
+
+pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
+    if bytes.iter().all(u8::is_ascii_whitespace) {
+        return Err(MeshErrorKind::Empty);
+    }
+    let parser = Parser::<DefaultElement>::new();
+    let mut reader = bytes;
+    let ply = parser
+        .read_ply(&mut reader)
+        .map_err(|e| malformed(e.to_string()))?;
+    let vertices = ply.payload.get("vertex").map(Vec::as_slice).unwrap_or(&[]);
+    let faces = ply.payload.get("face").map(Vec::as_slice).unwrap_or(&[]);
+    if faces.is_empty() {
+        return Err(MeshErrorKind::Empty);
+    }
+    if vertices.len() > u32::MAX as usize {
+        return Err(malformed(format!(
+            "{} vertices do not fit 32-bit indices",
+            vertices.len()
+        )));
+    }
+    let mut soup = Soup::with_capacity(vertices.len(), faces.len());
+    for (vertex, element) in vertices.iter().enumerate() {
+        let mut xyz = [0.0; 3];
+        for (c, name) in xyz.iter_mut().zip(["x", "y", "z"]) {
+            let p = element.get(name).ok_or_else(|| {
+                malformed(format!("vertex {vertex} has no scalar property `{name}`"))
+            })?;
+            *c = scalar(p).ok_or_else(|| {
+                malformed(format!(
+                    "vertex property `{name}` is a list, expected a number"
+                ))
+            })?;
+        }
+        soup.positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
+    }
+    let vertex_count = soup.positions.len();
+    let mut polygon = Vec::new();
+    for (face, element) in faces.iter().enumerate() {
+        let list = element
+            .get("vertex_indices")
+            .or_else(|| element.get("vertex_index"))
+            .ok_or_else(|| malformed(format!("face {face} has no `vertex_indices` list")))?;
+        let list = index_list(list)
+            .ok_or_else(|| malformed("`vertex_indices` must be a list of integers".to_string()))?;
+        if list.len() < 3 {
+            return Err(malformed(format!(
+                "face {face} has {} corners, at least 3 are needed",
+                list.len()
+            )));
+        }
+        let triangle = soup.triangles.len();
+        polygon.clear();
+        for index in list {
+            let Ok(index) = u64::try_from(index) else {
+                return Err(malformed(format!(
+                    "face {face} has the negative vertex index {index}"
+                )));
+            };
+            if index >= vertex_count as u64 {
+                return Err(MeshErrorKind::IndexOutOfRange {
+                    triangle,
+                    index,
+                    vertex_count,
+                });
+            }
+            polygon.push(index as u32);
+        }
+        fan_triangulate(&polygon, &mut soup.triangles);
+    }
+    Ok(soup)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SQUARE: &str = "ply\nformat ascii 1.0\ncomment unit square\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0 2\n1 1 0 3\n0 1 0 4\n4 0 1 2 3\n";
+
+    #[test]
+    fn ascii_quad_is_fanned() {
+        let soup = parse(SQUARE.as_bytes()).expect("valid PLY");
+        assert_eq!(soup.positions.len(), 4);
+        assert_eq!(soup.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+
+    #[test]
+    fn binary_big_endian_reads() {
+        let mut bytes = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n".to_vec();
+        for v in [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0]] {
+            for c in v {
+                bytes.extend_from_slice(&c.to_be_bytes());
+            }
+        }
+        bytes.push(3);
+        for i in [0u32, 1, 2] {
+            bytes.extend_from_slice(&i.to_be_bytes());
+        }
+        let soup = parse(&bytes).expect("valid binary PLY");
+        assert_eq!(soup.positions[2], Point3::new(0.0, 2.0, 0.0));
+        assert_eq!(soup.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn errors_say_what_is_wrong() {
+        let bad = SQUARE.replace("4 0 1 2 3", "4 0 1 2 9");
+        let err = parse(bad.as_bytes()).unwrap_err();
+        assert_eq!(
+            err,
+            MeshErrorKind::IndexOutOfRange {
+                triangle: 0,
+                index: 9,
+                vertex_count: 4
+            }
+        );
+        let err = parse(SQUARE.replace("1 1 0 3\n", "").as_bytes()).unwrap_err();
+        assert!(err.to_string().starts_with("malformed PLY file"), "{err}");
+        assert_eq!(parse(b"").unwrap_err(), MeshErrorKind::Empty);
+        let err = parse(b"not a ply").unwrap_err();
+        assert!(err.to_string().starts_with("malformed PLY file"), "{err}");
+    }
+}

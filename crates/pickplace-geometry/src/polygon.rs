@@ -1,0 +1,528 @@
+//! 2D polygons in the frame of a contact plane.
+//!
+//! The building blocks of the paper's cluster geometry (§III-A: 2D bounding box and boundary of
+//! a cluster, Fig. 5(c)(d)) and of its stability test (§III-B.2, Fig. 7): convex hull,
+//! area and centroid, point-in-polygon, minimum-area bounding rectangle (rotating calipers),
+//! and boolean operations on polygons with holes (through `i_overlay`).
+//!
+//! Conventions: a ring is a closed loop given without repeating its first point. Outer rings
+//! are counter-clockwise, holes clockwise, as returned by every function here; inputs may use
+//! either orientation. Booleans use the even-odd rule within each operand, so the polygons of
+//! one operand should not overlap each other.
+
+use crate::math::{Point2, Real, Vector2};
+use i_overlay::core::fill_rule::FillRule;
+use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::float::single::SingleFloatOverlay;
+
+/// A polygon with holes: one outer ring and zero or more inner rings.
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct Polygon {
+    /// Outer boundary (counter-clockwise).
+    pub outer: Vec<Point2>,
+    /// Holes (clockwise), each inside `outer`.
+    pub holes: Vec<Vec<Point2>>,
+}
+
+impl Polygon {
+    /// A polygon without holes.
+    pub fn new(outer: Vec<Point2>) -> Self {
+        Self {
+            outer,
+            holes: Vec::new(),
+        }
+    }
+
+    /// Area (m²): outer area minus the holes' areas.
+    pub fn area(&self) -> Real {
+        signed_area(&self.outer).abs()
+            - self
+                .holes
+                .iter()
+                .map(|h| signed_area(h).abs())
+                .sum::<Real>()
+    }
+
+    /// Area centroid, or `None` when the area is zero.
+    pub fn centroid(&self) -> Option<Point2> {
+        let (mut a, mut m) = ring_moments(&self.outer, 1.0);
+        for h in &self.holes {
+            let (ha, hm) = ring_moments(h, -1.0);
+            a += ha;
+            m += hm;
+        }
+        (a.abs() > 0.0).then(|| Point2::from(m / a))
+    }
+
+    /// True when `p` is inside the outer ring and outside every hole (boundary counts as
+    /// either, depending on rounding).
+    pub fn contains(&self, p: &Point2) -> bool {
+        point_in_ring(p, &self.outer) && !self.holes.iter().any(|h| point_in_ring(p, h))
+    }
+
+    /// Every vertex of the outer ring and the holes.
+    pub fn points(&self) -> impl Iterator<Item = &Point2> {
+        self.outer.iter().chain(self.holes.iter().flatten())
+    }
+}
+
+/// Signed area of a ring (m²): positive when counter-clockwise.
+pub fn signed_area(ring: &[Point2]) -> Real {
+    let n = ring.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let o = ring[0];
+    let mut twice = 0.0;
+    for i in 1..n - 1 {
+        twice += (ring[i] - o).perp(&(ring[i + 1] - o));
+    }
+    0.5 * twice
+}
+
+/// Area centroid of a ring, or `None` when its area is zero.
+pub fn centroid(ring: &[Point2]) -> Option<Point2> {
+    let (a, m) = ring_moments(ring, 1.0);
+    (a.abs() > 0.0).then(|| Point2::from(m / a))
+}
+
+/// Returns (|area| · sign, first moment · sign) of a ring, orientation-independent.
+fn ring_moments(ring: &[Point2], sign: Real) -> (Real, Vector2) {
+    let n = ring.len();
+    if n < 3 {
+        return (0.0, Vector2::zeros());
+    }
+    let o = ring[0];
+    let mut a = 0.0;
+    let mut m = Vector2::zeros();
+    for i in 1..n - 1 {
+        let (p, q) = (ring[i] - o, ring[i + 1] - o);
+        let t = 0.5 * p.perp(&q);
+        a += t;
+        m += t * (o.coords + (p + q) / 3.0);
+    }
+    let s = if a < 0.0 { -sign } else { sign };
+    (a * s, m * s)
+}
+
+/// Even-odd point-in-ring test.
+pub fn point_in_ring(p: &Point2, ring: &[Point2]) -> bool {
+    let n = ring.len();
+    let mut inside = false;
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[j]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Distance from `p` to the closest edge of `ring` (m).
+pub fn distance_to_ring(p: &Point2, ring: &[Point2]) -> Real {
+    let n = ring.len();
+    if n == 0 {
+        return Real::INFINITY;
+    }
+    (0..n)
+        .map(|i| segment_distance(p, &ring[i], &ring[(i + 1) % n]))
+        .fold(Real::INFINITY, Real::min)
+}
+
+fn segment_distance(p: &Point2, a: &Point2, b: &Point2) -> Real {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).norm()
+}
+
+/// Signed distance of `p` to the boundary of a ring (m): positive inside, negative outside.
+///
+/// With the convex hull of a support region, this is the stability margin of the paper's
+/// Fig. 7 test: how far the vertical line through the centre of gravity is from leaving the
+/// supported area.
+pub fn signed_margin(p: &Point2, ring: &[Point2]) -> Real {
+    let d = distance_to_ring(p, ring);
+    if point_in_ring(p, ring) { d } else { -d }
+}
+
+/// 2D convex hull (Andrew's monotone chain), counter-clockwise, without collinear points.
+///
+/// Fewer than three distinct non-collinear points give the distinct points in order (a
+/// segment or a point).
+pub fn convex_hull(points: &[Point2]) -> Vec<Point2> {
+    let mut p: Vec<Point2> = points
+        .iter()
+        .copied()
+        .filter(|q| q.x.is_finite() && q.y.is_finite())
+        .collect();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: &Point2, a: &Point2, b: &Point2| (a - o).perp(&(b - o));
+    let mut hull: Vec<Point2> = Vec::with_capacity(2 * p.len());
+    for q in &p {
+        while hull.len() >= 2 && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], q) <= 0.0 {
+            hull.pop();
+        }
+        hull.push(*q);
+    }
+    let lower = hull.len() + 1;
+    for q in p.iter().rev().skip(1) {
+        while hull.len() >= lower && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], q) <= 0.0 {
+            hull.pop();
+        }
+        hull.push(*q);
+    }
+    hull.pop();
+    hull
+}
+
+/// An oriented rectangle in 2D.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Rect2 {
+    /// Centre.
+    pub center: Point2,
+    /// Unit direction of the first side (the second is its left perpendicular).
+    pub axis: Vector2,
+    /// Half side lengths along `axis` and its perpendicular (m).
+    pub half_extents: Vector2,
+}
+
+impl Rect2 {
+    /// Area (m²).
+    pub fn area(&self) -> Real {
+        4.0 * self.half_extents.x * self.half_extents.y
+    }
+
+    /// Side lengths sorted (shorter, longer) (m): what the paper's `includeBoundingBox`
+    /// compares.
+    pub fn sorted_sides(&self) -> (Real, Real) {
+        let (a, b) = (2.0 * self.half_extents.x, 2.0 * self.half_extents.y);
+        if a <= b { (a, b) } else { (b, a) }
+    }
+
+    /// The four corners, counter-clockwise.
+    pub fn corners(&self) -> [Point2; 4] {
+        let u = self.axis * self.half_extents.x;
+        let v = Vector2::new(-self.axis.y, self.axis.x) * self.half_extents.y;
+        [
+            self.center - u - v,
+            self.center + u - v,
+            self.center + u + v,
+            self.center - u + v,
+        ]
+    }
+
+    /// True when `p` is inside (within `tolerance` m).
+    pub fn contains(&self, p: &Point2, tolerance: Real) -> bool {
+        let d = p - self.center;
+        let v = Vector2::new(-self.axis.y, self.axis.x);
+        d.dot(&self.axis).abs() <= self.half_extents.x + tolerance
+            && d.dot(&v).abs() <= self.half_extents.y + tolerance
+    }
+}
+
+/// Minimum-area bounding rectangle of a point set (rotating calipers over its convex hull).
+///
+/// One side of the optimal rectangle lies on a hull edge; the calipers visit every edge and
+/// advance three support pointers monotonically, so the cost is linear in the hull size after
+/// the hull is built. Returns `None` for an empty input; a single point or a segment gives a
+/// rectangle with zero extents.
+pub fn min_area_rect(points: &[Point2]) -> Option<Rect2> {
+    let hull = convex_hull(points);
+    match hull.len() {
+        0 => return None,
+        1 => {
+            return Some(Rect2 {
+                center: hull[0],
+                axis: Vector2::x(),
+                half_extents: Vector2::zeros(),
+            });
+        }
+        2 => {
+            let d = hull[1] - hull[0];
+            let len = d.norm();
+            return Some(Rect2 {
+                center: Point2::from((hull[0].coords + hull[1].coords) * 0.5),
+                axis: d / len,
+                half_extents: Vector2::new(0.5 * len, 0.0),
+            });
+        }
+        _ => {}
+    }
+    let n = hull.len();
+    let edge = |i: usize| -> Vector2 { (hull[(i + 1) % n] - hull[i]).normalize() };
+    let (mut right, mut top, mut left) = (0usize, 0usize, 0usize);
+    let mut best: Option<(Real, Rect2)> = None;
+    for i in 0..n {
+        let u = edge(i);
+        let v = Vector2::new(-u.y, u.x);
+        let o = hull[i];
+        let along = |k: usize| (hull[k % n] - o).dot(&u);
+        let up = |k: usize| (hull[k % n] - o).dot(&v);
+        if i == 0 {
+            right = i;
+            top = i;
+        }
+        right = right.max(i);
+        while along(right + 1) >= along(right) && right < i + n {
+            right += 1;
+        }
+        top = top.max(right);
+        while up(top + 1) >= up(top) && top < i + n {
+            top += 1;
+        }
+        if i == 0 {
+            left = top;
+        }
+        left = left.max(top);
+        while along(left + 1) <= along(left) && left < i + 2 * n {
+            left += 1;
+        }
+        let (a0, a1, h) = (along(left), along(right), up(top));
+        let area = (a1 - a0) * h;
+        if best.as_ref().is_none_or(|(b, _)| area < *b) {
+            let center = o + u * (0.5 * (a0 + a1)) + v * (0.5 * h);
+            best = Some((
+                area,
+                Rect2 {
+                    center,
+                    axis: u,
+                    half_extents: Vector2::new(0.5 * (a1 - a0), 0.5 * h),
+                },
+            ));
+        }
+    }
+    best.map(|(_, r)| r)
+}
+
+fn to_shape(p: &Polygon) -> Vec<Vec<[f64; 2]>> {
+    std::iter::once(&p.outer)
+        .chain(p.holes.iter())
+        .filter(|r| r.len() >= 3)
+        .map(|r| r.iter().map(|q| [q.x, q.y]).collect())
+        .collect()
+}
+
+fn to_shapes(polygons: &[Polygon]) -> Vec<Vec<Vec<[f64; 2]>>> {
+    polygons
+        .iter()
+        .map(to_shape)
+        .filter(|s| !s.is_empty())
+        .collect()
+}
+
+fn from_shapes(shapes: Vec<Vec<Vec<[f64; 2]>>>) -> Vec<Polygon> {
+    shapes
+        .into_iter()
+        .filter_map(|shape| {
+            let mut rings = shape
+                .into_iter()
+                .map(|c| c.into_iter().map(|[x, y]| Point2::new(x, y)).collect());
+            let mut outer: Vec<Point2> = rings.next()?;
+            if signed_area(&outer) < 0.0 {
+                outer.reverse();
+            }
+            let holes = rings
+                .map(|mut h: Vec<Point2>| {
+                    if signed_area(&h) > 0.0 {
+                        h.reverse();
+                    }
+                    h
+                })
+                .collect();
+            Some(Polygon { outer, holes })
+        })
+        .collect()
+}
+
+fn overlay(a: &[Polygon], b: &[Polygon], rule: OverlayRule) -> Vec<Polygon> {
+    let (sa, sb) = (to_shapes(a), to_shapes(b));
+    if sa.is_empty() {
+        return Vec::new();
+    }
+    if sb.is_empty() {
+        return match rule {
+            OverlayRule::Intersect => Vec::new(),
+            _ => from_shapes(sa.overlay(
+                &Vec::<Vec<Vec<[f64; 2]>>>::new(),
+                OverlayRule::Subject,
+                FillRule::EvenOdd,
+            )),
+        };
+    }
+    from_shapes(sa.overlay(&sb, rule, FillRule::EvenOdd))
+}
+
+/// Intersection of two polygon sets (each polygon may have holes).
+pub fn intersection(a: &[Polygon], b: &[Polygon]) -> Vec<Polygon> {
+    overlay(a, b, OverlayRule::Intersect)
+}
+
+/// The part of `a` outside `b`.
+pub fn difference(a: &[Polygon], b: &[Polygon]) -> Vec<Polygon> {
+    overlay(a, b, OverlayRule::Difference)
+}
+
+/// Union of two polygon sets.
+pub fn union(a: &[Polygon], b: &[Polygon]) -> Vec<Polygon> {
+    if a.is_empty() {
+        return overlay(b, &[], OverlayRule::Union);
+    }
+    overlay(a, b, OverlayRule::Union)
+}
+
+/// Total area of a polygon set (m²).
+pub fn total_area(polygons: &[Polygon]) -> Real {
+    polygons.iter().map(Polygon::area).sum()
+}
+
+/// Area centroid of a polygon set, or `None` when its area is zero.
+pub fn total_centroid(polygons: &[Polygon]) -> Option<Point2> {
+    let mut a = 0.0;
+    let mut m = Vector2::zeros();
+    for p in polygons {
+        if let Some(c) = p.centroid() {
+            let pa = p.area();
+            a += pa;
+            m += c.coords * pa;
+        }
+    }
+    (a > 0.0).then(|| Point2::from(m / a))
+}
+
+/// The supported region of two touching clusters (paper Fig. 7, first two steps): the common
+/// area of the two outer boundaries, minus the holes of both.
+pub fn support_region(a: &Polygon, b: &Polygon) -> Vec<Polygon> {
+    let common = intersection(
+        &[Polygon::new(a.outer.clone())],
+        &[Polygon::new(b.outer.clone())],
+    );
+    let holes: Vec<Polygon> = a
+        .holes
+        .iter()
+        .chain(b.holes.iter())
+        .filter(|h| h.len() >= 3)
+        .map(|h| Polygon::new(h.clone()))
+        .collect();
+    if holes.is_empty() {
+        common
+    } else {
+        difference(&common, &holes)
+    }
+}
+
+/// Convex hull of the support region of two clusters (paper Fig. 7, third step). The object
+/// is statically stable when the vertical through its centre of gravity passes inside; use
+/// [`signed_margin`] for the margin.
+pub fn support_hull(a: &Polygon, b: &Polygon) -> Vec<Point2> {
+    let region = support_region(a, b);
+    let points: Vec<Point2> = region.iter().flat_map(|p| p.points().copied()).collect();
+    convex_hull(&points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x0: Real, y0: Real, s: Real) -> Vec<Point2> {
+        vec![
+            Point2::new(x0, y0),
+            Point2::new(x0 + s, y0),
+            Point2::new(x0 + s, y0 + s),
+            Point2::new(x0, y0 + s),
+        ]
+    }
+
+    #[test]
+    fn area_centroid_and_containment_of_a_square_with_a_hole() {
+        let mut hole = square(0.25, 0.25, 0.5);
+        hole.reverse();
+        let p = Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        };
+        assert!((p.area() - 0.75).abs() < 1e-12);
+        let c = p.centroid().expect("non-zero area");
+        assert!((c - Point2::new(0.5, 0.5)).norm() < 1e-12);
+        assert!(p.contains(&Point2::new(0.1, 0.1)));
+        assert!(!p.contains(&Point2::new(0.5, 0.5)));
+        assert!(!p.contains(&Point2::new(1.5, 0.5)));
+    }
+
+    #[test]
+    fn hull_drops_interior_and_collinear_points() {
+        let mut pts = square(0.0, 0.0, 2.0);
+        pts.push(Point2::new(1.0, 1.0));
+        pts.push(Point2::new(1.0, 0.0));
+        let h = convex_hull(&pts);
+        assert_eq!(h.len(), 4);
+        assert!((signed_area(&h) - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn min_rect_of_a_rotated_rectangle_is_tight() {
+        let a: Real = 0.3;
+        let (u, v) = (
+            Vector2::new(a.cos(), a.sin()),
+            Vector2::new(-a.sin(), a.cos()),
+        );
+        let pts: Vec<Point2> = [
+            (-2.0, -1.0),
+            (2.0, -1.0),
+            (2.0, 1.0),
+            (-2.0, 1.0),
+            (0.5, 0.2),
+        ]
+        .iter()
+        .map(|&(x, y)| Point2::from(u * x + v * y) + Vector2::new(3.0, 4.0))
+        .collect();
+        let r = min_area_rect(&pts).expect("non-empty");
+        assert!((r.area() - 8.0).abs() < 1e-9, "{r:?}");
+        assert!((r.center - Point2::new(3.0, 4.0)).norm() < 1e-9);
+        for p in &pts {
+            assert!(r.contains(p, 1e-9));
+        }
+    }
+
+    #[test]
+    fn booleans_of_overlapping_squares() {
+        let a = [Polygon::new(square(0.0, 0.0, 2.0))];
+        let b = [Polygon::new(square(1.0, 1.0, 2.0))];
+        assert!((total_area(&intersection(&a, &b)) - 1.0).abs() < 1e-6);
+        assert!((total_area(&difference(&a, &b)) - 3.0).abs() < 1e-6);
+        assert!((total_area(&union(&a, &b)) - 7.0).abs() < 1e-6);
+        let c = total_centroid(&intersection(&a, &b)).expect("overlap");
+        assert!((c - Point2::new(1.5, 1.5)).norm() < 1e-6);
+    }
+
+    #[test]
+    fn support_hull_excludes_holes_but_hull_fills_them() {
+        // Fig. 7: a plate with a hole in the middle resting on a larger plate.
+        let mut hole = square(0.4, 0.4, 0.2);
+        hole.reverse();
+        let object = Polygon {
+            outer: square(0.0, 0.0, 1.0),
+            holes: vec![hole],
+        };
+        let env = Polygon::new(square(-1.0, -1.0, 3.0));
+        let region = support_region(&object, &env);
+        assert!((total_area(&region) - 0.96).abs() < 1e-6);
+        let hull = support_hull(&object, &env);
+        assert!((signed_area(&hull) - 1.0).abs() < 1e-6);
+        assert!((signed_margin(&Point2::new(0.5, 0.5), &hull) - 0.5).abs() < 1e-6);
+        assert!(signed_margin(&Point2::new(1.5, 0.5), &hull) < 0.0);
+    }
+}

@@ -1,0 +1,657 @@
+//! Grasp synthesis on parallel cluster pairs: Harada et al., §III-B.1, after their ref. \[15\].
+//!
+//! For every pair of opposite clusters found by finger-mode clustering (§III-A.1) whose width
+//! fits the gripper, grasp centres are laid on a grid over the pair's overlap region, the
+//! gripper is turned about the grasp axis to several approach directions, and each candidate is
+//! checked (width at that point, pad tilt against the second plane, contact area, collision of
+//! the fingers and the palm with the object), measured ([`GraspQuality`]) and scored. See
+//! `docs/grasp.md` for the algorithm in full.
+
+use crate::collide::ObjectCollider;
+use crate::error::{Error, Result};
+use crate::gripper::{GripperBox, GripperParams};
+use crate::quality::{self, GraspQuality, ScoreModel};
+use pickplace_geometry::cluster::{Cluster, ClusterPair, Clustering};
+use pickplace_geometry::math::nalgebra::Rotation3;
+use pickplace_geometry::math::{
+    Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
+};
+use pickplace_geometry::mesh::{MassProperties, TriMesh};
+use pickplace_geometry::polygon::Polygon;
+use rayon::prelude::*;
+use std::f64::consts::TAU;
+
+/// Options of the grasp planner.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GraspOptions {
+    /// Spacing of the grid of grasp centres over each pair's overlap region (m)
+    /// (default: 0.01; the paper's ref. \[15\] used 0.02).
+    pub grid_step: Real,
+    /// Number of approach directions, evenly spaced about the grasp axis (default: 8, i.e.
+    /// every 45°).
+    pub approach_count: usize,
+    /// Also try every pose turned by 180° about the approach axis, which swaps the fingers and
+    /// mirrors an asymmetric palm (default: true).
+    pub flip_closing: bool,
+    /// Clearance the gripper keeps from the object (m): the fingers are checked open by this
+    /// much on each side and grown by it along their other axes, the palm grown by it on every
+    /// side; the opening must reach `width + 2 · clearance` (default: 0.002).
+    pub clearance: Real,
+    /// Smallest fraction of the pad area that must lie on both clusters (default: 0.5).
+    pub min_contact_ratio: Real,
+    /// The boundary margin at which the margin term of the score saturates (m)
+    /// (default: 0.01).
+    pub margin_scale: Real,
+    /// Weight of the contact term in the score (default: 0.5).
+    pub contact_weight: Real,
+    /// Weight of the torque term in the score (default: 0.3).
+    pub torque_weight: Real,
+    /// Weight of the margin term in the score (default: 0.2).
+    pub margin_weight: Real,
+}
+
+impl Default for GraspOptions {
+    fn default() -> Self {
+        Self {
+            grid_step: 0.01,
+            approach_count: 8,
+            flip_closing: true,
+            clearance: 0.002,
+            min_contact_ratio: 0.5,
+            margin_scale: 0.01,
+            contact_weight: 0.5,
+            torque_weight: 0.3,
+            margin_weight: 0.2,
+        }
+    }
+}
+
+impl GraspOptions {
+    /// Checks every value.
+    ///
+    /// # Errors
+    /// [`Error::InvalidOption`] naming the first bad value.
+    pub fn validate(&self) -> Result<()> {
+        let check = |name: &'static str, value: Real, ok: bool, reason: &'static str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(Error::InvalidOption {
+                    name,
+                    value,
+                    reason,
+                })
+            }
+        };
+        check(
+            "grid_step",
+            self.grid_step,
+            self.grid_step.is_finite() && self.grid_step >= 1e-4,
+            "must be at least 0.1 mm",
+        )?;
+        check(
+            "approach_count",
+            self.approach_count as Real,
+            (1..=360).contains(&self.approach_count),
+            "must be in 1..=360",
+        )?;
+        check(
+            "clearance",
+            self.clearance,
+            self.clearance.is_finite() && self.clearance >= 0.0,
+            "must be finite and non-negative",
+        )?;
+        check(
+            "min_contact_ratio",
+            self.min_contact_ratio,
+            (0.0..=1.0).contains(&self.min_contact_ratio),
+            "must be in [0, 1]",
+        )?;
+        check(
+            "margin_scale",
+            self.margin_scale,
+            self.margin_scale.is_finite() && self.margin_scale > 0.0,
+            "must be positive",
+        )?;
+        for (name, w) in [
+            ("contact_weight", self.contact_weight),
+            ("torque_weight", self.torque_weight),
+            ("margin_weight", self.margin_weight),
+        ] {
+            check(
+                name,
+                w,
+                w.is_finite() && w >= 0.0,
+                "must be finite and non-negative",
+            )?;
+        }
+        let sum = self.contact_weight + self.torque_weight + self.margin_weight;
+        check(
+            "contact_weight",
+            self.contact_weight,
+            sum > 0.0,
+            "the three weights must not all be zero",
+        )
+    }
+}
+
+/// One grasp: where the TCP goes on the object, how wide the gripper closes, how good it is.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Grasp {
+    /// Pose of the TCP in the object frame.
+    pub object_from_tcp: Isometry3,
+    /// Distance between the pads when closed on the object (m).
+    pub width: Real,
+    /// Score in [0, 1], higher is better (see [`GraspOptions`] and `docs/grasp.md`).
+    pub score: Real,
+    /// Index of the cluster pair in [`Clustering::pairs`].
+    pub pair: usize,
+    /// Cluster touched by the pad on the TCP's `+closing` side.
+    pub positive_cluster: u32,
+    /// Cluster touched by the pad on the `−closing` side.
+    pub negative_cluster: u32,
+    /// Approach angle about the grasp axis, from the first cluster's frame axis `u` (rad).
+    pub approach_angle: Real,
+    /// The measured quality.
+    pub quality: GraspQuality,
+}
+
+/// Why candidates were rejected, with counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub struct RejectionCounts {
+    /// Pairs whose width does not fit the opening range (whole pairs, not candidates).
+    pub pair_width: usize,
+    /// Candidates whose local width (between the two contact planes at the grasp centre) does
+    /// not fit the opening range.
+    pub width: usize,
+    /// Candidates whose pad on the second cluster deviates from that cluster's contact plane
+    /// by more than `h_max` at a corner (the planes are not parallel enough there).
+    pub pad_tilt: usize,
+    /// Candidates with less than `min_contact_ratio` of the pad on both clusters.
+    pub contact: usize,
+    /// Candidates whose fingers would intersect the object.
+    pub finger_collision: usize,
+    /// Candidates whose palm would intersect the object.
+    pub palm_collision: usize,
+}
+
+/// The result of grasp planning.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct GraspSet {
+    /// Accepted grasps, best first (ties keep the generation order).
+    pub grasps: Vec<Grasp>,
+    /// Number of cluster pairs considered.
+    pub pairs: usize,
+    /// Number of candidates evaluated (grid points × approach directions × flips over the
+    /// pairs that fit).
+    pub candidates: usize,
+    /// Rejections by reason.
+    pub rejected: RejectionCounts,
+}
+
+/// The object prepared for grasp planning: its collision mesh (BVH built once) and its centre
+/// of gravity. Immutable and `Send + Sync`; plan as often as needed.
+#[derive(Debug, Clone)]
+pub struct GraspPlanner {
+    collider: ObjectCollider,
+    center_of_mass: Point3,
+    /// Half the diagonal of the object's bounding box (m): the torque arm's scale.
+    radius: Real,
+}
+
+/// Why a candidate failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Rejection {
+    Width,
+    PadTilt,
+    Contact,
+    Finger,
+    Palm,
+}
+
+/// One grasp centre of one pair, shared by its approach directions.
+#[derive(Debug, Clone, Copy)]
+struct Site {
+    pair: usize,
+    /// The centre in the first cluster's frame (on its contact plane).
+    on_first: Point2,
+}
+
+impl GraspPlanner {
+    /// Prepares `mesh` (the object, in its own frame).
+    ///
+    /// # Errors
+    /// [`Error::CollisionMesh`] when parry rejects the mesh.
+    pub fn new(mesh: &TriMesh) -> Result<Self> {
+        let collider = ObjectCollider::new(mesh)?;
+        let center_of_mass = MassProperties::of(mesh).center_of_mass;
+        let (lo, hi) = mesh.aabb();
+        let radius = (0.5 * (hi - lo).norm()).max(1e-9);
+        Ok(Self {
+            collider,
+            center_of_mass,
+            radius,
+        })
+    }
+
+    /// The object's centre of gravity (uniform density), object frame (m).
+    pub fn center_of_mass(&self) -> Point3 {
+        self.center_of_mass
+    }
+
+    /// Plans the grasps of the object on the pairs of `clustering` (finger mode, computed on
+    /// the same mesh) for `gripper`.
+    ///
+    /// # Arguments
+    /// - `clustering`: finger-contact clusters and pairs of the object (§III-A.1).
+    /// - `gripper`: the gripper (validated here).
+    /// - `options`: grid, approach directions, clearance and score (validated here).
+    ///
+    /// # Returns
+    /// The accepted grasps ranked by score, with counts of candidates and rejections.
+    /// The output is the same for the same input, whatever the number of threads.
+    ///
+    /// # Errors
+    /// [`Error::InvalidGripper`], [`Error::InvalidOption`], [`Error::MissingCluster`] when
+    /// a pair names a cluster the clustering does not have, [`Error::GridTooFine`] when a pair's
+    /// grid would exceed [`MAX_GRID_NODES`].
+    ///
+    /// # Performance
+    /// Linear in the number of candidates; each costs a few polygon clips against the pad and
+    /// up to three box-mesh intersection tests through the mesh's BVH. Candidates run in
+    /// parallel (rayon) one grasp centre at a time.
+    pub fn plan(
+        &self,
+        clustering: &Clustering,
+        gripper: &GripperParams,
+        options: &GraspOptions,
+    ) -> Result<GraspSet> {
+        gripper.validate()?;
+        options.validate()?;
+        let count = clustering.clusters.len();
+        let cluster = |pair: usize, id: u32| {
+            clustering
+                .clusters
+                .get(id as usize)
+                .ok_or(Error::MissingCluster {
+                    pair,
+                    cluster: id,
+                    count,
+                })
+        };
+        let mut rejected = RejectionCounts::default();
+        let mut sites = Vec::new();
+        let max_width = gripper.opening_max - 2.0 * options.clearance;
+        for (index, pair) in clustering.pairs.iter().enumerate() {
+            cluster(index, pair.first)?;
+            cluster(index, pair.second)?;
+            if pair.width < gripper.opening_min || pair.width > max_width {
+                rejected.pair_width += 1;
+                continue;
+            }
+            let points =
+                grid_points(&pair.overlap, options.grid_step).ok_or(Error::GridTooFine {
+                    pair: index,
+                    grid_step: options.grid_step,
+                    limit: MAX_GRID_NODES,
+                })?;
+            sites.extend(points.into_iter().map(|on_first| Site {
+                pair: index,
+                on_first,
+            }));
+        }
+        let context = Context {
+            planner: self,
+            clustering,
+            gripper,
+            options,
+            tcp_from_canonical: gripper.tcp_from_canonical(),
+            score: ScoreModel {
+                pad_area: gripper.pad_area(),
+                torque_scale: self.radius,
+                margin_scale: options.margin_scale,
+                weights: [
+                    options.contact_weight,
+                    options.torque_weight,
+                    options.margin_weight,
+                ],
+            },
+        };
+        let outcomes: Vec<Vec<std::result::Result<Grasp, Rejection>>> = sites
+            .par_iter()
+            .map(|site| context.evaluate_site(site))
+            .collect();
+        let mut grasps = Vec::new();
+        let mut candidates = 0;
+        for outcome in outcomes.into_iter().flatten() {
+            candidates += 1;
+            match outcome {
+                Ok(g) => grasps.push(g),
+                Err(Rejection::Width) => rejected.width += 1,
+                Err(Rejection::PadTilt) => rejected.pad_tilt += 1,
+                Err(Rejection::Contact) => rejected.contact += 1,
+                Err(Rejection::Finger) => rejected.finger_collision += 1,
+                Err(Rejection::Palm) => rejected.palm_collision += 1,
+            }
+        }
+        // Stable: equal scores keep the generation order.
+        grasps.sort_by(|a, b| b.score.total_cmp(&a.score));
+        Ok(GraspSet {
+            grasps,
+            pairs: clustering.pairs.len(),
+            candidates,
+            rejected,
+        })
+    }
+}
+
+/// Most grid nodes scanned over one pair's overlap region.
+pub const MAX_GRID_NODES: u64 = 1_000_000;
+
+/// Grid points inside a polygon set: a square grid of spacing `step`, aligned with the frame
+/// axes and centred on the set's bounding box. When no grid point falls inside (a region
+/// smaller than the step), the area centroid is used if it lies inside. `None` when the grid
+/// would have more than [`MAX_GRID_NODES`] nodes.
+fn grid_points(overlap: &[Polygon], step: Real) -> Option<Vec<Point2>> {
+    let mut lo = Vector2::repeat(Real::INFINITY);
+    let mut hi = Vector2::repeat(Real::NEG_INFINITY);
+    for p in overlap.iter().flat_map(Polygon::points) {
+        lo = lo.inf(&p.coords);
+        hi = hi.sup(&p.coords);
+    }
+    if !(lo.x <= hi.x && lo.y <= hi.y) {
+        return Some(Vec::new());
+    }
+    let inside = |q: &Point2| overlap.iter().any(|p| p.contains(q));
+    let center = (lo + hi) * 0.5;
+    // Grid points cover [lo, hi] (the float-to-int cast saturates on huge extents).
+    let half_count = |extent: Real| ((0.5 * extent / step).floor() as i64).clamp(0, 1 << 31);
+    let (nx, ny) = (half_count(hi.x - lo.x), half_count(hi.y - lo.y));
+    if ((2 * nx + 1) as u64).saturating_mul((2 * ny + 1) as u64) > MAX_GRID_NODES {
+        return None;
+    }
+    let mut out = Vec::new();
+    for j in -ny..=ny {
+        for i in -nx..=nx {
+            let q = Point2::from(center + Vector2::new(i as Real, j as Real) * step);
+            if inside(&q) {
+                out.push(q);
+            }
+        }
+    }
+    if out.is_empty()
+        && let Some(c) = pickplace_geometry::polygon::total_centroid(overlap)
+        && inside(&c)
+    {
+        out.push(c);
+    }
+    Some(out)
+}
+
+struct Context<'a> {
+    planner: &'a GraspPlanner,
+    clustering: &'a Clustering,
+    gripper: &'a GripperParams,
+    options: &'a GraspOptions,
+    tcp_from_canonical: Matrix3,
+    score: ScoreModel,
+}
+
+impl Context<'_> {
+    fn evaluate_site(&self, site: &Site) -> Vec<std::result::Result<Grasp, Rejection>> {
+        let pair = &self.clustering.pairs[site.pair];
+        let first = &self.clustering.clusters[pair.first as usize];
+        let second = &self.clustering.clusters[pair.second as usize];
+        let n1 = first.normal;
+        let on_first = first.frame.to_3d(&site.on_first);
+        // Width at this centre: from the first plane along −n1 to the second plane.
+        let denominator = second.normal.dot(&n1);
+        let width = second.normal.dot(&(on_first - second.point)) / denominator;
+        let tcp = on_first - n1 * (0.5 * width);
+        let flips: &[Real] = if self.options.flip_closing {
+            &[1.0, -1.0]
+        } else {
+            &[1.0]
+        };
+        let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
+        for k in 0..self.options.approach_count {
+            let angle = TAU * k as Real / self.options.approach_count as Real;
+            let candidate = Candidate {
+                site,
+                pair,
+                first,
+                second,
+                tcp,
+                width,
+                angle,
+            };
+            match self.shared_checks(&candidate) {
+                Ok(contact_area) => out.extend(
+                    flips
+                        .iter()
+                        .map(|&flip| self.finish(&candidate, contact_area, flip)),
+                ),
+                Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
+            }
+        }
+        out
+    }
+
+    /// The checks a 180° turn about the approach axis does not change (the pads and the fingers
+    /// are symmetric under it): local width, pad tilt, contact area, finger collision. Returns
+    /// the contact area.
+    fn shared_checks(&self, c: &Candidate<'_>) -> std::result::Result<Real, Rejection> {
+        let (g, o) = (self.gripper, self.options);
+        if !(c.width.is_finite()
+            && c.width >= g.opening_min
+            && c.width <= g.opening_max - 2.0 * o.clearance)
+        {
+            return Err(Rejection::Width);
+        }
+        let (approach, lateral) = c.axes(1.0);
+        // Pad 2 lies on the plane through `tcp − n1·w/2` parallel to S1; its corners must stay
+        // within h_max of S2 for the flexible sheet to conform.
+        let h_max = self.clustering.params.h_max;
+        let pad2 = c.tcp - c.first.normal * (0.5 * c.width);
+        let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
+        for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+            let corner = pad2 + lateral * (a * hw) + approach * (b * hd);
+            if c.second.plane_distance(&corner).abs() > h_max + 1e-9 {
+                return Err(Rejection::PadTilt);
+            }
+        }
+        // Contact: the pad (on S1, in the first frame) against the overlap region.
+        let approach_2d = Vector2::new(c.angle.cos(), c.angle.sin());
+        let lateral_2d = Vector2::new(lateral.dot(&c.first.frame.u), lateral.dot(&c.first.frame.v));
+        let window = quality::rectangle(c.site.on_first, lateral_2d, approach_2d, hw, hd);
+        let contact_area = quality::clipped_area(&window, &c.pair.overlap);
+        if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
+            return Err(Rejection::Contact);
+        }
+        // Fingers open by the clearance on each side and grown by it along their other axes.
+        let object_from_tcp = self.pose(c, 1.0);
+        for mut finger in g.fingers(c.width + 2.0 * o.clearance) {
+            finger.half_extents += Vector3::new(o.clearance, 0.0, o.clearance);
+            if self.planner.collider.hits(&object_from_tcp, &finger, 0.0) {
+                return Err(Rejection::Finger);
+            }
+        }
+        Ok(contact_area)
+    }
+
+    /// The TCP pose of a candidate: the canonical axes (lateral, closing, approach) go to the
+    /// object-frame axes.
+    fn pose(&self, c: &Candidate<'_>, flip: Real) -> Isometry3 {
+        let (approach, lateral) = c.axes(flip);
+        let object_from_canonical =
+            Matrix3::from_columns(&[lateral, c.first.normal * flip, approach]);
+        // Both factors are orthonormal by construction; `from_matrix` (iterative) would stall on
+        // rotations of 180°.
+        let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+            object_from_canonical * self.tcp_from_canonical.transpose(),
+        ));
+        Isometry3::from_parts(Translation3::from(c.tcp.coords), rotation)
+    }
+
+    /// The palm check and the quality of one orientation of a candidate.
+    fn finish(
+        &self,
+        c: &Candidate<'_>,
+        contact_area: Real,
+        flip: Real,
+    ) -> std::result::Result<Grasp, Rejection> {
+        let object_from_tcp = self.pose(c, flip);
+        let palm: GripperBox = self.gripper.palm_box();
+        if self
+            .planner
+            .collider
+            .hits(&object_from_tcp, &palm, self.options.clearance)
+        {
+            return Err(Rejection::Palm);
+        }
+        let torque_arm = (self.planner.center_of_mass - c.tcp)
+            .cross(&c.first.normal)
+            .norm();
+        let boundary_margin = quality::boundary_margin(&c.site.on_first, &c.pair.overlap);
+        let quality = GraspQuality {
+            contact_area,
+            torque_arm,
+            boundary_margin,
+        };
+        let (positive_cluster, negative_cluster) = if flip > 0.0 {
+            (c.first.id, c.second.id)
+        } else {
+            (c.second.id, c.first.id)
+        };
+        Ok(Grasp {
+            object_from_tcp,
+            width: c.width,
+            score: self.score.score(&quality),
+            pair: c.site.pair,
+            positive_cluster,
+            negative_cluster,
+            approach_angle: c.angle,
+            quality,
+        })
+    }
+}
+
+/// A grasp centre with one approach direction, before the closing direction is chosen.
+struct Candidate<'a> {
+    site: &'a Site,
+    pair: &'a ClusterPair,
+    first: &'a Cluster,
+    second: &'a Cluster,
+    tcp: Point3,
+    width: Real,
+    angle: Real,
+}
+
+impl Candidate<'_> {
+    /// Approach and lateral axes (object frame) for the closing direction `flip · n1`.
+    fn axes(&self, flip: Real) -> (Vector3, Vector3) {
+        let approach =
+            self.first.frame.u * self.angle.cos() + self.first.frame.v * self.angle.sin();
+        let lateral = (self.first.normal * flip).cross(&approach);
+        (approach, lateral)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
+    use pickplace_geometry::shapes;
+
+    fn gripper() -> GripperParams {
+        GripperParams::from_toml_str(
+            include_str!("../tests/data/gripper.toml"),
+            std::path::Path::new("gripper.toml"),
+        )
+        .expect("valid fixture")
+    }
+
+    #[test]
+    fn grid_covers_a_square_and_falls_back_to_the_centroid() {
+        let sq = |s: Real| {
+            Polygon::new(vec![
+                Point2::new(0.0, 0.0),
+                Point2::new(s, 0.0),
+                Point2::new(s, s),
+                Point2::new(0.0, s),
+            ])
+        };
+        assert_eq!(
+            grid_points(&[sq(0.045)], 0.01).expect("small grid").len(),
+            25
+        );
+        let tiny = grid_points(&[sq(0.004)], 0.01).expect("small grid");
+        assert_eq!(tiny.len(), 1);
+        assert!((tiny[0] - Point2::new(0.002, 0.002)).norm() < 1e-12);
+        assert!(grid_points(&[], 0.01).expect("empty grid").is_empty());
+        assert!(grid_points(&[sq(1.0)], 1e-4).is_none());
+        assert!(grid_points(&[sq(1e300)], 1e-4).is_none());
+    }
+
+    #[test]
+    fn a_box_gets_ranked_grasps_with_the_pads_on_its_faces() {
+        // 4 cm across y: fits the 8 cm gripper; 6 cm across x fits too; 10 cm across z does not.
+        let mesh = shapes::object_box_builder().build().expect("valid");
+        let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid");
+        let planner = GraspPlanner::new(&mesh).expect("valid");
+        let set = planner
+            .plan(&clustering, &gripper(), &GraspOptions::default())
+            .expect("valid");
+        assert_eq!(set.rejected.pair_width, 1);
+        assert!(!set.grasps.is_empty());
+        assert!(set.grasps.windows(2).all(|w| w[0].score >= w[1].score));
+        let total = set.grasps.len()
+            + set.rejected.width
+            + set.rejected.pad_tilt
+            + set.rejected.contact
+            + set.rejected.finger_collision
+            + set.rejected.palm_collision;
+        assert_eq!(total, set.candidates);
+        for g in &set.grasps {
+            let y = g.object_from_tcp.rotation * Vector3::y();
+            let pad = g.object_from_tcp * Point3::new(0.0, 0.5 * g.width, 0.0);
+            let c = &clustering.clusters[g.positive_cluster as usize];
+            assert!(c.plane_distance(&pad).abs() < 1e-9);
+            assert!(y.dot(&c.normal) > 0.999);
+            // Regression: half-turn rotations were once returned as the identity.
+            let first = &clustering.clusters[clustering.pairs[g.pair].first as usize];
+            let expected =
+                first.frame.u * g.approach_angle.cos() + first.frame.v * g.approach_angle.sin();
+            assert!((g.object_from_tcp.rotation * Vector3::z() - expected).norm() < 1e-9);
+        }
+        // The best grasp holds the box across its 4 cm side near the centre of gravity.
+        let best = &set.grasps[0];
+        assert!((best.width - 0.04).abs() < 1e-9, "{best:?}");
+    }
+
+    #[test]
+    fn bad_options_are_rejected() {
+        let mesh = shapes::box_mesh([0.02, 0.02, 0.02]);
+        let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid");
+        let planner = GraspPlanner::new(&mesh).expect("valid");
+        let bad = GraspOptions {
+            grid_step: 0.0,
+            ..Default::default()
+        };
+        assert!(matches!(
+            planner.plan(&clustering, &gripper(), &bad),
+            Err(Error::InvalidOption {
+                name: "grid_step",
+                ..
+            })
+        ));
+        let zero = GraspOptions {
+            contact_weight: 0.0,
+            torque_weight: 0.0,
+            margin_weight: 0.0,
+            ..Default::default()
+        };
+        assert!(planner.plan(&clustering, &gripper(), &zero).is_err());
+    }
+}

@@ -1,0 +1,6 @@
+//! Integration tests of pickplace-grasp.
+
+mod gripper_file;
+mod invariants;
+mod objects;
+mod support;

@@ -1,0 +1,809 @@
+//! Algorithm 2 of the paper (§III-B.2): object posture candidates on the environment cluster
+//! the user points at, with the stability test of Fig. 7.
+//!
+//! For each object region C_j: if its 2D bounding box fits in the environment region's
+//! (`includeBoundingBox`), search face-face contacts (`searchFaceFaceContact`): the two contact
+//! planes coincide with opposite normals, and positions and yaw angles are searched inside the
+//! environment region, nearest to the target first. Otherwise search edge-face contacts
+//! (`searchEdgeFaceContact`): a segment of the 2D convex hull of C_j's boundary is laid on the
+//! environment's contact plane and the object is rotated about it until a second contact
+//! appears (bisection on the tilt angle).
+//!
+//! Every pose must pass the stability test (Fig. 7): for face-face contacts the common area of
+//! the two outer boundaries minus both regions' holes, its convex hull, and the vertical through
+//! the CoG must pass inside it; for edge-face contacts the hull of the contact points. And it
+//! must not penetrate the environment (parry3d-f64, object mesh against environment mesh, with a
+//! small clearance).
+//!
+//! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
+//! a grid in order of distance to the target so the first candidates are the best ranked;
+//! the stability margin is reported; every rejection is counted with its reason.
+
+use crate::collide::CollisionMesh;
+use crate::region::Region;
+use pickplace_geometry::cluster::Clustering;
+use pickplace_geometry::math::{
+    Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
+};
+use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::polygon::{Polygon, convex_hull, signed_margin, support_hull};
+use std::f64::consts::PI;
+
+/// Options of the placement search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlacementOptions {
+    /// Number of yaw angles tried per position, evenly spaced over a full turn (default: 16).
+    pub yaw_steps: usize,
+    /// Spacing of candidate positions on the environment region (m) (default: 0.005).
+    pub position_step: Real,
+    /// Maximum number of candidates kept per (object region, environment region) pair
+    /// (default: 8).
+    pub max_per_pair: usize,
+    /// Maximum number of candidates returned (default: 32).
+    pub max_candidates: usize,
+    /// Gap (m) between object and environment in the penetration test: the object is lifted
+    /// by this much along the contact normal before testing (default: 0.0005).
+    pub clearance: Real,
+    /// Minimum stability margin (m): distance from the CoG's vertical to the support hull's
+    /// boundary (default: 0.002).
+    pub min_margin: Real,
+    /// Steepest environment region that can hold the object (rad from horizontal)
+    /// (default: 20°).
+    pub max_slope: Real,
+    /// Other upward-facing environment regions within this distance of the target (m) are
+    /// searched too. The paper searches only the cluster the user clicked (default: 0.0).
+    pub search_radius: Real,
+    /// Edge-face search: largest tilt tried (rad) (default: 60°).
+    pub max_tilt: Real,
+    /// Edge-face search: the tilt is found to within this angle (rad) (default: 1e-4).
+    pub tilt_tolerance: Real,
+    /// Edge-face search: step of the coarse scan for the first free tilt, before the
+    /// bisection (rad) (default: 3°).
+    pub tilt_scan_step: Real,
+    /// Edge-face search: hull segments tried per object region, the longest first (default: 4).
+    pub edge_segments: usize,
+    /// Edge-face search: positions of the segment on the environment region, spread over the
+    /// whole region on a grid, nearest to the target first (default: 64).
+    pub edge_positions: usize,
+    /// A target point this far (m) from a region's plane still selects it (default: 0.01).
+    pub target_tolerance: Real,
+    /// Minimum tipping angle (rad): the object must rotate at least this much about the
+    /// nearest edge of its support before its CoG crosses it, `atan(margin / cog height)`.
+    /// A margin alone favours tall objects; this is the paper's Fig. 7 test made scale-aware
+    /// (default: 6°).
+    pub min_tipping_angle: Real,
+}
+
+impl Default for PlacementOptions {
+    fn default() -> Self {
+        Self {
+            yaw_steps: 16,
+            position_step: 0.005,
+            max_per_pair: 8,
+            max_candidates: 32,
+            clearance: 5e-4,
+            min_margin: 0.002,
+            max_slope: 20f64.to_radians(),
+            search_radius: 0.0,
+            max_tilt: 60f64.to_radians(),
+            tilt_tolerance: 1e-4,
+            tilt_scan_step: 3f64.to_radians(),
+            edge_segments: 4,
+            edge_positions: 64,
+            target_tolerance: 0.01,
+            min_tipping_angle: 6f64.to_radians(),
+        }
+    }
+}
+
+/// How the object touches the environment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactKind {
+    /// A face of the object lies on the environment's contact plane.
+    FaceFace,
+    /// The object rests on an edge of its contact region, tilted onto a second contact.
+    EdgeFace,
+}
+
+/// A stable placement of the object.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Placement {
+    /// Object pose in the world.
+    pub world_from_object: Isometry3,
+    /// Contact type.
+    pub contact: ContactKind,
+    /// Object cluster in contact.
+    pub object_cluster: usize,
+    /// Environment cluster in contact.
+    pub env_cluster: usize,
+    /// Distance from the CoG's vertical to the support hull's boundary (m).
+    pub stability_margin: Real,
+    /// Horizontal distance from the object's contact point to the target (m).
+    pub distance_to_target: Real,
+    /// Tilt of the object's contact plane from the environment's (rad; 0 for face-face).
+    pub tilt: Real,
+}
+
+/// The object as the placement planner sees it.
+#[derive(Debug)]
+pub struct ObjectModel {
+    /// Contact regions (environment-contact clusters) in the object frame.
+    pub regions: Vec<Region>,
+    /// Centre of gravity (object frame).
+    pub cog: Point3,
+    /// Collision mesh (object frame).
+    pub collision: CollisionMesh,
+}
+
+/// Vertices of an object cluster this close to its contact plane S (m) carry the object when
+/// S lies on the environment; the rest of a curved cluster hangs above (0.1 mm).
+pub const CONTACT_TOLERANCE: Real = 1e-4;
+
+impl ObjectModel {
+    /// The object of `mesh` with its environment-contact clustering (paper §III-A, h_max
+    /// 1 mm by default) and its centre of gravity, all in the object frame.
+    ///
+    /// # Errors
+    /// [`crate::Error::NonFiniteCog`] for a CoG that is not finite.
+    pub fn new(mesh: &TriMesh, clustering: &Clustering, cog: Point3) -> crate::Result<Self> {
+        if !cog.coords.iter().all(|c| c.is_finite()) {
+            return Err(crate::Error::NonFiniteCog {
+                x: cog.x,
+                y: cog.y,
+                z: cog.z,
+            });
+        }
+        let identity = Isometry3::identity();
+        let regions = clustering
+            .clusters
+            .iter()
+            .filter_map(|c| Region::from_cluster_on_mesh(c, mesh, &identity, CONTACT_TOLERANCE))
+            .collect();
+        Ok(Self {
+            regions,
+            cog,
+            collision: CollisionMesh::new(mesh)?,
+        })
+    }
+}
+
+impl EnvironmentModel {
+    /// The environment of `mesh` placed at `world_from_env`, with its environment-contact
+    /// clustering (computed in the mesh frame, so a cached database serves every pose).
+    ///
+    /// # Errors
+    /// Only on an internally inconsistent mesh (see [`CollisionMesh::new`]).
+    pub fn new(
+        mesh: &TriMesh,
+        clustering: &Clustering,
+        world_from_env: &Isometry3,
+    ) -> crate::Result<Self> {
+        Self::from_parts(&[(mesh, clustering, *world_from_env)])
+    }
+
+    /// Several environment meshes, each with its clustering and pose, seen as one environment.
+    /// Region [`Region::cluster_id`]s are numbered across the meshes in order (the clusters of
+    /// the second mesh follow those of the first).
+    ///
+    /// # Errors
+    /// Only on an internally inconsistent mesh (see [`CollisionMesh::new`]).
+    pub fn from_parts(parts: &[(&TriMesh, &Clustering, Isometry3)]) -> crate::Result<Self> {
+        let mut regions = Vec::new();
+        let mut offset = 0;
+        for (_, clustering, pose) in parts {
+            for c in &clustering.clusters {
+                if let Some(mut r) = Region::from_cluster(c, pose) {
+                    r.cluster_id += offset;
+                    regions.push(r);
+                }
+            }
+            offset += clustering.clusters.len();
+        }
+        let meshes: Vec<(&TriMesh, Isometry3)> =
+            parts.iter().map(|(m, _, pose)| (*m, *pose)).collect();
+        Ok(Self {
+            regions,
+            collision: CollisionMesh::from_meshes(&meshes)?,
+        })
+    }
+}
+
+/// The environment as the placement planner sees it.
+#[derive(Debug)]
+pub struct EnvironmentModel {
+    /// Contact regions in the world frame.
+    pub regions: Vec<Region>,
+    /// Collision mesh in the world frame.
+    pub collision: CollisionMesh,
+}
+
+/// Why candidates were rejected on one environment cluster.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Rejections {
+    /// Object regions whose bounding box did not fit and whose edge-face search found no pose.
+    pub did_not_fit: usize,
+    /// Poses whose CoG vertical missed the support hull (or came too close to its boundary).
+    pub unstable: usize,
+    /// Poses where the object penetrated the environment.
+    pub penetrates: usize,
+    /// Poses accepted.
+    pub accepted: usize,
+}
+
+/// The result of a placement search.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PlacementSet {
+    /// Environment cluster the target selected.
+    pub target_cluster: usize,
+    /// Candidates, best first (distance to the target, then stability margin).
+    pub placements: Vec<Placement>,
+    /// Rejection counts per environment cluster searched (cluster id, counts).
+    pub rejections: Vec<(usize, Rejections)>,
+}
+
+/// The target point is on no environment cluster.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "target point ({:.4}, {:.4}, {:.4}) is on no upward-facing environment cluster; the nearest is cluster {nearest_cluster}, {distance:.4} m away",
+    target.x, target.y, target.z
+)]
+pub struct TargetError {
+    /// The target point.
+    pub target: Point3,
+    /// The nearest upward-facing cluster, if any.
+    pub nearest_cluster: usize,
+    /// Its distance to the target (m).
+    pub distance: Real,
+}
+
+fn upward(region: &Region, options: &PlacementOptions) -> bool {
+    region.normal().z >= options.max_slope.cos()
+}
+
+/// Distance from `p` to a region (m): height above its plane combined with the 2D distance
+/// outside its polygon.
+fn distance_to_region(region: &Region, p: &Point3) -> Real {
+    let (q, h) = region.to_plane(p);
+    let outside = if region.polygon.contains(&q) {
+        0.0
+    } else {
+        (-signed_margin(&q, &region.polygon.outer)).max(0.0)
+    };
+    (h * h + outside * outside).sqrt()
+}
+
+/// The environment cluster the target selects (the paper's click): the upward-facing region
+/// that contains the target's projection, nearest to its plane.
+///
+/// # Errors
+/// [`TargetError`] naming the nearest upward-facing cluster and its distance.
+pub fn select_target(
+    env: &EnvironmentModel,
+    target: &Point3,
+    options: &PlacementOptions,
+) -> Result<usize, TargetError> {
+    let mut best: Option<(Real, usize)> = None;
+    let mut nearest: Option<(Real, usize)> = None;
+    for (i, r) in env
+        .regions
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| upward(r, options))
+    {
+        let (q, h) = r.to_plane(target);
+        if h.abs() <= options.target_tolerance
+            && r.polygon.contains(&q)
+            && best.is_none_or(|(d, _)| h.abs() < d)
+        {
+            best = Some((h.abs(), i));
+        }
+        let d = distance_to_region(r, target);
+        if nearest.is_none_or(|(nd, _)| d < nd) {
+            nearest = Some((d, i));
+        }
+    }
+    match (best, nearest) {
+        (Some((_, i)), _) => Ok(i),
+        (None, Some((d, i))) => Err(TargetError {
+            target: *target,
+            nearest_cluster: env.regions[i].cluster_id,
+            distance: d,
+        }),
+        (None, None) => Err(TargetError {
+            target: *target,
+            nearest_cluster: usize::MAX,
+            distance: Real::INFINITY,
+        }),
+    }
+}
+
+/// Candidate placements of the object near `target` (Algorithm 2).
+///
+/// # Errors
+/// [`TargetError`] when the target is on no environment cluster. An empty
+/// [`PlacementSet::placements`] with its rejection counts means no stable placement exists
+/// (the CLI exits 1).
+///
+/// # Performance
+/// Positions are visited nearest to the target first and each (object region, environment
+/// region) pair stops after [`PlacementOptions::max_per_pair`] accepted poses, so the cost is
+/// bounded by the candidates asked for, not by the size of the environment region.
+pub fn candidates(
+    object: &ObjectModel,
+    env: &EnvironmentModel,
+    target: &Point3,
+    options: &PlacementOptions,
+) -> Result<PlacementSet, TargetError> {
+    let target_index = select_target(env, target, options)?;
+    let mut env_indices: Vec<usize> = vec![target_index];
+    let mut others: Vec<(Real, usize)> = env
+        .regions
+        .iter()
+        .enumerate()
+        .filter(|&(i, r)| i != target_index && upward(r, options))
+        .map(|(i, r)| (distance_to_region(r, target), i))
+        .filter(|&(d, _)| d <= options.search_radius)
+        .collect();
+    others.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    env_indices.extend(others.into_iter().map(|(_, i)| i));
+
+    let mut placements = Vec::new();
+    let mut rejections = Vec::new();
+    for &e in &env_indices {
+        let env_region = &env.regions[e];
+        let mut counts = Rejections::default();
+        for (o, object_region) in object.regions.iter().enumerate() {
+            if !supporting(object, o) {
+                continue;
+            }
+            if object_region.support.len() < 3 {
+                // Only a line of the region touches its plane (a strip of a tessellated
+                // cylinder): the object would roll on it, face-face or edge-face.
+                counts.unstable += 1;
+                continue;
+            }
+            let found = if include_bounding_box(object_region, env_region) {
+                search_face_face(
+                    object,
+                    object_region,
+                    env,
+                    env_region,
+                    target,
+                    options,
+                    &mut counts,
+                )
+            } else {
+                let found = search_edge_face(
+                    object,
+                    object_region,
+                    env,
+                    env_region,
+                    target,
+                    options,
+                    &mut counts,
+                );
+                if found.is_empty() {
+                    counts.did_not_fit += 1;
+                }
+                found
+            };
+            counts.accepted += found.len();
+            placements.extend(found);
+        }
+        rejections.push((env_region.cluster_id, counts));
+    }
+    placements.sort_by_key(|a| rank(a, object));
+    placements.truncate(options.max_candidates);
+    Ok(PlacementSet {
+        target_cluster: env.regions[target_index].cluster_id,
+        placements,
+        rejections,
+    })
+}
+
+/// Ranking key of a placement (smaller is better): the distance to the target, then the
+/// stability margin (larger first), each compared at [`RANK_RESOLUTION`] so that poses equal to
+/// within a tenth of a millimetre fall through to the next criterion; then the CoG's height
+/// (lower first: the mug stands on its base rather than on its rim), then the
+/// object cluster, for a total deterministic order.
+fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
+    let q = |x: Real| (x / RANK_RESOLUTION).round() as i64;
+    let cog_z = (p.world_from_object * object.cog).z;
+    (
+        q(p.distance_to_target),
+        -q(p.stability_margin),
+        q(cog_z),
+        p.object_cluster,
+        p.env_cluster,
+    )
+}
+
+/// Resolution (m) at which distances and margins are compared when ranking (0.1 mm).
+pub const RANK_RESOLUTION: Real = 1e-4;
+
+/// Whether object region `o` can touch a plane at all: every other object region lies on the
+/// inner side of its contact plane. Checked on the regions' boundary points (cheap and exact for
+/// clusters on the convex hull, such as a can's caps or a box's faces).
+fn supporting(object: &ObjectModel, o: usize) -> bool {
+    let r = &object.regions[o];
+    let tolerance = 0.002;
+    object.regions.iter().all(|other| {
+        other.polygon.outer.iter().all(|q| {
+            let p = other.parent_from_plane * Point3::new(q.x, q.y, 0.0);
+            r.to_plane(&p).1 <= tolerance
+        })
+    })
+}
+
+/// includeBoundingBox (paper Fig. 6(b), (d)): the object's 2D bounding box fits in the
+/// environment's, in either orientation (side lengths compared sorted).
+pub fn include_bounding_box(object: &Region, env: &Region) -> bool {
+    let (os, ol) = object.rect.sorted_sides();
+    let (es, el) = env.rect.sorted_sides();
+    os <= es && ol <= el
+}
+
+/// Positions on `env` (plane coordinates) on a grid of `step` aligned with its bounding
+/// rectangle and inside its polygon, nearest to `target2` first; the target's own projection
+/// comes first when it lies inside.
+fn grid_positions(env: &Region, target2: &Point2, step: Real, limit: usize) -> Vec<Point2> {
+    let r = &env.rect;
+    let (ax, ay) = (r.axis, Vector2::new(-r.axis.y, r.axis.x));
+    let mut pts = Vec::new();
+    if env.polygon.contains(target2) {
+        pts.push((0.0, *target2));
+    }
+    let nx = ((2.0 * r.half_extents.x / step).floor() as i64).clamp(0, 2000);
+    let ny = ((2.0 * r.half_extents.y / step).floor() as i64).clamp(0, 2000);
+    // Centre the grid in the rectangle so that both sides get the same clearance.
+    let (ox, oy) = (
+        r.half_extents.x - step * nx as Real / 2.0,
+        r.half_extents.y - step * ny as Real / 2.0,
+    );
+    for i in 0..nx {
+        for j in 0..ny {
+            let (u, v) = (
+                -r.half_extents.x + ox + step * (i as Real + 0.5),
+                -r.half_extents.y + oy + step * (j as Real + 0.5),
+            );
+            let p = r.center + ax * u + ay * v;
+            if env.polygon.contains(&p) {
+                pts.push(((p - target2).norm(), p));
+            }
+        }
+    }
+    pts.sort_by(|a, b| {
+        a.0.total_cmp(&b.0)
+            .then(a.1.x.total_cmp(&b.1.x))
+            .then(a.1.y.total_cmp(&b.1.y))
+    });
+    pts.truncate(limit);
+    pts.into_iter().map(|(_, p)| p).collect()
+}
+
+fn rz(angle: Real) -> UnitQuaternion {
+    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle)
+}
+
+fn rx(angle: Real) -> UnitQuaternion {
+    UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle)
+}
+
+/// The CoG's vertical line meets the environment plane at this point (plane coordinates).
+fn cog_foot(env: &Region, cog_world: &Point3) -> Option<Point2> {
+    let (c, h) = env.to_plane(cog_world);
+    let g = env
+        .parent_from_plane
+        .inverse_transform_vector(&-Vector3::z());
+    if g.z >= -1e-9 {
+        return None;
+    }
+    let s = -h / g.z;
+    Some(Point2::new(c.x + s * g.x, c.y + s * g.y))
+}
+
+/// The stability test's verdict (Fig. 7): the CoG's vertical passes inside the support hull
+/// with at least [`PlacementOptions::min_margin`] to spare and a tipping angle of at least
+/// [`PlacementOptions::min_tipping_angle`] for a CoG `height` above the support.
+fn stable(margin: Real, height: Real, options: &PlacementOptions) -> bool {
+    margin >= options.min_margin && margin.atan2(height.max(1e-9)) >= options.min_tipping_angle
+}
+
+/// searchFaceFaceContact (paper Fig. 6(c)).
+fn search_face_face(
+    object: &ObjectModel,
+    o: &Region,
+    env: &EnvironmentModel,
+    e: &Region,
+    target: &Point3,
+    options: &PlacementOptions,
+    counts: &mut Rejections,
+) -> Vec<Placement> {
+    let (target2, _) = e.to_plane(target);
+    let reference = o.polygon.centroid().unwrap_or_else(Point2::origin);
+    let plane_from_object = o.parent_from_plane.inverse();
+    let lift = e.normal() * options.clearance;
+    let mut out = Vec::new();
+    // Enough positions to find max_per_pair poses even when most are rejected.
+    let positions = grid_positions(
+        e,
+        &target2,
+        options.position_step,
+        64 * options.max_per_pair.max(1),
+    );
+    'positions: for p in positions {
+        for k in 0..options.yaw_steps.max(1) {
+            let yaw = 2.0 * PI * k as Real / options.yaw_steps.max(1) as Real;
+            // Object plane -> environment plane: flip (normals opposite), yaw, then put the
+            // object's reference point at p.
+            let flip_yaw = rz(yaw) * rx(PI);
+            let r = flip_yaw * Point3::new(reference.x, reference.y, 0.0);
+            let e_from_oplane =
+                Isometry3::from_parts(Translation3::new(p.x - r.x, p.y - r.y, 0.0), flip_yaw);
+            let world_from_object = e.parent_from_plane * e_from_oplane * plane_from_object;
+            // Stability (Fig. 7): the object's polygon in environment-plane coordinates.
+            let map = |q: &Point2| {
+                let w = e_from_oplane * Point3::new(q.x, q.y, 0.0);
+                Point2::new(w.x, w.y)
+            };
+            // The object's support is the hull of its points on S (its outer boundary for a
+            // flat region), minus its holes.
+            let moved = Polygon {
+                outer: o.support.iter().map(map).collect(),
+                holes: o
+                    .polygon
+                    .holes
+                    .iter()
+                    .map(|h| h.iter().map(map).collect())
+                    .collect(),
+            };
+            let hull = support_hull(&moved, &e.polygon);
+            let cog_world = world_from_object * object.cog;
+            let Some(foot) = cog_foot(e, &cog_world) else {
+                counts.unstable += 1;
+                continue;
+            };
+            let margin = if hull.len() >= 3 {
+                signed_margin(&foot, &hull)
+            } else {
+                Real::NEG_INFINITY
+            };
+            if !stable(margin, e.to_plane(&cog_world).1, options) {
+                counts.unstable += 1;
+                continue;
+            }
+            if env
+                .collision
+                .intersects(&object.collision, &world_from_object, &lift)
+            {
+                counts.penetrates += 1;
+                continue;
+            }
+            out.push(Placement {
+                world_from_object,
+                contact: ContactKind::FaceFace,
+                object_cluster: o.cluster_id,
+                env_cluster: e.cluster_id,
+                stability_margin: margin,
+                distance_to_target: (p - target2).norm(),
+                tilt: 0.0,
+            });
+            if out.len() >= options.max_per_pair {
+                break 'positions;
+            }
+        }
+    }
+    out
+}
+
+/// searchEdgeFaceContact (paper Fig. 6(d), (e)).
+///
+/// Applies when one side of the object region's bounding box fits in the environment's (the
+/// paper's condition). A segment of the 2D convex hull of the object region (the longest
+/// [`PlacementOptions::edge_segments`] ones) is laid on the environment's contact plane,
+/// parallel to a side of the environment's bounding rectangle (four directions, as in
+/// Fig. 6(e)), at positions spread over the environment region; the object is then rotated
+/// about the segment, lifting the region's interior, until the first angle at which it no
+/// longer penetrates the environment: the second contact (bisection to
+/// [`PlacementOptions::tilt_tolerance`]).
+///
+/// Improvement: the rotation stops where the CoG would cross the segment (past that angle the
+/// object tips over whatever it touches), so hopeless positions cost one collision test
+/// instead of a bisection.
+fn search_edge_face(
+    object: &ObjectModel,
+    o: &Region,
+    env: &EnvironmentModel,
+    e: &Region,
+    target: &Point3,
+    options: &PlacementOptions,
+    counts: &mut Rejections,
+) -> Vec<Placement> {
+    // The segments are those of the hull of the points really on the contact plane.
+    let hull = &o.support;
+    if hull.len() < 3 {
+        return Vec::new();
+    }
+    let (object_short, _) = o.rect.sorted_sides();
+    let (_, env_long) = e.rect.sorted_sides();
+    if object_short > env_long {
+        return Vec::new();
+    }
+    let (target2, _) = e.to_plane(target);
+    let lift = e.normal() * options.clearance;
+    let wanted = options.edge_positions.max(1);
+    let step = options.position_step.max((e.area / wanted as Real).sqrt());
+    let positions = grid_positions(e, &target2, step, wanted);
+    let rect_angle = e.rect.axis.y.atan2(e.rect.axis.x);
+    let yaws: Vec<Real> = (0..4).map(|k| rect_angle + k as Real * PI / 2.0).collect();
+    // The longest hull segments first (ties by index, so the order is deterministic).
+    let mut segments: Vec<(Real, usize)> = (0..hull.len())
+        .map(|i| ((hull[(i + 1) % hull.len()] - hull[i]).norm(), i))
+        .collect();
+    segments.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    segments.truncate(options.edge_segments.max(1));
+    let mut out = Vec::new();
+    for &(len, i) in &segments {
+        if len < 1e-6 {
+            continue;
+        }
+        let (a, b) = (hull[i], hull[(i + 1) % hull.len()]);
+        // Segment frame in the object's plane: x along the segment, y into the region
+        // (the hull is counter-clockwise), z the outward normal.
+        let x = (b - a) / len;
+        let m = Point2::from((a.coords + b.coords) * 0.5);
+        let plane_from_segment = Isometry3::from_parts(
+            Translation3::new(m.x, m.y, 0.0),
+            UnitQuaternion::from_axis_angle(&Vector3::z_axis(), x.y.atan2(x.x)),
+        );
+        let segment_from_object = (o.parent_from_plane * plane_from_segment).inverse();
+        // The CoG's offset into the region and its height above the plane; tilted by t, its
+        // horizontal offset into the region is cy cos t - ch sin t.
+        let c = segment_from_object * object.cog;
+        let (cy, ch) = (c.y, -c.z);
+        if cy <= 0.0 || ch <= 0.0 {
+            counts.unstable += 1;
+            continue;
+        }
+        // Tilted by t, the object tips about the segment once it rotates a further
+        // atan2(cy, ch) - t: stability needs t <= atan2(cy, ch) - min_tipping_angle, so no
+        // angle past that is worth a collision test.
+        let tilt_limit = options
+            .max_tilt
+            .min(cy.atan2(ch) - options.min_tipping_angle);
+        if tilt_limit <= 0.0 {
+            counts.unstable += 1;
+            continue;
+        }
+        for p in &positions {
+            for &yaw in &yaws {
+                // The line contact lies on the environment region: both ends inside it.
+                if !e.polygon.contains(&e_point2(p, yaw, -len * 0.5))
+                    || !e.polygon.contains(&e_point2(p, yaw, len * 0.5))
+                {
+                    continue;
+                }
+                let pose_at = |tilt: Real| {
+                    // Interior side (+y of the segment frame) maps to -y by the flip; rotating
+                    // by -tilt about x lifts it off the plane.
+                    let e_from_segment = Isometry3::from_parts(
+                        Translation3::new(p.x, p.y, 0.0),
+                        rz(yaw) * rx(-tilt) * rx(PI),
+                    );
+                    e.parent_from_plane * e_from_segment * segment_from_object
+                };
+                let penetrates = |tilt: Real| {
+                    env.collision
+                        .intersects(&object.collision, &pose_at(tilt), &lift)
+                };
+                if !penetrates(0.0) {
+                    // The region lies flat without touching anything else: not an edge contact.
+                    continue;
+                }
+                // The first angle at which the object is free: a coarse scan (penetration is
+                // not monotonic in the angle: tilting further may hit a wall behind the
+                // segment), then bisection inside the bracket.
+                let coarse = options.tilt_scan_step.clamp(
+                    options.tilt_tolerance,
+                    tilt_limit.max(options.tilt_tolerance),
+                );
+                let mut bracket = None;
+                let mut prev = 0.0;
+                let mut t = coarse.min(tilt_limit);
+                loop {
+                    if !penetrates(t) {
+                        bracket = Some((prev, t));
+                        break;
+                    }
+                    if t >= tilt_limit {
+                        break;
+                    }
+                    prev = t;
+                    t = (t + coarse).min(tilt_limit);
+                }
+                let Some((mut lo, mut hi)) = bracket else {
+                    // Blocked up to the angle where the CoG crosses the segment: it would tip
+                    // over, or it cannot be laid there at all.
+                    counts.penetrates += 1;
+                    continue;
+                };
+                while hi - lo > options.tilt_tolerance {
+                    let mid = 0.5 * (lo + hi);
+                    if penetrates(mid) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let world_from_object = pose_at(hi);
+                // Support (Fig. 7 for a line contact): the segment's ends and the points where
+                // the object meets the environment again.
+                let a_w = e.parent_from_plane * e_point(p, yaw, -len * 0.5);
+                let b_w = e.parent_from_plane * e_point(p, yaw, len * 0.5);
+                let second =
+                    object_contact_points(object, env, &world_from_object, &pose_at(lo), options);
+                let horizontal = |q: &Point3| Point2::new(q.x, q.y);
+                let mut support: Vec<Point2> = vec![horizontal(&a_w), horizontal(&b_w)];
+                support.extend(second.iter().map(horizontal));
+                let support = convex_hull(&support);
+                let cog = world_from_object * object.cog;
+                let margin = if support.len() >= 3 {
+                    signed_margin(&horizontal(&cog), &support)
+                } else {
+                    Real::NEG_INFINITY
+                };
+                if !stable(margin, e.to_plane(&cog).1, options) {
+                    counts.unstable += 1;
+                    continue;
+                }
+                out.push(Placement {
+                    world_from_object,
+                    contact: ContactKind::EdgeFace,
+                    object_cluster: o.cluster_id,
+                    env_cluster: e.cluster_id,
+                    stability_margin: margin,
+                    distance_to_target: (p - target2).norm(),
+                    tilt: hi,
+                });
+                if out.len() >= options.max_per_pair {
+                    return out;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A point along the segment laid at `p` with `yaw`, in plane coordinates.
+fn e_point2(p: &Point2, yaw: Real, along: Real) -> Point2 {
+    Point2::new(p.x + along * yaw.cos(), p.y + along * yaw.sin())
+}
+
+/// A point on the environment plane along the segment laid at `p` with `yaw` (plane coords).
+fn e_point(p: &Point2, yaw: Real, along: Real) -> Point3 {
+    Point3::new(p.x + along * yaw.cos(), p.y + along * yaw.sin(), 0.0)
+}
+
+/// Points where the object, at `pose`, touches the environment: the intersection of the two
+/// surfaces at `penetrating` (a pose a tilt tolerance deeper), reduced to the object's vertices
+/// and edge samples lying within reach of the environment at `pose`.
+fn object_contact_points(
+    object: &ObjectModel,
+    env: &EnvironmentModel,
+    pose: &Isometry3,
+    penetrating: &Isometry3,
+    options: &PlacementOptions,
+) -> Vec<Point3> {
+    let reach = options.clearance * 0.5;
+    let mut out = env
+        .collision
+        .touching_points(&object.collision, pose, penetrating, reach);
+    out.sort_by(|a, b| {
+        a.x.total_cmp(&b.x)
+            .then(a.y.total_cmp(&b.y))
+            .then(a.z.total_cmp(&b.z))
+    });
+    out.dedup_by(|a, b| (*a - *b).norm() < 1e-6);
+    out
+}

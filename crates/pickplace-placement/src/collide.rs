@@ -1,0 +1,160 @@
+//! Object-environment penetration tests with parry3d-f64.
+//!
+//! parry's public math is glam (through glamx); the conversion from our nalgebra types lives
+//! in this module only.
+
+use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
+use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
+use pickplace_geometry::mesh::TriMesh;
+
+/// A mesh prepared for collision queries (its BVH is built once).
+#[derive(Debug, Clone)]
+pub struct CollisionMesh {
+    shape: ParryTriMesh,
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl CollisionMesh {
+    /// Prepares `mesh` (in its own frame) for queries.
+    ///
+    /// # Errors
+    /// parry rejects meshes without triangles; a [`TriMesh`] always has some, so this only
+    /// fails on internal inconsistency, reported as [`crate::Error::DegenerateHull`].
+    pub fn new(mesh: &TriMesh) -> crate::Result<Self> {
+        Self::from_parts(mesh.vertices().to_vec(), mesh.triangles().to_vec())
+    }
+
+    /// Prepares several meshes, each placed at its pose, as one collision mesh.
+    ///
+    /// # Errors
+    /// [`crate::Error::InvalidOption`] when `meshes` is empty; otherwise as [`CollisionMesh::new`].
+    pub fn from_meshes(meshes: &[(&TriMesh, Isometry3)]) -> crate::Result<Self> {
+        if meshes.is_empty() {
+            return Err(crate::Error::InvalidOption {
+                name: "environment",
+                value: 0.0,
+                reason: "no environment mesh given",
+            });
+        }
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        for (mesh, pose) in meshes {
+            let base = u32::try_from(vertices.len()).map_err(|_| crate::Error::DegenerateHull {
+                reason: "environment meshes have more than 2^32 vertices".into(),
+            })?;
+            vertices.extend(mesh.vertices().iter().map(|p| pose * p));
+            triangles.extend(mesh.triangles().iter().map(|t| t.map(|i| i + base)));
+        }
+        Self::from_parts(vertices, triangles)
+    }
+
+    fn from_parts(vertices: Vec<Point3>, triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
+        let points: Vec<PVector> = vertices.iter().map(to_parry_point).collect();
+        let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
+            .map_err(|e| crate::Error::DegenerateHull {
+                reason: format!("collision mesh: {e:?}"),
+            })?;
+        Ok(Self {
+            shape,
+            vertices,
+            triangles,
+        })
+    }
+
+    /// Whether the object, at `world_from_object` moved by `lift` (m, world frame), has its
+    /// surface intersecting this environment (in world frame).
+    pub fn intersects(
+        &self,
+        object: &CollisionMesh,
+        world_from_object: &Isometry3,
+        lift: &Vector3,
+    ) -> bool {
+        let mut pose = *world_from_object;
+        pose.translation.vector += lift;
+        let env_pose = Pose::IDENTITY;
+        // A query parry does not support between two meshes is treated as a collision, the
+        // safe answer for a placement.
+        parry3d_f64::query::intersection_test(
+            &env_pose,
+            &self.shape,
+            &to_parry_pose(&pose),
+            &object.shape,
+        )
+        .map(|hit| hit.intersecting)
+        .unwrap_or(true)
+    }
+
+    /// Points where `object`, at `world_from_object`, is within `reach` (m) of this mesh: one
+    /// point per pair of nearby triangles (the midpoint of their closest points), world frame.
+    pub fn touching_points(
+        &self,
+        object: &CollisionMesh,
+        world_from_object: &Isometry3,
+        _deeper: &Isometry3,
+        reach: Real,
+    ) -> Vec<Point3> {
+        use parry3d_f64::bounding_volume::Aabb;
+        use parry3d_f64::shape::Triangle;
+        let identity = Pose::IDENTITY;
+        let mut out = Vec::new();
+        for t in &object.triangles {
+            let [a, b, c] = t.map(|i| world_from_object * object.vertices[i as usize]);
+            let lo = a.inf(&b).inf(&c);
+            let hi = a.sup(&b).sup(&c);
+            let aabb = Aabb::new(
+                PVector::new(lo.x - reach, lo.y - reach, lo.z - reach),
+                PVector::new(hi.x + reach, hi.y + reach, hi.z + reach),
+            );
+            let tri = Triangle::new(to_parry_point(&a), to_parry_point(&b), to_parry_point(&c));
+            for j in self.shape.bvh().intersect_aabb(&aabb) {
+                let env_tri = self.shape.triangle(j);
+                if let Ok(Some(contact)) =
+                    parry3d_f64::query::contact(&identity, &tri, &identity, &env_tri, reach)
+                {
+                    let m = (contact.point1 + contact.point2) * 0.5;
+                    out.push(Point3::new(m.x, m.y, m.z));
+                }
+            }
+        }
+        out
+    }
+
+    /// Distance from a world point to this mesh's surface (m).
+    pub fn distance_to_point(&self, p: &Point3) -> Real {
+        use parry3d_f64::query::PointQuery;
+        self.shape.distance_to_local_point(to_parry_point(p), false)
+    }
+}
+
+pub(crate) fn to_parry_point(p: &Point3) -> PVector {
+    PVector::new(p.x, p.y, p.z)
+}
+
+pub(crate) fn to_parry_pose(iso: &Isometry3) -> Pose {
+    let q = iso.rotation.quaternion();
+    let t = iso.translation.vector;
+    Pose::from_parts(
+        PVector::new(t.x, t.y, t.z),
+        Rotation::from_xyzw(q.i, q.j, q.k, q.w),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::math::Translation3;
+    use pickplace_geometry::shapes;
+
+    #[test]
+    fn resting_box_touches_but_lifted_box_is_free() {
+        let table = CollisionMesh::new(&shapes::box_mesh([0.5, 0.5, 0.05])).expect("table");
+        let cube = CollisionMesh::new(&shapes::box_mesh([0.02, 0.02, 0.02])).expect("cube");
+        let on_top = Isometry3::from_parts(Translation3::new(0.1, 0.0, 0.07), Default::default());
+        assert!(!table.intersects(&cube, &on_top, &Vector3::new(0.0, 0.0, 1e-4)));
+        assert!(table.intersects(&cube, &on_top, &Vector3::new(0.0, 0.0, -1e-3)));
+        let p = Point3::new(0.0, 0.0, 0.2);
+        assert!((table.distance_to_point(&p) - 0.15).abs() < 1e-9);
+    }
+}

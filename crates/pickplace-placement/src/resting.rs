@@ -1,0 +1,557 @@
+//! Resting poses of an object on an infinite horizontal plane.
+//!
+//! This is the stability test of the paper's Fig. 7 specialised to an environment cluster of
+//! infinite extent: the common area of the object's contact region and the plane is the
+//! object's contact region itself, so the support polygon is a facet of the object's convex
+//! hull (only hull points can touch a supporting plane), and the object is stable when the
+//! vertical through its centre of gravity passes through that facet.
+//!
+//! A tessellated round object has one hull facet per segment of its round part; reporting one
+//! pose per facet would drown the caller in near-identical poses that are not even stable in
+//! practice (the object rolls). Facets are therefore grouped into *smooth patches* (neighbours
+//! whose normals differ by less than [`RestingOptions::smooth_angle`]) and each patch yields
+//! its stable classes:
+//! - a patch of one facet: the usual test (CoG inside, with a margin);
+//! - a patch whose facets all hold the CoG at the same height (within
+//!   [`RestingOptions::neutral_height`]) and whose normals are all perpendicular to one axis:
+//!   one *rolling* class (a cylinder lying on its side), reported once with its axis;
+//! - a neutral patch whose normals span all directions (a sphere): no stable face contact;
+//! - otherwise the facets of the patch where the CoG is lowest among their neighbours (local
+//!   minima of potential energy) that pass the CoG test.
+
+use crate::error::{Error, Result};
+use pickplace_geometry::math::{Isometry3, Point2, Point3, Real, UnitQuaternion, Vector3};
+use pickplace_geometry::mesh::TriMesh;
+use std::collections::BTreeMap;
+
+/// Options of [`resting_poses`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestingOptions {
+    /// Hull facets whose normals differ by less than this angle (rad) belong to one smooth
+    /// patch (default: 15° = 0.2618).
+    pub smooth_angle: Real,
+    /// A patch whose facets hold the CoG at heights within this range (m) is neutral: the
+    /// object rolls freely on it (default: 0.0005).
+    pub neutral_height: Real,
+    /// Minimum distance (m) from the CoG's projection to the support polygon's boundary for a
+    /// pose to count as stable (default: 0.0005).
+    pub min_margin: Real,
+}
+
+impl Default for RestingOptions {
+    fn default() -> Self {
+        Self {
+            smooth_angle: 15f64.to_radians(),
+            neutral_height: 5e-4,
+            min_margin: 5e-4,
+        }
+    }
+}
+
+/// One stable class of resting poses on a horizontal plane.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct RestingPose {
+    /// Pose of the object with its support facet on the plane `z = 0`, the CoG above the
+    /// world origin. Any rotation about world z keeps it stable.
+    pub world_from_object: Isometry3,
+    /// Outward normal of the support facet, in the object frame (it points down, −z world).
+    pub support_normal: Vector3,
+    /// Distance (m) from the CoG's vertical to the support polygon's boundary.
+    pub stability_margin: Real,
+    /// Height (m) of the CoG above the plane.
+    pub cog_height: Real,
+    /// For a rolling class, the axis (object frame) the object rolls about.
+    pub rolling_axis: Option<Vector3>,
+    /// Number of hull facets the class stands for.
+    pub facet_count: usize,
+    /// Support polygon on the plane (world frame, z = 0), counter-clockwise.
+    pub support_polygon: Vec<Point3>,
+}
+
+/// A planar face of the convex hull: the union of coplanar hull triangles.
+#[derive(Debug, Clone)]
+struct Facet {
+    normal: Vector3,
+    offset: Real, // plane: normal · x = offset
+    points: Vec<Point3>,
+}
+
+/// Every stable class of resting poses of `mesh` on a horizontal plane, most stable first
+/// (largest margin divided by CoG height, then by margin).
+///
+/// # Arguments
+/// * `mesh`: the object, in its own frame.
+/// * `cog`: its centre of gravity (object frame).
+///
+/// # Errors
+/// [`Error::DegenerateHull`] for a flat object, [`Error::NonFiniteCog`], [`Error::InvalidOption`].
+///
+/// # Performance
+/// One convex hull (quickhull over the mesh's vertices) plus linear work in its facets.
+pub fn resting_poses(
+    mesh: &TriMesh,
+    cog: &Point3,
+    options: &RestingOptions,
+) -> Result<Vec<RestingPose>> {
+    if !(cog.x.is_finite() && cog.y.is_finite() && cog.z.is_finite()) {
+        return Err(Error::NonFiniteCog {
+            x: cog.x,
+            y: cog.y,
+            z: cog.z,
+        });
+    }
+    check_option(
+        "smooth_angle",
+        options.smooth_angle,
+        0.0,
+        std::f64::consts::PI,
+    )?;
+    check_option(
+        "neutral_height",
+        options.neutral_height,
+        0.0,
+        Real::INFINITY,
+    )?;
+    check_option("min_margin", options.min_margin, 0.0, Real::INFINITY)?;
+
+    let (facets, facet_neighbours) = hull_facets(mesh.vertices())?;
+    let heights: Vec<Real> = facets
+        .iter()
+        .map(|f| f.offset - f.normal.dot(&cog.coords))
+        .collect();
+    let margins: Vec<Real> = facets.iter().map(|f| facet_margin(f, cog)).collect();
+
+    // Smooth patches: union-find over facet adjacencies with a small dihedral angle.
+    let mut parent: Vec<usize> = (0..facets.len()).collect();
+    let cos_smooth = options.smooth_angle.cos();
+    for (a, list) in facet_neighbours.iter().enumerate() {
+        for &b in list {
+            if facets[a].normal.dot(&facets[b].normal) > cos_smooth {
+                union(&mut parent, a, b);
+            }
+        }
+    }
+    let mut patches: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for f in 0..facets.len() {
+        let root = find(&mut parent, f);
+        patches.entry(root).or_default().push(f);
+    }
+
+    let mut out = Vec::new();
+    for members in patches.values() {
+        if members.len() == 1 {
+            let f = members[0];
+            if margins[f] > options.min_margin {
+                out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
+            }
+            continue;
+        }
+        let (lo, hi) = members
+            .iter()
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), &f| {
+                (lo.min(heights[f]), hi.max(heights[f]))
+            });
+        if hi - lo <= options.neutral_height {
+            if let Some(axis) = common_axis(members.iter().map(|&f| facets[f].normal)) {
+                // Rolling class: the facet with the largest margin represents it (ties: lowest index).
+                let best = members.iter().copied().fold(members[0], |b, f| {
+                    if margins[f] > margins[b] + 1e-12 {
+                        f
+                    } else {
+                        b
+                    }
+                });
+                if margins[best] > 0.0 {
+                    out.push(make_pose(
+                        &facets[best],
+                        cog,
+                        margins[best],
+                        heights[best],
+                        Some(axis),
+                        members.len(),
+                    ));
+                }
+            }
+            continue;
+        }
+        for &f in members {
+            let is_minimum = facet_neighbours[f]
+                .iter()
+                .filter(|&&g| members.contains(&g))
+                .all(|&g| heights[f] <= heights[g]);
+            if is_minimum && margins[f] > options.min_margin {
+                out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
+            }
+        }
+    }
+    out.sort_by(|a, b| {
+        let ka = a.stability_margin / a.cog_height.max(1e-9);
+        let kb = b.stability_margin / b.cog_height.max(1e-9);
+        kb.total_cmp(&ka)
+            .then(b.stability_margin.total_cmp(&a.stability_margin))
+    });
+    Ok(out)
+}
+
+fn check_option(name: &'static str, value: Real, lo: Real, hi: Real) -> Result<()> {
+    if value.is_nan() || value < lo || value > hi {
+        return Err(Error::InvalidOption {
+            name,
+            value,
+            reason: "out of range",
+        });
+    }
+    Ok(())
+}
+
+/// The unit axis perpendicular to every normal, if the normals lie in one plane (within 1°).
+fn common_axis(normals: impl Iterator<Item = Vector3> + Clone) -> Option<Vector3> {
+    let mut m = pickplace_geometry::math::Matrix3::zeros();
+    for n in normals.clone() {
+        m += n * n.transpose();
+    }
+    let eig = m.symmetric_eigen();
+    let (i, _) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))?;
+    let mut axis: Vector3 = eig.eigenvectors.column(i).into_owned();
+    axis.normalize_mut();
+    let tolerance = 1f64.to_radians().sin();
+    if normals.clone().all(|n| n.dot(&axis).abs() < tolerance) {
+        // Canonical sign so that the output does not depend on the eigen solver's choice.
+        let first = axis.iter().copied().find(|c| c.abs() > 1e-9).unwrap_or(1.0);
+        Some(if first < 0.0 { -axis } else { axis })
+    } else {
+        None
+    }
+}
+
+fn make_pose(
+    facet: &Facet,
+    cog: &Point3,
+    margin: Real,
+    height: Real,
+    rolling_axis: Option<Vector3>,
+    facet_count: usize,
+) -> RestingPose {
+    let rotation = rotation_taking(&facet.normal, &-Vector3::z());
+    let projected = cog - facet.normal * (facet.normal.dot(&cog.coords) - facet.offset);
+    // Put the CoG's foot point at the origin; the facet plane maps to z = 0.
+    let foot = rotation * projected;
+    let world_from_object = Isometry3::from_parts((-foot.coords).into(), rotation);
+    let mut polygon: Vec<Point3> = facet.points.iter().map(|p| world_from_object * p).collect();
+    for p in &mut polygon {
+        p.z = 0.0;
+    }
+    RestingPose {
+        world_from_object,
+        support_normal: facet.normal,
+        stability_margin: margin,
+        cog_height: height,
+        rolling_axis,
+        facet_count,
+        support_polygon: polygon,
+    }
+}
+
+/// The shortest rotation taking unit vector `from` to unit vector `to`; for opposite vectors a
+/// half turn about a fixed perpendicular axis.
+pub(crate) fn rotation_taking(from: &Vector3, to: &Vector3) -> UnitQuaternion {
+    UnitQuaternion::rotation_between(from, to).unwrap_or_else(|| {
+        let helper = if from.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let axis = nalgebra_unit(from.cross(&helper));
+        UnitQuaternion::from_axis_angle(&axis, std::f64::consts::PI)
+    })
+}
+
+fn nalgebra_unit(v: Vector3) -> pickplace_geometry::math::UnitVector3 {
+    pickplace_geometry::math::UnitVector3::new_normalize(v)
+}
+
+/// Signed distance from the CoG's projection to the facet polygon's boundary (positive inside).
+fn facet_margin(facet: &Facet, cog: &Point3) -> Real {
+    let (u, v) = plane_basis(&facet.normal);
+    let to2 = |p: &Point3| Point2::new(p.coords.dot(&u), p.coords.dot(&v));
+    let poly = convex_hull_2d(facet.points.iter().map(to2).collect());
+    signed_distance_convex(&poly, &to2(cog))
+}
+
+/// An orthonormal basis (u, v) of the plane with normal `n`, right-handed (u × v = n).
+pub(crate) fn plane_basis(n: &Vector3) -> (Vector3, Vector3) {
+    let helper = if n.x.abs() < 0.6 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let u = n.cross(&helper).normalize();
+    let v = n.cross(&u);
+    (u, v)
+}
+
+/// 2D convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
+pub(crate) fn convex_hull_2d(mut pts: Vec<Point2>) -> Vec<Point2> {
+    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.dedup_by(|a, b| (a.x - b.x).abs() < 1e-12 && (a.y - b.y).abs() < 1e-12);
+    if pts.len() < 3 {
+        return pts;
+    }
+    let cross = |o: &Point2, a: &Point2, b: &Point2| (a - o).perp(&(b - o));
+    let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() * 2);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Point2>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for p in iter {
+            while hull.len() >= start + 2
+                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 1e-15
+            {
+                hull.pop();
+            }
+            hull.push(*p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// Signed distance from `p` to the boundary of a counter-clockwise convex polygon (positive
+/// inside, negative outside).
+pub(crate) fn signed_distance_convex(poly: &[Point2], p: &Point2) -> Real {
+    if poly.len() < 3 {
+        return Real::NEG_INFINITY;
+    }
+    let mut inside = Real::INFINITY;
+    let mut outside: Real = 0.0;
+    let mut is_inside = true;
+    for i in 0..poly.len() {
+        let a = poly[i];
+        let b = poly[(i + 1) % poly.len()];
+        let e = b - a;
+        let len = e.norm();
+        if len < 1e-15 {
+            continue;
+        }
+        let d = e.perp(&(p - a)) / len; // > 0 left of the edge = inside
+        inside = inside.min(d);
+        if d < 0.0 {
+            is_inside = false;
+        }
+        let t = ((p - a).dot(&e) / (len * len)).clamp(0.0, 1.0);
+        let dist = (p - (a + e * t)).norm();
+        outside = if outside == 0.0 {
+            dist
+        } else {
+            outside.min(dist)
+        };
+    }
+    if is_inside { inside } else { -outside }
+}
+
+/// Builds the convex hull and merges coplanar hull triangles into facets. Returns the facets
+/// and, for each, the facets sharing a hull edge with it (sorted).
+fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
+    use parry3d_f64::math::Vector as PVector;
+    let points: Vec<PVector> = vertices
+        .iter()
+        .map(|p| PVector::new(p.x, p.y, p.z))
+        .collect();
+    let (hull_points, hull_triangles) = parry3d_f64::transformation::try_convex_hull(&points)
+        .map_err(|e| Error::DegenerateHull {
+            reason: format!("{e:?}"),
+        })?;
+    if hull_triangles.len() < 4 {
+        return Err(Error::DegenerateHull {
+            reason: "fewer than 4 hull faces".into(),
+        });
+    }
+    let hp: Vec<Point3> = hull_points
+        .iter()
+        .map(|p| Point3::new(p.x, p.y, p.z))
+        .collect();
+    let normals: Vec<Option<Vector3>> = hull_triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| hp[i as usize]);
+            let n = (b - a).cross(&(c - a));
+            let len = n.norm();
+            (len > 1e-18).then(|| n / len)
+        })
+        .collect();
+    // Edge -> hull triangles.
+    let mut edges: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for (i, t) in hull_triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(i);
+        }
+    }
+    // Merge coplanar neighbours (and sliver triangles with no normal) into facets.
+    let mut parent: Vec<usize> = (0..hull_triangles.len()).collect();
+    for users in edges.values() {
+        if let [a, b] = users[..] {
+            let coplanar = match (normals[a], normals[b]) {
+                (Some(na), Some(nb)) => na.dot(&nb) > 1.0 - 1e-9,
+                _ => true,
+            };
+            if coplanar {
+                union(&mut parent, a, b);
+            }
+        }
+    }
+    let mut facet_of_root: BTreeMap<usize, usize> = BTreeMap::new();
+    let mut facet_of_triangle = vec![0; hull_triangles.len()];
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for (t, facet) in facet_of_triangle.iter_mut().enumerate() {
+        let root = find(&mut parent, t);
+        let id = *facet_of_root.entry(root).or_insert_with(|| {
+            members.push(Vec::new());
+            members.len() - 1
+        });
+        members[id].push(t);
+        *facet = id;
+    }
+    let mut facets = Vec::with_capacity(members.len());
+    for list in &members {
+        // Area-weighted normal of the facet's triangles.
+        let mut n = Vector3::zeros();
+        let mut pts: Vec<u32> = Vec::new();
+        for &t in list {
+            let [a, b, c] = hull_triangles[t].map(|i| hp[i as usize]);
+            n += (b - a).cross(&(c - a));
+            pts.extend_from_slice(&hull_triangles[t]);
+        }
+        pts.sort_unstable();
+        pts.dedup();
+        let normal = n.try_normalize(1e-30).unwrap_or_else(Vector3::z);
+        let points: Vec<Point3> = pts.iter().map(|&i| hp[i as usize]).collect();
+        let offset = points
+            .iter()
+            .map(|p| normal.dot(&p.coords))
+            .fold(Real::NEG_INFINITY, Real::max);
+        facets.push(Facet {
+            normal,
+            offset,
+            points,
+        });
+    }
+    let mut neighbours = vec![Vec::new(); facets.len()];
+    for users in edges.values() {
+        if let [a, b] = users[..] {
+            let (fa, fb) = (facet_of_triangle[a], facet_of_triangle[b]);
+            if fa != fb {
+                neighbours[fa].push(fb);
+                neighbours[fb].push(fa);
+            }
+        }
+    }
+    for list in &mut neighbours {
+        list.sort_unstable();
+        list.dedup();
+    }
+    Ok((facets, neighbours))
+}
+
+fn find(parent: &mut [usize], mut x: usize) -> usize {
+    while parent[x] != x {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    x
+}
+
+fn union(parent: &mut [usize], a: usize, b: usize) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        // Smaller index as root: deterministic.
+        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        parent[hi] = lo;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::shapes;
+
+    fn centroid(mesh: &TriMesh) -> Point3 {
+        let (lo, hi) = mesh.aabb();
+        nalgebra::center(&lo, &hi)
+    }
+    use pickplace_geometry::math::nalgebra;
+
+    #[test]
+    fn box_has_six_faces() {
+        let m = shapes::box_mesh([0.03, 0.02, 0.05]);
+        let poses = resting_poses(&m, &Point3::origin(), &RestingOptions::default()).expect("hull");
+        assert_eq!(poses.len(), 6);
+        // Most stable first: lying on the largest face (0.06 x 0.1), CoG 0.02 high.
+        assert!((poses[0].cog_height - 0.02).abs() < 1e-12);
+        assert!((poses[0].stability_margin - 0.03).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cylinder_gives_two_caps_and_a_rolling_side() {
+        let m = shapes::cylinder(0.033, 0.12, 64);
+        let poses = resting_poses(&m, &centroid(&m), &RestingOptions::default()).expect("hull");
+        assert_eq!(poses.len(), 3, "{poses:#?}");
+        let rolling: Vec<_> = poses.iter().filter(|p| p.rolling_axis.is_some()).collect();
+        assert_eq!(rolling.len(), 1);
+        let axis = rolling[0].rolling_axis.expect("axis");
+        assert!(axis.z.abs() > 0.999);
+        assert_eq!(rolling[0].facet_count, 64);
+    }
+
+    #[test]
+    fn sphere_gives_no_face_contact() {
+        // A geodesic-ish sphere: an octahedron subdivided and pushed to radius 0.05.
+        let mut b = shapes::MeshBuilder::default();
+        let r = 0.05;
+        let n = 24;
+        for i in 0..=n {
+            for j in 0..n {
+                let th = std::f64::consts::PI * i as f64 / n as f64;
+                let ph = std::f64::consts::TAU * j as f64 / n as f64;
+                b.vertex(Point3::new(
+                    r * th.sin() * ph.cos(),
+                    r * th.sin() * ph.sin(),
+                    r * th.cos(),
+                ));
+            }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                let a = (i * n + j) as u32;
+                let bb = (i * n + (j + 1) % n) as u32;
+                let c = ((i + 1) * n + (j + 1) % n) as u32;
+                let d = ((i + 1) * n + j) as u32;
+                b.quad(a, d, c, bb);
+            }
+        }
+        let m = b.build().expect("sphere");
+        let poses = resting_poses(&m, &Point3::origin(), &RestingOptions::default()).expect("hull");
+        assert!(poses.is_empty(), "{} poses", poses.len());
+    }
+
+    #[test]
+    fn cog_outside_support_is_rejected() {
+        // A tall thin box with its CoG pushed sideways beyond one face: standing on the small
+        // face is unstable.
+        let m = shapes::box_mesh([0.01, 0.01, 0.1]);
+        let cog = Point3::new(0.02, 0.0, 0.0);
+        let poses = resting_poses(&m, &cog, &RestingOptions::default()).expect("hull");
+        assert!(poses.iter().all(|p| p.support_normal.z.abs() < 0.5));
+        for p in &poses {
+            let c = p.world_from_object * cog;
+            assert!(c.x.abs() < 1e-12 && c.y.abs() < 1e-12);
+        }
+    }
+}

@@ -1,0 +1,5 @@
+//! Integration tests of pickplace-placement.
+
+mod candidates;
+mod resting;
+mod simulate;

@@ -1,0 +1,189 @@
+//! k-nearest-neighbour index over roadmap states: a kiddo k-d tree with the dimension chosen at
+//! run time.
+//!
+//! Coordinates are scaled by `sqrt(w_i)` so that the tree's squared Euclidean distance is the
+//! space's squared weighted distance. kiddo's trees take the dimension as a const generic: the
+//! dimensions 1 to [`MAX_DIMENSION`] are instantiated and dispatched by a `match`.
+
+use std::num::NonZeroUsize;
+
+use kiddo::{ImmutableKdTree, SquaredEuclidean};
+
+use crate::error::{Error, Result};
+
+/// Largest supported number of joints (enough for a dual-arm robot with waist and head).
+pub const MAX_DIMENSION: usize = 16;
+
+fn build_tree<const K: usize>(states: &[f64], scale: &[f64]) -> Result<ImmutableKdTree<f64, K>> {
+    let points: Vec<[f64; K]> = states
+        .chunks_exact(K)
+        .map(|state| {
+            let mut point = [0.0; K];
+            for ((p, s), w) in point.iter_mut().zip(state).zip(scale) {
+                *p = s * w;
+            }
+            point
+        })
+        .collect();
+    ImmutableKdTree::new_from_slice(&points).map_err(|_| Error::NearestIndex {
+        nodes: points.len(),
+    })
+}
+
+fn query_tree<const K: usize>(
+    tree: &ImmutableKdTree<f64, K>,
+    state: &[f64],
+    scale: &[f64],
+    k: NonZeroUsize,
+    out: &mut Vec<(f64, u32)>,
+) {
+    let mut point = [0.0; K];
+    for ((p, s), w) in point.iter_mut().zip(state).zip(scale) {
+        *p = s * w;
+    }
+    let found = tree
+        .query(&point)
+        .nearest_n::<SquaredEuclidean<f64>>(k)
+        .execute();
+    out.extend(found.into_iter().map(|item| (item.distance, item.item)));
+}
+
+macro_rules! dimensions {
+    ($($variant:ident = $k:literal),* $(,)?) => {
+        enum Tree {
+            Empty,
+            $($variant(ImmutableKdTree<f64, $k>),)*
+        }
+
+        fn build_any(dimension: usize, states: &[f64], scale: &[f64]) -> Result<Tree> {
+            if states.is_empty() {
+                return Ok(Tree::Empty);
+            }
+            match dimension {
+                $($k => build_tree::<$k>(states, scale).map(Tree::$variant),)*
+                _ => Err(Error::DimensionTooLarge { dimension, max: MAX_DIMENSION }),
+            }
+        }
+
+        fn query_any(
+            tree: &Tree,
+            state: &[f64],
+            scale: &[f64],
+            k: NonZeroUsize,
+            out: &mut Vec<(f64, u32)>,
+        ) {
+            match tree {
+                Tree::Empty => {}
+                $(Tree::$variant(t) => query_tree::<$k>(t, state, scale, k, out),)*
+            }
+        }
+    };
+}
+
+dimensions!(
+    D1 = 1,
+    D2 = 2,
+    D3 = 3,
+    D4 = 4,
+    D5 = 5,
+    D6 = 6,
+    D7 = 7,
+    D8 = 8,
+    D9 = 9,
+    D10 = 10,
+    D11 = 11,
+    D12 = 12,
+    D13 = 13,
+    D14 = 14,
+    D15 = 15,
+    D16 = 16,
+);
+
+/// An immutable k-d tree over a flat array of states.
+pub(crate) struct NearestIndex {
+    tree: Tree,
+    scale: Vec<f64>,
+    len: usize,
+}
+
+impl std::fmt::Debug for NearestIndex {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NearestIndex")
+            .field("dimension", &self.scale.len())
+            .field("len", &self.len)
+            .finish_non_exhaustive()
+    }
+}
+
+impl NearestIndex {
+    /// Builds the index over `states` (flat, `dimension` coordinates each) for the weighted metric.
+    pub(crate) fn build(states: &[f64], weights: &[f64]) -> Result<Self> {
+        let dimension = weights.len();
+        let scale: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
+        let tree = build_any(dimension, states, &scale)?;
+        Ok(Self {
+            tree,
+            scale,
+            len: states.len() / dimension.max(1),
+        })
+    }
+
+    /// Appends the `k` nearest states to `state` as `(squared weighted distance, index)`, sorted
+    /// by distance then index.
+    pub(crate) fn k_nearest(&self, state: &[f64], k: usize, out: &mut Vec<(f64, u32)>) {
+        let Some(k) = NonZeroUsize::new(k.min(self.len)) else {
+            return;
+        };
+        let start = out.len();
+        query_any(&self.tree, state, &self.scale, k, out);
+        out[start..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    #[test]
+    fn matches_brute_force_in_every_dimension() {
+        for dimension in 1..=MAX_DIMENSION {
+            let mut rng = Rng::derive(dimension as u64, 0, 0);
+            let n = 300;
+            let states: Vec<f64> = (0..n * dimension).map(|_| rng.next_f64()).collect();
+            let weights: Vec<f64> = (0..dimension).map(|i| 1.0 + i as f64 * 0.25).collect();
+            let index = NearestIndex::build(&states, &weights).expect("index");
+            let query: Vec<f64> = (0..dimension).map(|_| rng.next_f64()).collect();
+            let mut found = Vec::new();
+            index.k_nearest(&query, 7, &mut found);
+            let mut brute: Vec<(f64, u32)> = states
+                .chunks_exact(dimension)
+                .enumerate()
+                .map(|(i, s)| {
+                    let d: f64 = s
+                        .iter()
+                        .zip(&query)
+                        .zip(&weights)
+                        .map(|((a, b), w)| w * (a - b) * (a - b))
+                        .sum();
+                    (d, i as u32)
+                })
+                .collect();
+            brute.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let ids: Vec<u32> = found.iter().map(|x| x.1).collect();
+            let expected: Vec<u32> = brute[..7].iter().map(|x| x.1).collect();
+            assert_eq!(ids, expected, "dimension {dimension}");
+            for ((d, _), (e, _)) in found.iter().zip(&brute) {
+                assert!((d - e).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn empty_index_finds_nothing() {
+        let index = NearestIndex::build(&[], &[1.0, 1.0]).expect("index");
+        let mut found = Vec::new();
+        index.k_nearest(&[0.0, 0.0], 3, &mut found);
+        assert!(found.is_empty());
+    }
+}

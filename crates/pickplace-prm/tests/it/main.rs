@@ -1,0 +1,8 @@
+//! Integration tests of pickplace-prm on 2-D and 7-D toy spaces with analytic obstacles.
+
+mod determinism;
+mod paths;
+mod persistence;
+mod shortcutting;
+mod timing;
+mod toy;

@@ -1,0 +1,50 @@
+//! Robot model for pick-and-place planning: URDF and SRDF, forward kinematics, Jacobians,
+//! inverse kinematics and a collision world (parry3d-f64).
+//!
+//! The planner of Harada et al. ("Pick and Place Planning for Dual-Arm Manipulators", §IV)
+//! checks, for every grasp and placement candidate, that the arm reaches the key poses
+//! (IK) without collision with itself, the environment or the grasped object. This crate
+//! gives those two tests.
+//!
+//! A [`RobotModel`] is immutable and `Send + Sync`; joint values live outside it as `&[f64]`
+//! (one per actuated joint, [`RobotModel::variable_names`] order), and output buffers are the
+//! caller's, so queries run in parallel without locks.
+//!
+//! # Limitations
+//! - Joints: revolute, continuous, prismatic, fixed and mimic; floating, planar and
+//!   spherical joints are rejected.
+//! - Meshes: STL, OBJ and PLY through `pickplace-geometry`; other formats (DAE) are an error
+//!   or, on request, skipped with a warning.
+//! - A mimic joint must copy an actuated joint (no chains of mimics).
+//! - SRDF: groups, group states, end effectors, passive joints and disabled collision pairs
+//!   are read; virtual joints and sphere approximations are ignored.
+#![warn(missing_docs)]
+
+pub mod collision;
+pub mod error;
+pub mod gripper;
+pub mod ik;
+pub mod kinematics;
+pub mod model;
+pub mod rng;
+pub mod srdf;
+mod urdf;
+
+pub use error::{Error, Result};
+pub use gripper::GripperConfig;
+pub use ik::{IkOptions, IkSolution, IkSolver};
+pub use kinematics::{Jacobian, KinematicChain};
+pub use model::{Joint, JointLimits, JointType, Link, LoadOptions, LoadWarning, RobotModel};
+pub use srdf::{Semantics, Srdf};
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn model_types_are_send_and_sync() {
+        fn check<T: Send + Sync>() {}
+        check::<super::RobotModel>();
+        check::<super::Semantics>();
+        check::<super::IkSolver>();
+        check::<super::collision::CollisionWorld>();
+    }
+}

@@ -1,0 +1,8 @@
+//! Integration tests of pickplace-robot.
+
+mod collision;
+mod common;
+mod fk;
+mod ik;
+mod malformed;
+mod srdf;

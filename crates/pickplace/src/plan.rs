@@ -1,0 +1,238 @@
+//! The plan: what `pickplace plan` returns (JSON format `pickplace.plan/1`, documented in
+//! `docs/plan-format.md`).
+//!
+//! A plan is self-contained for playback: the robot's actuated joints in model order, a
+//! time-stamped trajectory of all of them, grasp/release events that say which link holds the
+//! object and where, the object's start and placed poses, and the key poses of the paper's
+//! Fig. 8 pipeline. `stats` says how the plan was found (candidate counts and rejection reasons
+//! per strategy and stage, and the time of each stage).
+
+use crate::scene::PoseSpec;
+use crate::strategy::{Arm, Strategy};
+use pickplace_geometry::math::Real;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The plan format written in [`Plan::format`].
+pub const PLAN_FORMAT: &str = "pickplace.plan/1";
+
+/// A complete pick-and-place plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Always [`PLAN_FORMAT`].
+    pub format: String,
+    /// The seed every random choice derived from.
+    pub seed: u64,
+    /// The strategy that succeeded (paper §III-B.3).
+    pub strategy: Strategy,
+    /// Every actuated joint of the robot (grippers included), in model order: the columns of
+    /// [`TrajectoryPoint::positions`].
+    pub joint_names: Vec<String>,
+    /// The time-stamped joint trajectory, starting at the scene's start state.
+    pub trajectory: Vec<TrajectoryPoint>,
+    /// Grasps and releases, in time order.
+    pub events: Vec<Event>,
+    /// Where the object starts and where it ends.
+    pub object: ObjectMotion,
+    /// The placement chosen (paper §III-B.2).
+    pub placement: PlacementInfo,
+    /// The grasps used: one, or two with a handover (the second is the regrasp).
+    pub grasps: Vec<GraspInfo>,
+    /// The key poses of the motion, in time order.
+    pub key_poses: Vec<KeyPose>,
+    /// How the plan was found.
+    pub stats: Stats,
+}
+
+/// One sample of the trajectory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrajectoryPoint {
+    /// Time since the start (s).
+    pub time_from_start: Real,
+    /// Joint values, one per [`Plan::joint_names`] (rad or m).
+    pub positions: Vec<Real>,
+}
+
+/// What happens to the object at an instant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EventKind {
+    /// The gripper closes: from this instant the object moves with `link`.
+    Grasp,
+    /// The gripper opens: the object no longer moves with `link`.
+    Release,
+}
+
+/// A grasp or release.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Event {
+    /// Time since the start (s); equal to a trajectory sample's time.
+    pub time: Real,
+    /// Grasp or release.
+    pub kind: EventKind,
+    /// The arm.
+    pub arm: Arm,
+    /// The link holding the object (the arm's tool frame).
+    pub link: String,
+    /// The object's pose in that link's frame while held.
+    pub link_from_object: PoseSpec,
+}
+
+/// The object's start and end.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectMotion {
+    /// `world_from_object` at the start.
+    pub start_pose: PoseSpec,
+    /// `world_from_object` once placed.
+    pub placed_pose: PoseSpec,
+}
+
+/// The placement chosen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlacementInfo {
+    /// `face-face` or `edge-face`.
+    pub contact: String,
+    /// Object cluster in contact.
+    pub object_cluster: usize,
+    /// Environment mesh the object rests on (its scene name).
+    pub environment: String,
+    /// Environment cluster in contact (in that mesh's clustering).
+    pub env_cluster: usize,
+    /// Distance from the CoG's vertical to the support hull's boundary (m).
+    pub stability_margin: Real,
+    /// Rank among the placement candidates (0 = best).
+    pub rank: usize,
+}
+
+/// A grasp used by the plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GraspInfo {
+    /// The arm.
+    pub arm: Arm,
+    /// Tool frame pose in the object's frame.
+    pub object_from_tcp: PoseSpec,
+    /// Distance between the finger pads when closed (m).
+    pub width: Real,
+    /// Quality score (higher is better; `docs/grasp.md`).
+    pub score: Real,
+    /// Rank among the grasp candidates (0 = best).
+    pub rank: usize,
+}
+
+/// A key pose of the motion (paper Fig. 8).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyPose {
+    /// `pre-grasp`, `grasp`, `lift`, `handover`, `pre-regrasp`, `regrasp`, `pre-place`,
+    /// `place`, `release`, `retreat`, ….
+    pub name: String,
+    /// The arm that reaches this pose.
+    pub arm: Arm,
+    /// Time since the start (s).
+    pub time: Real,
+    /// `world_from_tcp` of that arm.
+    pub world_from_tcp: PoseSpec,
+    /// `world_from_object` at that instant.
+    pub world_from_object: PoseSpec,
+}
+
+/// How the plan was found.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stats {
+    /// Wall-clock time of each stage (s). The only part of a plan that changes between runs
+    /// with the same seed; `pickplace plan --no-timings` leaves it empty.
+    #[serde(default)]
+    pub timings: BTreeMap<String, Real>,
+    /// Every strategy tried, in order.
+    pub strategies: Vec<StrategyReport>,
+    /// Placement candidates found.
+    pub placement_candidates: usize,
+    /// Grasp candidates found (per arm, the same object grasps).
+    pub grasp_candidates: usize,
+    /// Samples in the trajectory.
+    pub trajectory_points: usize,
+    /// Duration of the motion (s).
+    pub duration: Real,
+}
+
+/// What happened with one strategy.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrategyReport {
+    /// The strategy.
+    pub strategy: Strategy,
+    /// True when it gave the plan.
+    pub success: bool,
+    /// Per stage (`placement`, `grasp`, `pick`, `place`, `handover`, `motion`, …): how many
+    /// candidates were tried, accepted, and rejected per reason.
+    pub stages: BTreeMap<String, StageCount>,
+}
+
+/// Candidate counts of one stage.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageCount {
+    /// Candidates tried.
+    pub tried: usize,
+    /// Candidates that passed.
+    pub accepted: usize,
+    /// Rejections by reason (`no IK`, `collision: RARM_JOINT5_Link / pallet`, …).
+    pub rejected: BTreeMap<String, usize>,
+}
+
+impl StageCount {
+    /// Counts a rejection.
+    pub fn reject(&mut self, reason: impl Into<String>) {
+        self.tried += 1;
+        *self.rejected.entry(reason.into()).or_default() += 1;
+    }
+
+    /// Counts an acceptance.
+    pub fn accept(&mut self) {
+        self.tried += 1;
+        self.accepted += 1;
+    }
+}
+
+impl Plan {
+    /// The plan as pretty JSON (with a final newline).
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a plan always serialises");
+        s.push('\n');
+        s
+    }
+
+    /// Reads a plan from JSON.
+    ///
+    /// # Errors
+    /// The parser's message (line and column) when the text is not a plan of this format.
+    pub fn from_json(text: &str) -> Result<Self, String> {
+        let plan: Plan = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if plan.format != PLAN_FORMAT {
+            return Err(format!("format {:?} is not {PLAN_FORMAT:?}", plan.format));
+        }
+        let n = plan.joint_names.len();
+        for (i, p) in plan.trajectory.iter().enumerate() {
+            if p.positions.len() != n {
+                return Err(format!(
+                    "trajectory[{i}] has {} positions for {n} joints",
+                    p.positions.len()
+                ));
+            }
+            if !p.time_from_start.is_finite() || p.positions.iter().any(|v| !v.is_finite()) {
+                return Err(format!("trajectory[{i}] has a non-finite number"));
+            }
+            if i > 0 && p.time_from_start < plan.trajectory[i - 1].time_from_start {
+                return Err(format!("trajectory[{i}] goes back in time"));
+            }
+        }
+        Ok(plan)
+    }
+}

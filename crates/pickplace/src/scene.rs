@@ -1,0 +1,408 @@
+//! Scene files: what the planner is asked to do (TOML, documented in `docs/scene-format.md`).
+//!
+//! Relative paths in a scene are resolved against the folder of the scene file. Unknown fields
+//! are rejected so that a typo is an error, not a silently ignored option.
+
+use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion, nalgebra};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The current scene format version.
+pub const SCENE_FORMAT: u32 = 1;
+
+/// A pose as written in files: position (m) and orientation quaternion `[x, y, z, w]`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseSpec {
+    /// Position (m).
+    pub position: [Real; 3],
+    /// Orientation quaternion in ROS order `[x, y, z, w]` (default: identity). Normalised on
+    /// reading; a zero quaternion is an error.
+    #[serde(default = "identity_quaternion")]
+    pub orientation: [Real; 4],
+}
+
+fn identity_quaternion() -> [Real; 4] {
+    [0.0, 0.0, 0.0, 1.0]
+}
+
+impl PoseSpec {
+    /// The identity pose.
+    pub const IDENTITY: Self = Self {
+        position: [0.0; 3],
+        orientation: [0.0, 0.0, 0.0, 1.0],
+    };
+
+    /// The pose as an isometry, or why it is not one.
+    pub fn to_isometry(&self) -> Result<Isometry3, &'static str> {
+        if self
+            .position
+            .iter()
+            .chain(self.orientation.iter())
+            .any(|v| !v.is_finite())
+        {
+            return Err("pose has a non-finite number");
+        }
+        let [x, y, z, w] = self.orientation;
+        let q = nalgebra::Quaternion::new(w, x, y, z);
+        if q.norm() < 1e-9 {
+            return Err("orientation quaternion is zero");
+        }
+        let [px, py, pz] = self.position;
+        Ok(Isometry3::from_parts(
+            Translation3::new(px, py, pz),
+            UnitQuaternion::from_quaternion(q),
+        ))
+    }
+
+    /// The file form of an isometry.
+    pub fn from_isometry(iso: &Isometry3) -> Self {
+        let q = iso.rotation.quaternion();
+        let t = iso.translation.vector;
+        Self {
+            position: [t.x, t.y, t.z],
+            orientation: [q.i, q.j, q.k, q.w],
+        }
+    }
+}
+
+/// A whole scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Scene format version (default: the current one). A newer version is an error.
+    #[serde(default = "current_format")]
+    pub format: u32,
+    /// The robot.
+    pub robot: RobotSpec,
+    /// The object to move.
+    pub object: ObjectSpec,
+    /// Static environment meshes.
+    #[serde(default)]
+    pub environment: Vec<EnvironmentSpec>,
+    /// Where the object should go.
+    pub target: TargetSpec,
+    /// Planner options.
+    #[serde(default)]
+    pub planner: PlannerOptions,
+}
+
+fn current_format() -> u32 {
+    SCENE_FORMAT
+}
+
+/// The robot of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// URDF file.
+    pub urdf: PathBuf,
+    /// SRDF file (groups, end effectors, named states, allowed collisions).
+    pub srdf: PathBuf,
+    /// Gripper parameters (TOML).
+    pub gripper: PathBuf,
+    /// Pose of the URDF root link in the world (default: identity).
+    #[serde(default = "identity_pose")]
+    pub base_pose: PoseSpec,
+    /// Start joint values by name (rad or m); joints not named take the SRDF's `home` state,
+    /// or zero.
+    #[serde(default)]
+    pub start_state: BTreeMap<String, Real>,
+}
+
+fn identity_pose() -> PoseSpec {
+    PoseSpec::IDENTITY
+}
+
+/// The object of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectSpec {
+    /// Mesh file (.stl, .obj, .ply), in metres unless `scale` says otherwise.
+    pub mesh: PathBuf,
+    /// Scale applied to the mesh's coordinates (default: 1).
+    #[serde(default = "one")]
+    pub scale: Real,
+    /// Pose of the object at the start, in the world.
+    pub start_pose: PoseSpec,
+    /// Mass (kg) (default: none; only the CoG matters for stability).
+    #[serde(default)]
+    pub mass: Option<Real>,
+    /// Centre of gravity in the object frame (m) (default: from the mesh, uniform density).
+    #[serde(default)]
+    pub center_of_gravity: Option<[Real; 3]>,
+}
+
+fn one() -> Real {
+    1.0
+}
+
+/// One static environment mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentSpec {
+    /// A name for messages and outputs.
+    pub name: String,
+    /// Mesh file.
+    pub mesh: PathBuf,
+    /// Scale applied to the mesh's coordinates (default: 1).
+    #[serde(default = "one")]
+    pub scale: Real,
+    /// Pose of the mesh in the world (default: identity).
+    #[serde(default = "identity_pose")]
+    pub pose: PoseSpec,
+}
+
+/// The target: the paper's click on the environment.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TargetSpec {
+    /// A point on an environment surface (world frame, m).
+    pub point: [Real; 3],
+}
+
+/// The manipulation strategy (paper §III-B.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum StrategyChoice {
+    /// Order the strategies as the paper does (nearest hands first) and switch on failure.
+    #[default]
+    Auto,
+    /// Grasp and place with the right hand.
+    RightRight,
+    /// Grasp and place with the left hand.
+    LeftLeft,
+    /// Grasp with the right hand, hand over, place with the left.
+    RightLeft,
+    /// Grasp with the left hand, hand over, place with the right.
+    LeftRight,
+}
+
+/// Planner options of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlannerOptions {
+    /// Seed of every random choice (default: 1).
+    pub seed: u64,
+    /// h_max for environment-contact clusters (m) (default: 0.001, the paper's value).
+    pub h_max_environment: Real,
+    /// h_max for finger-contact clusters (m) (default: 0.005, the paper's value).
+    pub h_max_finger: Real,
+    /// Time budget for the whole plan (s) (default: 10).
+    pub time_budget: Real,
+    /// Strategy (default: auto).
+    pub strategy: StrategyChoice,
+}
+
+impl Default for PlannerOptions {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            h_max_environment: 0.001,
+            h_max_finger: 0.005,
+            time_budget: 10.0,
+            strategy: StrategyChoice::Auto,
+        }
+    }
+}
+
+/// Why a scene file could not be read.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The scene file.
+        path: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The TOML is malformed or does not match the format.
+    #[error("{}: {message}", path.display())]
+    Syntax {
+        /// The scene file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A value is out of range.
+    #[error("{}: {field}: {reason}", path.display())]
+    Invalid {
+        /// The scene file.
+        path: PathBuf,
+        /// The field, as a TOML path (`object.start_pose`).
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+impl Scene {
+    /// Reads and validates a scene file; relative paths in it become relative to its folder.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the file, and the field or line at fault.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        Self::parse(&text, path, base)
+    }
+
+    /// Parses scene text. `path` names the source in errors; relative paths are joined to `base`.
+    ///
+    /// # Errors
+    /// [`SceneError::Syntax`] or [`SceneError::Invalid`].
+    pub fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, SceneError> {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| SceneError::Syntax {
+            path: path.to_path_buf(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        let invalid = |field: &str, reason: String| SceneError::Invalid {
+            path: path.to_path_buf(),
+            field: field.to_string(),
+            reason,
+        };
+        if scene.format > SCENE_FORMAT {
+            return Err(invalid(
+                "format",
+                format!(
+                    "scene format {} is newer than this build reads ({SCENE_FORMAT})",
+                    scene.format
+                ),
+            ));
+        }
+        let pose = |field: &str, p: &PoseSpec| {
+            p.to_isometry()
+                .map(|_| ())
+                .map_err(|r| invalid(field, r.into()))
+        };
+        pose("robot.base_pose", &scene.robot.base_pose)?;
+        pose("object.start_pose", &scene.object.start_pose)?;
+        for (i, env) in scene.environment.iter().enumerate() {
+            pose(&format!("environment[{i}].pose"), &env.pose)?;
+            positive(env.scale).map_err(|r| invalid(&format!("environment[{i}].scale"), r))?;
+        }
+        for (name, value) in &scene.robot.start_state {
+            if !value.is_finite() {
+                return Err(invalid(
+                    &format!("robot.start_state.{name}"),
+                    "not a finite number".into(),
+                ));
+            }
+        }
+        positive(scene.object.scale).map_err(|r| invalid("object.scale", r))?;
+        if let Some(m) = scene.object.mass {
+            positive(m).map_err(|r| invalid("object.mass", r))?;
+        }
+        if let Some(c) = scene.object.center_of_gravity
+            && c.iter().any(|v| !v.is_finite())
+        {
+            return Err(invalid(
+                "object.center_of_gravity",
+                "not a finite point".into(),
+            ));
+        }
+        if scene.target.point.iter().any(|v| !v.is_finite()) {
+            return Err(invalid("target.point", "not a finite point".into()));
+        }
+        let p = &scene.planner;
+        positive(p.h_max_environment).map_err(|r| invalid("planner.h_max_environment", r))?;
+        positive(p.h_max_finger).map_err(|r| invalid("planner.h_max_finger", r))?;
+        positive(p.time_budget).map_err(|r| invalid("planner.time_budget", r))?;
+        let mut names = std::collections::BTreeSet::new();
+        for env in &scene.environment {
+            if !names.insert(env.name.clone()) {
+                return Err(invalid(
+                    "environment",
+                    format!("two meshes are named {:?}", env.name),
+                ));
+            }
+        }
+        // Resolve relative paths against the scene's folder.
+        let resolve = |p: &mut PathBuf| {
+            if p.is_relative() {
+                *p = base.join(&*p);
+            }
+        };
+        resolve(&mut scene.robot.urdf);
+        resolve(&mut scene.robot.srdf);
+        resolve(&mut scene.robot.gripper);
+        resolve(&mut scene.object.mesh);
+        for env in &mut scene.environment {
+            resolve(&mut env.mesh);
+        }
+        Ok(scene)
+    }
+
+    /// The target point.
+    pub fn target_point(&self) -> Point3 {
+        Point3::from(self.target.point)
+    }
+}
+
+fn positive(value: Real) -> Result<(), String> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("must be a positive number, got {value}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+[robot]
+urdf = "robot.urdf"
+srdf = "robot.srdf"
+gripper = "gripper.toml"
+[object]
+mesh = "can.stl"
+start_pose = { position = [0.4, -0.2, 0.0] }
+[[environment]]
+name = "pallet"
+mesh = "/abs/pallet.stl"
+[target]
+point = [0.45, 0.1, 0.02]
+"#;
+
+    fn parse(text: &str) -> Result<Scene, SceneError> {
+        Scene::parse(text, Path::new("scene.toml"), Path::new("/scenes"))
+    }
+
+    #[test]
+    fn minimal_scene_gets_defaults_and_resolved_paths() {
+        let s = parse(MINIMAL).expect("valid");
+        assert_eq!(s.robot.urdf, PathBuf::from("/scenes/robot.urdf"));
+        assert_eq!(s.environment[0].mesh, PathBuf::from("/abs/pallet.stl"));
+        assert_eq!(s.planner, PlannerOptions::default());
+        assert_eq!(s.object.start_pose.orientation, [0.0, 0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn unknown_fields_and_bad_values_are_named() {
+        let err = parse(&MINIMAL.replace("[target]", "[target]\nradius = 3")).unwrap_err();
+        assert!(err.to_string().contains("unknown field `radius`"), "{err}");
+        let err = parse(&MINIMAL.replace(
+            "[0.4, -0.2, 0.0] }",
+            "[0.4, -0.2, 0.0], orientation = [0,0,0,0] }",
+        ))
+        .unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("object.start_pose: orientation quaternion is zero"),
+            "{err}"
+        );
+        let err = parse(&format!("{MINIMAL}\n[planner]\nh_max_finger = -1")).unwrap_err();
+        assert!(err.to_string().contains("planner.h_max_finger"), "{err}");
+        let err = parse("[robot").unwrap_err();
+        assert!(err.to_string().starts_with("scene.toml: "), "{err}");
+    }
+}
