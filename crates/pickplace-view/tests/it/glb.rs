@@ -99,8 +99,13 @@ fn scene_export_is_valid_with_exact_buffer_sizes() {
     assert_eq!(json_len % 4, 0);
     let (json, _) = split(&glb);
     let position = &json["accessors"][0];
-    assert_eq!(position["min"], serde_json::json!([0.9f32 as f64, -0.2f32 as f64, -0.3f32 as f64]));
-    assert_eq!(position["max"], serde_json::json!([1.1f32 as f64, 0.2f32 as f64, 0.3f32 as f64]).clone().as_array().map(|_| position["max"].clone()).expect("array"));
+    // Vertices are in the mesh frame; the node carries the pose.
+    let as_f32 = |v: &Value| -> Vec<f32> {
+        v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number") as f32).collect()
+    };
+    assert_eq!(as_f32(&position["min"]), vec![-0.1f32, -0.2, -0.3]);
+    assert_eq!(as_f32(&position["max"]), vec![0.1f32, 0.2, 0.3]);
+    assert_eq!(as_f32(&json["nodes"][0]["translation"]), vec![1.0f32, 0.0, 0.0]);
 }
 
 #[test]
@@ -200,7 +205,7 @@ fn bad_tracks_and_references_are_errors() {
         GltfErrorKind::TimesNotIncreasing { index: 2, .. }
     ));
     assert!(matches!(
-        gltf_kind(gltf.animate_rotation(fresh, &[0.0, 1e-12, 1.0], &q)),
+        gltf_kind(gltf.animate_rotation(fresh, &[1.0, 1.0 + 1e-12, 2.0], &q)),
         GltfErrorKind::TimesNotIncreasing { index: 1, .. }
     ), "times equal in f32 are rejected");
     assert!(matches!(gltf_kind(gltf.animate_rotation(fresh, &[-1.0, 0.0, 1.0], &q)), GltfErrorKind::TimesNotIncreasing { index: 0, .. }));
