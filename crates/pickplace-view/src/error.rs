@@ -48,6 +48,19 @@ pub enum Error {
         /// What is wrong.
         kind: GltfErrorKind,
     },
+    /// Forward kinematics of the robot failed.
+    #[error("robot kinematics: {source}")]
+    Robot {
+        /// The robot crate's error.
+        #[source]
+        source: pickplace_robot::Error,
+    },
+    /// A motion to show (times, configurations, grips) is inconsistent.
+    #[error("invalid motion: {kind}")]
+    Motion {
+        /// What is wrong.
+        kind: MotionErrorKind,
+    },
     /// A `.glb` file read back by [`crate::glb::validate_glb`] breaks the glTF 2.0 rules.
     #[error("invalid .glb: {kind}")]
     InvalidGlb {
@@ -92,6 +105,56 @@ pub enum GeometryErrorKind {
     NonFinitePose {
         /// Which pose ("instance", "marker", "node").
         what: &'static str,
+    },
+}
+
+/// What is wrong with a motion handed to [`crate::plan::PlanView`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MotionErrorKind {
+    /// The motion has no frame.
+    #[error("the motion has no frame")]
+    Empty,
+    /// Times and configurations have different lengths.
+    #[error("{times} times but {configurations} configurations")]
+    FrameCount {
+        /// Number of times.
+        times: usize,
+        /// Number of configurations.
+        configurations: usize,
+    },
+    /// A time is not finite or goes back.
+    #[error("time {index} is not finite or earlier than the previous one")]
+    TimesNotIncreasing {
+        /// Index of the offending time.
+        index: usize,
+    },
+    /// A configuration does not have one value per robot variable, or a non-finite one.
+    #[error("configuration {frame} has {found} finite values, the robot has {expected} variables")]
+    Configuration {
+        /// The frame.
+        frame: usize,
+        /// Number of robot variables.
+        expected: usize,
+        /// Number of values given (or the index of the first non-finite one).
+        found: usize,
+    },
+    /// A grip names a link the robot does not have.
+    #[error("grip {grip}: link index {link} is out of range ({count} links)")]
+    UnknownLink {
+        /// The grip.
+        grip: usize,
+        /// The link index.
+        link: usize,
+        /// Number of links.
+        count: usize,
+    },
+    /// A grip's times are not finite, or it is released before it is grasped, or it overlaps
+    /// the previous grip.
+    #[error("grip {grip}: grasp and release times are not finite and in order")]
+    GripTimes {
+        /// The grip.
+        grip: usize,
     },
 }
 

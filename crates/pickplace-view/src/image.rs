@@ -1,8 +1,7 @@
 //! RGBA8 images, colours, PNG encoding, atomic file output and image montages.
 
 use crate::error::{Error, Result};
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// An sRGB colour, 8 bits per channel (opaque).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -209,32 +208,15 @@ fn check_side(name: &'static str, side: u32) -> Result<()> {
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
-/// that readers never see a partial file. The temporary file is removed on failure.
+/// that readers never see a partial file ([`pickplace_geometry::export::write_atomic`]).
 ///
 /// # Errors
 /// [`Error::Io`] naming `path`.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |source| Error::Io { path: path.to_path_buf(), source };
-    let file_name = path.file_name().ok_or_else(|| {
-        io(std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file"))
-    })?;
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(file_name);
-    temp_name.push(format!(".tmp-{}", std::process::id()));
-    let temp: PathBuf = path.with_file_name(temp_name);
-    let result = (|| -> std::io::Result<()> {
-        let mut file = std::fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)
-    })();
-    if let Err(e) = result {
-        // Best effort: the temporary file may not exist if `create` failed.
-        let _ = std::fs::remove_file(&temp);
-        return Err(io(e));
-    }
-    Ok(())
+    pickplace_geometry::export::write_atomic(path, bytes).map_err(|e| match e {
+        pickplace_geometry::Error::Io { path, source } => Error::Io { path, source },
+        other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other.to_string()) },
+    })
 }
 
 /// Options of [`montage`].

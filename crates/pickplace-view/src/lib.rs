@@ -58,11 +58,17 @@ pub mod camera;
 pub mod error;
 pub mod glb;
 pub mod image;
+pub mod pictures;
+pub mod plan;
 pub mod raster;
+pub mod robot;
 pub mod scene;
 
 pub use camera::{Camera, DEFAULT_FOV_Y, OBLIQUE_VIEW, Projection};
-pub use error::{Error, GeometryErrorKind, GlbErrorKind, GltfErrorKind, Result};
+pub use error::{Error, GeometryErrorKind, GlbErrorKind, GltfErrorKind, MotionErrorKind, Result};
 pub use image::{Colour, Image, MontageOptions, montage, write_atomic};
 pub use raster::{AntiAliasing, RenderOptions, render, render_to_png};
+pub use pictures::{PictureOptions, cluster_colours, render_clusters, render_placements};
+pub use plan::{Grip, Motion, PlanView, Prop};
+pub use robot::{LinkShapes, RobotGeometry, RobotGeometryOptions, shape_geometry};
 pub use scene::{Geometry, Instance, Paint, Scene, arrow_geometry, sphere_geometry};

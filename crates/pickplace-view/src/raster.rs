@@ -11,7 +11,7 @@ use crate::camera::{Camera, Projection, ViewTransform};
 use crate::error::{Error, Result};
 use crate::image::{Colour, Image};
 use crate::scene::{Paint, Scene};
-use pickplace_geometry::math::{Real, Vector3};
+use pickplace_geometry::math::{Point3, Real, Vector3};
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -113,7 +113,23 @@ pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result
     let factor = options.anti_aliasing.factor();
     let mut target = Target::new(options.width * factor, options.height * factor, options.background);
     let setup = Setup::new(&view, &target, options, factor, light);
+    // Opaque instances first, in scene order (the z-buffer sorts them); then translucent ones
+    // from the farthest to the nearest (by their bounding-box centre), blended without
+    // writing depth.
+    let mut translucent: Vec<(Real, &crate::scene::Instance)> = Vec::new();
     for instance in scene.instances() {
+        if instance.opacity() >= 1.0 {
+            draw_instance(&mut target, &setup, instance);
+        } else if instance.opacity() > 0.0 {
+            let distance = instance
+                .geometry()
+                .bounds(instance.world_from_mesh())
+                .map_or(0.0, |(lo, hi)| view.to_view(&Point3::from((lo.coords + hi.coords) * 0.5))[2]);
+            translucent.push((distance, instance));
+        }
+    }
+    translucent.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (_, instance) in translucent {
         draw_instance(&mut target, &setup, instance);
     }
     target.resolve_into(&mut image, factor);
@@ -171,6 +187,17 @@ impl Target {
             }
         }
     }
+}
+
+/// `over` blended onto `under` with opacity `alpha`, per packed sRGB channel.
+fn blend(under: u32, over: u32, alpha: Real) -> u32 {
+    let mut out = 0;
+    for k in 0..3 {
+        let (u, o) = (Real::from((under >> (8 * k)) & 0xff), Real::from((over >> (8 * k)) & 0xff));
+        // In [0, 255] since alpha is in (0, 1).
+        out |= ((u + alpha * (o - u)).round() as u32) << (8 * k);
+    }
+    out
 }
 
 fn pack(c: Colour) -> u32 {
@@ -290,7 +317,7 @@ fn draw_instance(target: &mut Target, setup: &Setup, instance: &crate::scene::In
         } else {
             colour
         };
-        let paint = TrianglePaint { colour, edge_colour };
+        let paint = TrianglePaint { colour, edge_colour, alpha: instance.opacity() };
         if in_front == 3 {
             fill(target, setup, [corners[0].screen, corners[1].screen, corners[2].screen], [true; 3], paint);
         } else {
@@ -348,6 +375,8 @@ fn clip_near(corners: &[[Real; 3]; 3], near: Real) -> (Vec<[Real; 3]>, Vec<bool>
 struct TrianglePaint {
     colour: u32,
     edge_colour: u32,
+    /// Opacity in (0, 1]: below 1 the colour is blended over the sample and depth is kept.
+    alpha: Real,
 }
 
 /// One edge function `E(x, y) = a·x + b·y + c`, non-negative inside.
@@ -419,14 +448,19 @@ fn fill(target: &mut Target, setup: &Setup, p: [[Real; 3]; 3], draw_edge: [bool;
             if e[0] >= edges[0].threshold && e[1] >= edges[1].threshold && e[2] >= edges[2].threshold {
                 let zf = z as f32;
                 if zf > *d {
-                    *d = zf;
-                    *c = if darken
+                    let new = if darken
                         && (0..3).any(|i| edges[i].inv_length > 0.0 && e[i] * edges[i].inv_length < edge_half_width)
                     {
                         paint.edge_colour
                     } else {
                         paint.colour
                     };
+                    if paint.alpha >= 1.0 {
+                        *d = zf;
+                        *c = new;
+                    } else {
+                        *c = blend(*c, new, paint.alpha);
+                    }
                 }
             }
             for i in 0..3 {
@@ -470,7 +504,7 @@ mod tests {
         .expect("valid camera");
         let options = RenderOptions { anti_aliasing: AntiAliasing::None, ..RenderOptions::default() };
         let (a, b, c, d) = ([0.5, 0.5, 1.0], [7.5, 0.5, 1.0], [7.5, 7.5, 1.0], [0.5, 7.5, 1.0]);
-        let paint = TrianglePaint { colour: 1, edge_colour: 1 };
+        let paint = TrianglePaint { colour: 1, edge_colour: 1, alpha: 1.0 };
         let mut coverage = [0u32; 64];
         // Both windings of both halves, to exercise the two-sided reordering too.
         for tri in [[a, b, c], [a, c, d], [c, b, a], [d, c, a]] {

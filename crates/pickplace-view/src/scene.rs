@@ -105,6 +105,7 @@ pub struct Instance {
     geometry: Arc<Geometry>,
     world_from_mesh: Isometry3,
     paint: Paint,
+    opacity: Real,
 }
 
 impl Instance {
@@ -125,7 +126,26 @@ impl Instance {
             });
         }
         check_pose(&world_from_mesh, "instance")?;
-        Ok(Self { geometry, world_from_mesh, paint })
+        Ok(Self { geometry, world_from_mesh, paint, opacity: 1.0 })
+    }
+
+    /// The same instance drawn translucent: `opacity` 1 is opaque, 0 invisible. Translucent
+    /// instances are drawn after the opaque ones, farthest first, blended over what is behind
+    /// them and hidden by what is in front (used for candidate placements, as in the paper's
+    /// Fig. 6).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for an opacity outside [0, 1].
+    pub fn with_opacity(self, opacity: Real) -> Result<Self> {
+        if !(0.0..=1.0).contains(&opacity) {
+            return Err(Error::InvalidParameter { name: "opacity", value: opacity, reason: "must be in [0, 1]" });
+        }
+        Ok(Self { opacity, ..self })
+    }
+
+    /// The opacity, in [0, 1] (1 unless set by [`Instance::with_opacity`]).
+    pub fn opacity(&self) -> Real {
+        self.opacity
     }
 
     /// The geometry.
