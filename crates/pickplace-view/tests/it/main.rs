@@ -1,6 +1,8 @@
 //! Integration tests of pickplace-view.
 
 mod glb;
+mod pictures;
+mod plan;
 mod render;
 
 use pickplace_view::Image;
