@@ -6,6 +6,7 @@ mod demo;
 mod grasps;
 mod placements;
 mod robot;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -44,6 +45,8 @@ enum Command {
     },
     /// Plan parallel-gripper grasps of an object (ranked, with rejection counts).
     Grasps(grasps::GraspsArgs),
+    /// Pictures of a plan: an animated glTF (plan.glb) and PNGs of the key poses.
+    View(view::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -80,6 +83,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Placements(args) => placements::run(&args),
         Command::Robot { command } => robot::run(command),
         Command::Grasps(args) => grasps::run(&args),
+        Command::View(args) => view::run(&args),
     }
 }
 
