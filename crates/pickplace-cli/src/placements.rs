@@ -187,7 +187,11 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
             })
             .collect();
         if let Some(png) = &args.png {
-            let poses: Vec<Isometry3> = poses.iter().take(args.max).map(|p| p.world_from_object).collect();
+            let poses: Vec<Isometry3> = poses
+                .iter()
+                .take(args.max)
+                .map(|p| p.world_from_object)
+                .collect();
             write_resting_png(png, size, &object_mesh, &poses)?;
         }
         let out = JsonOutput {
@@ -299,7 +303,10 @@ fn write_resting_png(
         .map(|(i, p)| Translation3::new(spacing * i as Real, 0.0, 0.0) * p)
         .collect();
     // The plate spans every copy; its top is at the lowest point of any copy.
-    let (mut min, mut max) = (Point3::new(Real::MAX, Real::MAX, Real::MAX), Point3::new(Real::MIN, Real::MIN, Real::MIN));
+    let (mut min, mut max) = (
+        Point3::new(Real::MAX, Real::MAX, Real::MAX),
+        Point3::new(Real::MIN, Real::MIN, Real::MIN),
+    );
     for pose in &poses {
         for v in object.vertices() {
             let p = pose * v;

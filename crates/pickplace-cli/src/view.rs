@@ -41,7 +41,8 @@ pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
 
 /// Parses `WIDTHxHEIGHT` (each 1 to 16384 pixels).
 pub fn parse_size(text: &str) -> Result<(u32, u32)> {
-    let parse = |s: &str| -> Option<u32> { s.trim().parse().ok().filter(|v| (1..=16_384).contains(v)) };
+    let parse =
+        |s: &str| -> Option<u32> { s.trim().parse().ok().filter(|v| (1..=16_384).contains(v)) };
     match text.split_once(['x', 'X']) {
         Some((w, h)) => match (parse(w), parse(h)) {
             (Some(w), Some(h)) => Ok((w, h)),
@@ -219,9 +220,15 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
                 });
             }
             EventKind::Release => {
-                let k = open.iter().rposition(|(l, _)| *l == e.link).with_context(|| {
-                    format!("event {i}: release by {:?} without a grasp before it", e.link)
-                })?;
+                let k = open
+                    .iter()
+                    .rposition(|(l, _)| *l == e.link)
+                    .with_context(|| {
+                        format!(
+                            "event {i}: release by {:?} without a grasp before it",
+                            e.link
+                        )
+                    })?;
                 let (_, g) = open.remove(k);
                 grips[g].release_time = Some(e.time);
             }
@@ -264,7 +271,13 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
         });
     }
     let geometry = RobotGeometry::new(&robot, &RobotGeometryOptions::default())?;
-    Ok(PlanView::new(&robot, geometry, &motion, object, environment)?)
+    Ok(PlanView::new(
+        &robot,
+        geometry,
+        &motion,
+        object,
+        environment,
+    )?)
 }
 
 fn pose(spec: &pickplace::scene::PoseSpec, what: &str) -> Result<Isometry3> {

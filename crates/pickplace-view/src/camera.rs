@@ -51,7 +51,15 @@ impl Camera {
     /// the eye–target distance.
     pub fn look_at(eye: Point3, target: Point3, up: Vector3) -> Self {
         let near = ((target - eye).norm() * 1e-3).max(1e-6);
-        Self { eye, target, up, projection: Projection::Perspective { fov_y: DEFAULT_FOV_Y }, near }
+        Self {
+            eye,
+            target,
+            up,
+            projection: Projection::Perspective {
+                fov_y: DEFAULT_FOV_Y,
+            },
+            near,
+        }
     }
 
     /// A perspective camera looking along `view_direction` that shows the whole box
@@ -63,7 +71,11 @@ impl Camera {
 
     /// As [`Camera::fit`] for images of `aspect = width / height`. A zero or non-finite
     /// `view_direction` is replaced by [`OBLIQUE_VIEW`].
-    pub fn fit_with_aspect(bounds: (Point3, Point3), view_direction: Vector3, aspect: Real) -> Self {
+    pub fn fit_with_aspect(
+        bounds: (Point3, Point3),
+        view_direction: Vector3,
+        aspect: Real,
+    ) -> Self {
         let (lo, hi) = bounds;
         let centre = Point3::from((lo.coords + hi.coords) * 0.5);
         let radius = ((hi - lo).norm() * 0.5).max(1e-6);
@@ -72,16 +84,26 @@ impl Camera {
             .filter(|d| d.iter().all(|c| c.is_finite()))
             .unwrap_or_else(|| OBLIQUE_VIEW.normalize());
         let half_y = DEFAULT_FOV_Y * 0.5;
-        let aspect = if aspect.is_finite() && aspect > 0.0 { aspect.min(1.0) } else { 1.0 };
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect.min(1.0)
+        } else {
+            1.0
+        };
         let half_x = (aspect * half_y.tan()).atan();
         let half = half_y.min(half_x);
         let distance = radius / half.sin() * 1.05;
-        let up = if direction.cross(&Vector3::z()).norm() > 1e-6 { Vector3::z() } else { Vector3::y() };
+        let up = if direction.cross(&Vector3::z()).norm() > 1e-6 {
+            Vector3::z()
+        } else {
+            Vector3::y()
+        };
         Self {
             eye: centre - direction * distance,
             target: centre,
             up,
-            projection: Projection::Perspective { fov_y: DEFAULT_FOV_Y },
+            projection: Projection::Perspective {
+                fov_y: DEFAULT_FOV_Y,
+            },
             near: 0.5 * (distance - radius),
         }
     }
@@ -90,10 +112,15 @@ impl Camera {
     /// the same size on the image.
     pub fn to_orthographic(&self) -> Self {
         let half_height = match self.projection {
-            Projection::Perspective { fov_y } => (self.target - self.eye).norm() * (fov_y * 0.5).tan(),
+            Projection::Perspective { fov_y } => {
+                (self.target - self.eye).norm() * (fov_y * 0.5).tan()
+            }
             Projection::Orthographic { half_height } => half_height,
         };
-        Self { projection: Projection::Orthographic { half_height }, ..*self }
+        Self {
+            projection: Projection::Orthographic { half_height },
+            ..*self
+        }
     }
 
     /// Checks the camera and returns its orthonormal frame.
@@ -106,11 +133,14 @@ impl Camera {
                 reason: "eye, target and up must be finite",
             });
         }
-        let forward = (self.target - self.eye).try_normalize(1e-12).ok_or(Error::InvalidParameter {
-            name: "camera eye-target distance",
-            value: (self.target - self.eye).norm(),
-            reason: "eye and target must differ",
-        })?;
+        let forward =
+            (self.target - self.eye)
+                .try_normalize(1e-12)
+                .ok_or(Error::InvalidParameter {
+                    name: "camera eye-target distance",
+                    value: (self.target - self.eye).norm(),
+                    reason: "eye and target must differ",
+                })?;
         let right = [self.up, Vector3::z(), Vector3::y()]
             .iter()
             .find_map(|up| forward.cross(up).try_normalize(1e-9))
@@ -131,7 +161,9 @@ impl Camera {
                     reason: "must be in (0, pi)",
                 });
             }
-            Projection::Orthographic { half_height } if !(half_height.is_finite() && half_height > 0.0) => {
+            Projection::Orthographic { half_height }
+                if !(half_height.is_finite() && half_height > 0.0) =>
+            {
                 return Err(Error::InvalidParameter {
                     name: "camera half_height",
                     value: half_height,
@@ -140,7 +172,14 @@ impl Camera {
             }
             _ => {}
         }
-        Ok(ViewTransform { eye: self.eye, right, up, forward, projection: self.projection, near: self.near })
+        Ok(ViewTransform {
+            eye: self.eye,
+            right,
+            up,
+            forward,
+            projection: self.projection,
+            near: self.near,
+        })
     }
 }
 
@@ -157,7 +196,7 @@ pub(crate) struct ViewTransform {
 
 impl ViewTransform {
     /// `(x right, y up, depth in front of the eye)` of a world point.
-    pub fn to_view(&self, p: &Point3) -> [Real; 3] {
+    pub fn to_view(self, p: &Point3) -> [Real; 3] {
         let d = p - self.eye;
         [self.right.dot(&d), self.up.dot(&d), self.forward.dot(&d)]
     }
@@ -175,11 +214,18 @@ mod tests {
     #[test]
     fn fit_sees_every_corner_in_front_and_inside_the_field_of_view() {
         let bounds = (Point3::new(-1.0, 0.0, 2.0), Point3::new(3.0, 0.5, 2.5));
-        for dir in [OBLIQUE_VIEW, -Vector3::z(), Vector3::x(), Vector3::new(0.0, 0.0, 1.0)] {
+        for dir in [
+            OBLIQUE_VIEW,
+            -Vector3::z(),
+            Vector3::x(),
+            Vector3::new(0.0, 0.0, 1.0),
+        ] {
             for aspect in [0.5, 1.0, 2.0] {
                 let cam = Camera::fit_with_aspect(bounds, dir, aspect);
                 let view = cam.view().expect("fitted camera is valid");
-                let Projection::Perspective { fov_y } = cam.projection else { panic!("perspective") };
+                let Projection::Perspective { fov_y } = cam.projection else {
+                    panic!("perspective")
+                };
                 let t = (fov_y * 0.5).tan();
                 for i in 0..8 {
                     let p = Point3::new(
@@ -190,7 +236,10 @@ mod tests {
                     let [x, y, d] = view.to_view(&p);
                     assert!(d > cam.near, "corner behind the near plane");
                     assert!(y.abs() / d <= t, "corner outside vertically");
-                    assert!(x.abs() / d <= t * aspect, "corner outside horizontally (aspect {aspect})");
+                    assert!(
+                        x.abs() / d <= t * aspect,
+                        "corner outside horizontally (aspect {aspect})"
+                    );
                 }
             }
         }
@@ -200,7 +249,10 @@ mod tests {
     fn frame_is_orthonormal_and_up_falls_back() {
         let cam = Camera::look_at(Point3::new(0.0, 0.0, 5.0), Point3::origin(), Vector3::z());
         let v = cam.view().expect("parallel up falls back");
-        assert!((v.right.cross(&v.up) + v.forward).norm() < 1e-12, "right-handed, looking along -z");
+        assert!(
+            (v.right.cross(&v.up) + v.forward).norm() < 1e-12,
+            "right-handed, looking along -z"
+        );
         let same = Camera::look_at(Point3::origin(), Point3::origin(), Vector3::z());
         assert!(same.view().is_err());
         let mut bad = Camera::look_at(Point3::new(1.0, 0.0, 0.0), Point3::origin(), Vector3::z());
@@ -210,7 +262,9 @@ mod tests {
         bad.projection = Projection::Perspective { fov_y: 4.0 };
         assert!(bad.view().is_err());
         let ortho = cam.to_orthographic();
-        let Projection::Orthographic { half_height } = ortho.projection else { panic!("orthographic") };
+        let Projection::Orthographic { half_height } = ortho.projection else {
+            panic!("orthographic")
+        };
         assert!((half_height - 5.0 * (DEFAULT_FOV_Y * 0.5).tan()).abs() < 1e-12);
         assert!(ortho.view().is_ok());
     }

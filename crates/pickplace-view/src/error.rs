@@ -191,7 +191,9 @@ pub enum GltfErrorKind {
         values: usize,
     },
     /// Keyframe times are not finite and strictly increasing (after conversion to `f32`).
-    #[error("animation track of node {node}: time {index} is not finite and strictly after the previous one")]
+    #[error(
+        "animation track of node {node}: time {index} is not finite and strictly after the previous one"
+    )]
     TimesNotIncreasing {
         /// The animated node.
         node: usize,

@@ -69,12 +69,20 @@ impl Colour {
 
     /// The colour in linear light, each channel in [0, 1] (the sRGB transfer function undone).
     pub fn to_linear(self) -> [f64; 3] {
-        [srgb_to_linear(self.r), srgb_to_linear(self.g), srgb_to_linear(self.b)]
+        [
+            srgb_to_linear(self.r),
+            srgb_to_linear(self.g),
+            srgb_to_linear(self.b),
+        ]
     }
 
     /// The colour of linear-light channels (clamped to [0, 1]).
     pub fn from_linear(linear: [f64; 3]) -> Self {
-        Self::new(linear_to_srgb(linear[0]), linear_to_srgb(linear[1]), linear_to_srgb(linear[2]))
+        Self::new(
+            linear_to_srgb(linear[0]),
+            linear_to_srgb(linear[1]),
+            linear_to_srgb(linear[2]),
+        )
     }
 }
 
@@ -85,12 +93,20 @@ fn unit_to_u8(x: f64) -> u8 {
 
 fn srgb_to_linear(c: u8) -> f64 {
     let c = f64::from(c) / 255.0;
-    if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 fn linear_to_srgb(x: f64) -> u8 {
     let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-    let c = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    let c = if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    };
     unit_to_u8(c)
 }
 
@@ -115,7 +131,11 @@ impl Image {
         check_side("height", height)?;
         let pixel = [fill.r, fill.g, fill.b, 255];
         let rgba = pixel.repeat(width as usize * height as usize);
-        Ok(Self { width, height, rgba })
+        Ok(Self {
+            width,
+            height,
+            rgba,
+        })
     }
 
     /// An image from raw RGBA bytes.
@@ -133,7 +153,11 @@ impl Image {
                 reason: "must be 4 * width * height",
             });
         }
-        Ok(Self { width, height, rgba })
+        Ok(Self {
+            width,
+            height,
+            rgba,
+        })
     }
 
     /// Width (pixels).
@@ -157,7 +181,12 @@ impl Image {
             return None;
         }
         let i = 4 * (y as usize * self.width as usize + x as usize);
-        Some([self.rgba[i], self.rgba[i + 1], self.rgba[i + 2], self.rgba[i + 3]])
+        Some([
+            self.rgba[i],
+            self.rgba[i + 1],
+            self.rgba[i + 2],
+            self.rgba[i + 3],
+        ])
     }
 
     /// Sets the pixel at column `x`, row `y`; does nothing outside the image.
@@ -174,7 +203,11 @@ impl Image {
     /// [`Error::PngEncode`] if the encoder fails (it does not for a valid image).
     pub fn encode_png(&self) -> Result<Vec<u8>> {
         let mut out = Vec::with_capacity(self.rgba.len() / 4 + 1024);
-        let wrap = |source| Error::PngEncode { width: self.width, height: self.height, source };
+        let wrap = |source| Error::PngEncode {
+            width: self.width,
+            height: self.height,
+            source,
+        };
         let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
         encoder.set_color(png::ColorType::Rgba);
         encoder.set_depth(png::BitDepth::Eight);
@@ -215,7 +248,10 @@ fn check_side(name: &'static str, side: u32) -> Result<()> {
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     pickplace_geometry::export::write_atomic(path, bytes).map_err(|e| match e {
         pickplace_geometry::Error::Io { path, source } => Error::Io { path, source },
-        other => Error::Io { path: path.to_path_buf(), source: std::io::Error::other(other.to_string()) },
+        other => Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::other(other.to_string()),
+        },
     })
 }
 
@@ -232,7 +268,11 @@ pub struct MontageOptions {
 
 impl Default for MontageOptions {
     fn default() -> Self {
-        Self { columns: 0, gap: 4, background: Colour::WHITE }
+        Self {
+            columns: 0,
+            gap: 4,
+            background: Colour::WHITE,
+        }
     }
 }
 
@@ -263,13 +303,20 @@ pub fn montage(images: &[Image], options: &MontageOptions) -> Result<Image> {
     let total_w = columns as u64 * (cell_w + gap) + gap;
     let total_h = rows as u64 * (cell_h + gap) + gap;
     let side = |name: &'static str, v: u64| -> Result<u32> {
-        u32::try_from(v).ok().filter(|&v| v <= MAX_IMAGE_SIDE).ok_or(Error::InvalidParameter {
-            name,
-            value: v as f64,
-            reason: "the montage would exceed 16384 pixels",
-        })
+        u32::try_from(v)
+            .ok()
+            .filter(|&v| v <= MAX_IMAGE_SIDE)
+            .ok_or(Error::InvalidParameter {
+                name,
+                value: v as f64,
+                reason: "the montage would exceed 16384 pixels",
+            })
     };
-    let mut out = Image::new(side("montage width", total_w)?, side("montage height", total_h)?, options.background)?;
+    let mut out = Image::new(
+        side("montage width", total_w)?,
+        side("montage height", total_h)?,
+        options.background,
+    )?;
     for (k, image) in images.iter().enumerate() {
         let (col, row) = ((k % columns) as u64, (k / columns) as u64);
         let x0 = gap + col * (cell_w + gap) + (cell_w - u64::from(image.width)) / 2;
@@ -318,27 +365,41 @@ mod tests {
     #[test]
     fn montage_places_cells_row_by_row() {
         let colours = [Colour::RED, Colour::GREEN, Colour::BLUE];
-        let images: Vec<Image> =
-            colours.iter().map(|&c| Image::new(10, 6, c).expect("valid size")).collect();
-        let options = MontageOptions { columns: 2, gap: 2, background: Colour::BLACK };
+        let images: Vec<Image> = colours
+            .iter()
+            .map(|&c| Image::new(10, 6, c).expect("valid size"))
+            .collect();
+        let options = MontageOptions {
+            columns: 2,
+            gap: 2,
+            background: Colour::BLACK,
+        };
         let m = montage(&images, &options).expect("valid montage");
         assert_eq!((m.width(), m.height()), (2 * 12 + 2, 2 * 8 + 2));
         assert_eq!(m.pixel(0, 0), Some([0, 0, 0, 255]));
         assert_eq!(m.pixel(2, 2), Some([220, 40, 40, 255]));
         assert_eq!(m.pixel(14, 2), Some([40, 180, 60, 255]));
         assert_eq!(m.pixel(2, 10), Some([40, 90, 220, 255]));
-        assert_eq!(m.pixel(14, 10), Some([0, 0, 0, 255]), "empty cell keeps the background");
+        assert_eq!(
+            m.pixel(14, 10),
+            Some([0, 0, 0, 255]),
+            "empty cell keeps the background"
+        );
     }
 
     #[test]
     fn atomic_write_replaces_and_leaves_no_temp() {
-        let dir = std::env::temp_dir().join(format!("pickplace-view-atomic-{}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("pickplace-view-atomic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("temp dir");
         let path = dir.join("a.bin");
         write_atomic(&path, b"first").expect("write");
         write_atomic(&path, b"second").expect("overwrite");
         assert_eq!(std::fs::read(&path).expect("read"), b"second");
-        let names: Vec<_> = std::fs::read_dir(&dir).expect("list").map(|e| e.expect("entry").file_name()).collect();
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .expect("list")
+            .map(|e| e.expect("entry").file_name())
+            .collect();
         assert_eq!(names.len(), 1, "{names:?}");
         assert!(write_atomic(&dir.join("missing-dir").join("x.png"), b"x").is_err());
         std::fs::remove_dir_all(&dir).expect("cleanup");

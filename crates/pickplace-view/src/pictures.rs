@@ -44,7 +44,11 @@ pub fn cluster_colours(clustering: &Clustering, triangle_count: usize) -> Vec<Co
     }
     for cluster in &clustering.clusters {
         by_id.entry(cluster.id).or_insert_with(|| {
-            let c = Colour::from_hsv(hue(group), [0.7, 0.5][group % 2], [0.92, 0.75][(group / 2) % 2]);
+            let c = Colour::from_hsv(
+                hue(group),
+                [0.7, 0.5][group % 2],
+                [0.92, 0.75][(group / 2) % 2],
+            );
             group += 1;
             c
         });
@@ -52,7 +56,10 @@ pub fn cluster_colours(clustering: &Clustering, triangle_count: usize) -> Vec<Co
     clustering
         .cluster_of_triangles(triangle_count)
         .into_iter()
-        .map(|id| id.and_then(|id| by_id.get(&id).copied()).unwrap_or(UNCLUSTERED))
+        .map(|id| {
+            id.and_then(|id| by_id.get(&id).copied())
+                .unwrap_or(UNCLUSTERED)
+        })
         .collect()
 }
 
@@ -69,12 +76,17 @@ pub struct PictureOptions {
 
 impl Default for PictureOptions {
     fn default() -> Self {
-        Self { render: RenderOptions::default(), view_direction: OBLIQUE_VIEW }
+        Self {
+            render: RenderOptions::default(),
+            view_direction: OBLIQUE_VIEW,
+        }
     }
 }
 
 fn fitted(scene: &Scene, options: &PictureOptions) -> Camera {
-    let bounds = scene.bounds().unwrap_or((Point3::origin(), Point3::origin()));
+    let bounds = scene
+        .bounds()
+        .unwrap_or((Point3::origin(), Point3::origin()));
     let aspect = f64::from(options.render.width) / f64::from(options.render.height.max(1));
     Camera::fit_with_aspect(bounds, options.view_direction, aspect)
 }
@@ -85,7 +97,11 @@ fn fitted(scene: &Scene, options: &PictureOptions) -> Camera {
 /// None in practice (one colour per triangle by construction).
 pub fn clusters_scene(mesh: &TriMesh, clustering: &Clustering) -> Result<Scene> {
     let mut scene = Scene::new();
-    scene.add_mesh_per_triangle(mesh, Isometry3::identity(), cluster_colours(clustering, mesh.triangle_count()))?;
+    scene.add_mesh_per_triangle(
+        mesh,
+        Isometry3::identity(),
+        cluster_colours(clustering, mesh.triangle_count()),
+    )?;
     Ok(scene)
 }
 
@@ -93,7 +109,11 @@ pub fn clusters_scene(mesh: &TriMesh, clustering: &Clustering) -> Result<Scene> 
 ///
 /// # Errors
 /// As [`render`] (image size, options).
-pub fn render_clusters(mesh: &TriMesh, clustering: &Clustering, options: &PictureOptions) -> Result<Image> {
+pub fn render_clusters(
+    mesh: &TriMesh,
+    clustering: &Clustering,
+    options: &PictureOptions,
+) -> Result<Image> {
     let scene = clusters_scene(mesh, clustering)?;
     render(&scene, &fitted(&scene, options), &options.render)
 }
@@ -119,9 +139,13 @@ pub fn placements_scene(
     scene.add_mesh(environment, *world_from_env, ENVIRONMENT)?;
     let geometry = Arc::new(Geometry::from_trimesh(object));
     for (i, pose) in world_from_object.iter().enumerate() {
-        let colour = Colour::from_hsv(hue(i), 0.75, 0.9);
+        let colour = Colour::from_hsv(hue(i + 1), 0.75, 0.9);
         let instance = Instance::new(geometry.clone(), *pose, Paint::Uniform(colour))?;
-        scene.push(if i == 0 { instance } else { instance.with_opacity(PLACEMENT_OPACITY)? });
+        scene.push(if i == 0 {
+            instance
+        } else {
+            instance.with_opacity(PLACEMENT_OPACITY)?
+        });
     }
     if let Some(p) = target {
         let (lo, hi) = object.aabb();
@@ -144,7 +168,13 @@ pub fn render_placements(
     target: Option<Point3>,
     options: &PictureOptions,
 ) -> Result<Image> {
-    let scene = placements_scene(object, environment, world_from_env, world_from_object, target)?;
+    let scene = placements_scene(
+        object,
+        environment,
+        world_from_env,
+        world_from_object,
+        target,
+    )?;
     render(&scene, &fitted(&scene, options), &options.render)
 }
 
@@ -167,14 +197,22 @@ mod tests {
                 .map(|c| colours[c.triangles[0] as usize])
                 .collect();
             for c in &clustering.clusters {
-                assert!(c.triangles.iter().all(|&t| colours[t as usize] == colours[c.triangles[0] as usize]));
+                assert!(
+                    c.triangles
+                        .iter()
+                        .all(|&t| colours[t as usize] == colours[c.triangles[0] as usize])
+                );
             }
             distinct.sort();
             distinct.dedup();
             assert_eq!(distinct.len(), 6, "six faces, six colours");
             for pair in &clustering.pairs {
                 let colour_of = |id: u32| {
-                    let c = clustering.clusters.iter().find(|c| c.id == id).expect("pair member");
+                    let c = clustering
+                        .clusters
+                        .iter()
+                        .find(|c| c.id == id)
+                        .expect("pair member");
                     colours[c.triangles[0] as usize]
                 };
                 let (a, b) = (colour_of(pair.first), colour_of(pair.second));

@@ -105,16 +105,25 @@ impl PlanView {
         for (frame, q) in motion.configurations.iter().enumerate() {
             let found = q.iter().position(|v| !v.is_finite()).unwrap_or(q.len());
             if q.len() != variables || found != q.len() {
-                return Err(motion_error(MotionErrorKind::Configuration { frame, expected: variables, found }));
+                return Err(motion_error(MotionErrorKind::Configuration {
+                    frame,
+                    expected: variables,
+                    found,
+                }));
             }
         }
         let link_count = robot.links().len();
         for (grip, g) in motion.grips.iter().enumerate() {
             if g.link >= link_count {
-                return Err(motion_error(MotionErrorKind::UnknownLink { grip, link: g.link, count: link_count }));
+                return Err(motion_error(MotionErrorKind::UnknownLink {
+                    grip,
+                    link: g.link,
+                    count: link_count,
+                }));
             }
             let ordered = g.grasp_time.is_finite()
-                && g.release_time.is_none_or(|r| r.is_finite() && r >= g.grasp_time);
+                && g.release_time
+                    .is_none_or(|r| r.is_finite() && r >= g.grasp_time);
             if !ordered {
                 return Err(motion_error(MotionErrorKind::GripTimes { grip }));
             }
@@ -130,7 +139,9 @@ impl PlanView {
         let mut world_from_object = Vec::with_capacity(n);
         let mut resting = object.world_from_mesh;
         for (&t, q) in motion.times.iter().zip(&motion.configurations) {
-            let poses = robot.link_poses(q).map_err(|source| Error::Robot { source })?;
+            let poses = robot
+                .link_poses(q)
+                .map_err(|source| Error::Robot { source })?;
             // The grip grasped last among those holding at `t` (a handover has two).
             let holding = motion
                 .grips
@@ -190,11 +201,22 @@ impl PlanView {
         let frame = frame.min(self.frame_count() - 1);
         let mut scene = Scene::new();
         for prop in &self.environment {
-            scene.push(Instance::new(prop.geometry.clone(), prop.world_from_mesh, Paint::Uniform(prop.colour))?);
+            scene.push(Instance::new(
+                prop.geometry.clone(),
+                prop.world_from_mesh,
+                Paint::Uniform(prop.colour),
+            )?);
         }
         let object_pose = self.world_from_object[frame];
-        scene.push(Instance::new(self.object.geometry.clone(), object_pose, Paint::Uniform(self.object.colour))?);
-        let links: Vec<Isometry3> = self.root_from_links[frame].iter().map(|p| self.world_from_root * p).collect();
+        scene.push(Instance::new(
+            self.object.geometry.clone(),
+            object_pose,
+            Paint::Uniform(self.object.colour),
+        )?);
+        let links: Vec<Isometry3> = self.root_from_links[frame]
+            .iter()
+            .map(|p| self.world_from_root * p)
+            .collect();
         self.robot.add_to_scene(&mut scene, &links)?;
         Ok(scene)
     }
@@ -207,7 +229,9 @@ impl PlanView {
     /// None in practice (as [`PlanView::scene_at`]).
     pub fn camera(&self, aspect: Real) -> Result<Camera> {
         let scene = self.scene_at(0)?;
-        let mut bounds = scene.bounds().unwrap_or((Point3::origin(), Point3::origin()));
+        let mut bounds = scene
+            .bounds()
+            .unwrap_or((Point3::origin(), Point3::origin()));
         if let Some((lo, hi)) = self.object.geometry.bounds(&Isometry3::identity()) {
             for pose in &self.world_from_object {
                 for corner in [lo, hi] {
@@ -223,7 +247,12 @@ impl PlanView {
     ///
     /// # Errors
     /// As [`render`].
-    pub fn render_frame(&self, frame: usize, camera: Option<&Camera>, options: &RenderOptions) -> Result<Image> {
+    pub fn render_frame(
+        &self,
+        frame: usize,
+        camera: Option<&Camera>,
+        options: &RenderOptions,
+    ) -> Result<Image> {
         let scene = self.scene_at(frame)?;
         let camera = match camera {
             Some(c) => *c,
@@ -261,7 +290,9 @@ impl PlanView {
         // Links are created parents first: a parent's index precedes its children's in the
         // model (joints are in tree order), but walk the tree to be independent of that.
         let mut nodes: Vec<Option<NodeId>> = vec![None; link_count];
-        let mut order: Vec<usize> = (0..link_count).filter(|&l| self.robot.parent(l).is_none()).collect();
+        let mut order: Vec<usize> = (0..link_count)
+            .filter(|&l| self.robot.parent(l).is_none())
+            .collect();
         let mut k = 0;
         while k < order.len() {
             let link = order[k];
@@ -269,21 +300,39 @@ impl PlanView {
             k += 1;
         }
         for &link in &order {
-            let parent = self.robot.parent(link).and_then(|p| nodes[p]).unwrap_or(robot);
+            let parent = self
+                .robot
+                .parent(link)
+                .and_then(|p| nodes[p])
+                .unwrap_or(robot);
             let name = self.robot.link_name(link).unwrap_or("link").to_owned();
             let mesh = match self.robot.link_geometry(link) {
-                Some(g) => Some(gltf.add_mesh(&name, g, &Paint::Uniform(self.robot.link_colour(link)))?),
+                Some(g) => {
+                    Some(gltf.add_mesh(&name, g, &Paint::Uniform(self.robot.link_colour(link)))?)
+                }
                 None => None,
             };
-            nodes[link] = Some(gltf.add_node(&name, mesh, Some(parent), &parent_from_link(0, link))?);
+            nodes[link] =
+                Some(gltf.add_node(&name, mesh, Some(parent), &parent_from_link(0, link))?);
         }
-        let object_mesh = gltf.add_mesh(&self.object.name, &self.object.geometry, &Paint::Uniform(self.object.colour))?;
-        let object = gltf.add_node(&self.object.name, Some(object_mesh), None, &self.world_from_object[0])?;
+        let object_mesh = gltf.add_mesh(
+            &self.object.name,
+            &self.object.geometry,
+            &Paint::Uniform(self.object.colour),
+        )?;
+        let object = gltf.add_node(
+            &self.object.name,
+            Some(object_mesh),
+            None,
+            &self.world_from_object[0],
+        )?;
 
         let times = strictly_increasing_f32_times(&self.times);
         for &link in &order {
             let Some(node) = nodes[link] else { continue };
-            let poses: Vec<Isometry3> = (0..self.frame_count()).map(|f| parent_from_link(f, link)).collect();
+            let poses: Vec<Isometry3> = (0..self.frame_count())
+                .map(|f| parent_from_link(f, link))
+                .collect();
             if poses.iter().any(|p| *p != poses[0]) {
                 gltf.animate_poses(node, &times, &poses)?;
             }
@@ -299,7 +348,11 @@ pub fn strictly_increasing_f32_times(times: &[Real]) -> Vec<Real> {
     let mut out = Vec::with_capacity(times.len());
     let mut previous: Option<f32> = None;
     for &t in times {
-        let mut f = if t.is_finite() { t.max(0.0) as f32 } else { 0.0 };
+        let mut f = if t.is_finite() {
+            t.max(0.0) as f32
+        } else {
+            0.0
+        };
         if let Some(p) = previous
             && f <= p
         {
@@ -325,7 +378,10 @@ mod tests {
         }
         assert_eq!(t[0], 0.0);
         assert_eq!(t[4], 1.0);
-        assert!(t[5] > t[4], "a time going back is moved after the previous one");
+        assert!(
+            t[5] > t[4],
+            "a time going back is moved after the previous one"
+        );
         assert!((t[3] - 0.5).abs() < 1e-6);
     }
 }

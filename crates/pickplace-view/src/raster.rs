@@ -111,7 +111,11 @@ pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result
             reason: "must be non-zero and finite",
         })?;
     let factor = options.anti_aliasing.factor();
-    let mut target = Target::new(options.width * factor, options.height * factor, options.background);
+    let mut target = Target::new(
+        options.width * factor,
+        options.height * factor,
+        options.background,
+    );
     let setup = Setup::new(&view, &target, options, factor, light);
     // Opaque instances first, in scene order (the z-buffer sorts them); then translucent ones
     // from the farthest to the nearest (by their bounding-box centre), blended without
@@ -124,7 +128,9 @@ pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result
             let distance = instance
                 .geometry()
                 .bounds(instance.world_from_mesh())
-                .map_or(0.0, |(lo, hi)| view.to_view(&Point3::from((lo.coords + hi.coords) * 0.5))[2]);
+                .map_or(0.0, |(lo, hi)| {
+                    view.to_view(&Point3::from((lo.coords + hi.coords) * 0.5))[2]
+                });
             translucent.push((distance, instance));
         }
     }
@@ -140,7 +146,12 @@ pub fn render(scene: &Scene, camera: &Camera, options: &RenderOptions) -> Result
 ///
 /// # Errors
 /// As [`render`] and [`Image::write_png`].
-pub fn render_to_png(scene: &Scene, camera: &Camera, options: &RenderOptions, path: &Path) -> Result<()> {
+pub fn render_to_png(
+    scene: &Scene,
+    camera: &Camera,
+    options: &RenderOptions,
+    path: &Path,
+) -> Result<()> {
     render(scene, camera, options)?.write_png(path)
 }
 
@@ -193,7 +204,10 @@ impl Target {
 fn blend(under: u32, over: u32, alpha: Real) -> u32 {
     let mut out = 0;
     for k in 0..3 {
-        let (u, o) = (Real::from((under >> (8 * k)) & 0xff), Real::from((over >> (8 * k)) & 0xff));
+        let (u, o) = (
+            Real::from((under >> (8 * k)) & 0xff),
+            Real::from((over >> (8 * k)) & 0xff),
+        );
         // In [0, 255] since alpha is in (0, 1).
         out |= ((u + alpha * (o - u)).round() as u32) << (8 * k);
     }
@@ -227,7 +241,9 @@ fn luts() -> &'static Luts {
             *v = Colour::new(i as u8, 0, 0).to_linear()[0];
         }
         let n = 4096;
-        let to_srgb = (0..n).map(|i| Colour::from_linear([i as Real / (n - 1) as Real, 0.0, 0.0]).r).collect();
+        let to_srgb = (0..n)
+            .map(|i| Colour::from_linear([i as Real / (n - 1) as Real, 0.0, 0.0]).r)
+            .collect();
         Luts { to_linear, to_srgb }
     })
 }
@@ -247,7 +263,13 @@ struct Setup {
 }
 
 impl Setup {
-    fn new(view: &ViewTransform, target: &Target, options: &RenderOptions, factor: u32, light: Vector3) -> Self {
+    fn new(
+        view: &ViewTransform,
+        target: &Target,
+        options: &RenderOptions,
+        factor: u32,
+        light: Vector3,
+    ) -> Self {
         let half_height = target.height as Real * 0.5;
         let (scale, perspective) = match view.projection {
             Projection::Perspective { fov_y } => (half_height / (fov_y * 0.5).tan(), true),
@@ -257,7 +279,11 @@ impl Setup {
             view: *view,
             light,
             ambient: options.ambient,
-            edge_half_width: if options.draw_edges { 0.5 * f64::from(factor) } else { 0.0 },
+            edge_half_width: if options.draw_edges {
+                0.5 * f64::from(factor)
+            } else {
+                0.0
+            },
             half_width: target.width as Real * 0.5,
             half_height,
             scale,
@@ -269,9 +295,17 @@ impl Setup {
     /// plane.
     fn project(&self, v: [Real; 3]) -> [Real; 3] {
         let [x, y, d] = v;
-        let (k, closeness) = if self.perspective { (self.scale / d, 1.0 / d) } else { (self.scale, -d) };
+        let (k, closeness) = if self.perspective {
+            (self.scale / d, 1.0 / d)
+        } else {
+            (self.scale, -d)
+        };
         let snap = |s: Real| (s * SNAP).round() / SNAP;
-        [snap(self.half_width + k * x), snap(self.half_height - k * y), closeness]
+        [
+            snap(self.half_width + k * x),
+            snap(self.half_height - k * y),
+            closeness,
+        ]
     }
 }
 
@@ -291,7 +325,11 @@ fn draw_instance(target: &mut Target, setup: &Setup, instance: &crate::scene::In
         .iter()
         .map(|p| {
             let view = setup.view.to_view(&(pose * p));
-            let screen = if view[2] >= setup.view.near { setup.project(view) } else { [0.0; 3] };
+            let screen = if view[2] >= setup.view.near {
+                setup.project(view)
+            } else {
+                [0.0; 3]
+            };
             ViewVertex { view, screen }
         })
         .collect();
@@ -306,7 +344,9 @@ fn draw_instance(target: &mut Target, setup: &Setup, instance: &crate::scene::In
         if in_front == 0 {
             continue;
         }
-        let normal = setup.view.direction_to_camera(&(pose.rotation * geometry.triangle_normal(t)));
+        let normal = setup
+            .view
+            .direction_to_camera(&(pose.rotation * geometry.triangle_normal(t)));
         let intensity = setup.ambient + (1.0 - setup.ambient) * normal.dot(&setup.light).abs();
         let base = uniform_linear.unwrap_or_else(|| linear_of(lut, instance.paint().colour(t)));
         let shade = base.map(|c| lut.encode(c * intensity));
@@ -317,24 +357,48 @@ fn draw_instance(target: &mut Target, setup: &Setup, instance: &crate::scene::In
         } else {
             colour
         };
-        let paint = TrianglePaint { colour, edge_colour, alpha: instance.opacity() };
+        let paint = TrianglePaint {
+            colour,
+            edge_colour,
+            alpha: instance.opacity(),
+        };
         if in_front == 3 {
-            fill(target, setup, [corners[0].screen, corners[1].screen, corners[2].screen], [true; 3], paint);
+            fill(
+                target,
+                setup,
+                [corners[0].screen, corners[1].screen, corners[2].screen],
+                [true; 3],
+                paint,
+            );
         } else {
             let (polygon, original) = clip_near(&corners.map(|v| v.view), near);
             let screen: Vec<[Real; 3]> = polygon.iter().map(|&v| setup.project(v)).collect();
             // Fan triangulation; the fan's inner diagonals and the clip edge are not original.
             let n = screen.len();
             for i in 1..n - 1 {
-                let edges = [i == 1 && original[0], original[i], i + 1 == n - 1 && original[n - 1]];
-                fill(target, setup, [screen[0], screen[i], screen[i + 1]], edges, paint);
+                let edges = [
+                    i == 1 && original[0],
+                    original[i],
+                    i + 1 == n - 1 && original[n - 1],
+                ];
+                fill(
+                    target,
+                    setup,
+                    [screen[0], screen[i], screen[i + 1]],
+                    edges,
+                    paint,
+                );
             }
         }
     }
 }
 
 fn linear_of(lut: &Luts, c: Colour) -> [Real; 3] {
-    [lut.to_linear[c.r as usize], lut.to_linear[c.g as usize], lut.to_linear[c.b as usize]]
+    [
+        lut.to_linear[c.r as usize],
+        lut.to_linear[c.g as usize],
+        lut.to_linear[c.b as usize],
+    ]
 }
 
 /// Clips a view-space triangle with one or two corners in front of the near plane
@@ -392,14 +456,27 @@ struct Edge {
 }
 
 /// Fills a screen-space triangle (sample coordinates, closeness).
-fn fill(target: &mut Target, setup: &Setup, p: [[Real; 3]; 3], draw_edge: [bool; 3], paint: TrianglePaint) {
-    let area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+fn fill(
+    target: &mut Target,
+    setup: &Setup,
+    p: [[Real; 3]; 3],
+    draw_edge: [bool; 3],
+    paint: TrianglePaint,
+) {
+    let area =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
     if !(area.is_finite() && area != 0.0) {
         return;
     }
     // Two-sided: order the corners so that the area is positive.
-    let (p, draw_edge) =
-        if area > 0.0 { (p, draw_edge) } else { ([p[0], p[2], p[1]], [draw_edge[2], draw_edge[1], draw_edge[0]]) };
+    let (p, draw_edge) = if area > 0.0 {
+        (p, draw_edge)
+    } else {
+        (
+            [p[0], p[2], p[1]],
+            [draw_edge[2], draw_edge[1], draw_edge[0]],
+        )
+    };
     let area = area.abs();
     let (w, h) = (target.width as Real, target.height as Real);
     let min_x = p.iter().map(|v| v[0]).fold(Real::INFINITY, Real::min);
@@ -426,7 +503,11 @@ fn fill(target: &mut Target, setup: &Setup, p: [[Real; 3]; 3], draw_edge: [bool;
             b: dx,
             c: dy * s[0] - dx * s[1],
             threshold: if top_left { 0.0 } else { Real::MIN_POSITIVE },
-            inv_length: if draw_edge[i] && length > 0.0 { 1.0 / length } else { 0.0 },
+            inv_length: if draw_edge[i] && length > 0.0 {
+                1.0 / length
+            } else {
+                0.0
+            },
         }
     });
     // Edge i (from corner i to i+1) is opposite corner i+2; its weight is that corner's.
@@ -445,12 +526,17 @@ fn fill(target: &mut Target, setup: &Setup, p: [[Real; 3]; 3], draw_edge: [bool;
         let colour = &mut target.colour[row + x0..=row + x1];
         let depth = &mut target.depth[row + x0..=row + x1];
         for (c, d) in colour.iter_mut().zip(depth.iter_mut()) {
-            if e[0] >= edges[0].threshold && e[1] >= edges[1].threshold && e[2] >= edges[2].threshold {
+            if e[0] >= edges[0].threshold
+                && e[1] >= edges[1].threshold
+                && e[2] >= edges[2].threshold
+            {
                 let zf = z as f32;
                 if zf > *d {
                     let new = if darken
-                        && (0..3).any(|i| edges[i].inv_length > 0.0 && e[i] * edges[i].inv_length < edge_half_width)
-                    {
+                        && (0..3).any(|i| {
+                            edges[i].inv_length > 0.0
+                                && e[i] * edges[i].inv_length < edge_half_width
+                        }) {
                         paint.edge_colour
                     } else {
                         paint.colour
@@ -502,9 +588,21 @@ mod tests {
         )
         .view()
         .expect("valid camera");
-        let options = RenderOptions { anti_aliasing: AntiAliasing::None, ..RenderOptions::default() };
-        let (a, b, c, d) = ([0.5, 0.5, 1.0], [7.5, 0.5, 1.0], [7.5, 7.5, 1.0], [0.5, 7.5, 1.0]);
-        let paint = TrianglePaint { colour: 1, edge_colour: 1, alpha: 1.0 };
+        let options = RenderOptions {
+            anti_aliasing: AntiAliasing::None,
+            ..RenderOptions::default()
+        };
+        let (a, b, c, d) = (
+            [0.5, 0.5, 1.0],
+            [7.5, 0.5, 1.0],
+            [7.5, 7.5, 1.0],
+            [0.5, 7.5, 1.0],
+        );
+        let paint = TrianglePaint {
+            colour: 1,
+            edge_colour: 1,
+            alpha: 1.0,
+        };
         let mut coverage = [0u32; 64];
         // Both windings of both halves, to exercise the two-sided reordering too.
         for tri in [[a, b, c], [a, c, d], [c, b, a], [d, c, a]] {

@@ -35,7 +35,11 @@ pub struct RobotGeometryOptions {
 
 impl Default for RobotGeometryOptions {
     fn default() -> Self {
-        Self { shapes: LinkShapes::VisualElseCollision, segments: 24, sphere_subdivisions: 2 }
+        Self {
+            shapes: LinkShapes::VisualElseCollision,
+            segments: 24,
+            sphere_subdivisions: 2,
+        }
     }
 }
 
@@ -50,7 +54,11 @@ pub fn shape_geometry(shape: &Shape, options: &RobotGeometryOptions) -> Result<G
         if value.is_finite() && value > 0.0 {
             Ok(())
         } else {
-            Err(Error::InvalidParameter { name, value, reason: "must be positive and finite" })
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                reason: "must be positive and finite",
+            })
         }
     };
     let segments = options.segments.max(3);
@@ -64,7 +72,11 @@ pub fn shape_geometry(shape: &Shape, options: &RobotGeometryOptions) -> Result<G
         Shape::Cylinder { radius, length } => {
             positive("cylinder radius", *radius)?;
             positive("cylinder length", *length)?;
-            cylinder_builder(*radius, *length, segments).translated(Vector3::new(0.0, 0.0, -0.5 * length))
+            cylinder_builder(*radius, *length, segments).translated(Vector3::new(
+                0.0,
+                0.0,
+                -0.5 * length,
+            ))
         }
         Shape::Capsule { radius, length } => {
             positive("capsule radius", *radius)?;
@@ -75,7 +87,10 @@ pub fn shape_geometry(shape: &Shape, options: &RobotGeometryOptions) -> Result<G
                     reason: "must be non-negative and finite",
                 });
             }
-            revolve_builder(&capsule_profile(*radius, *length, segments / 4 + 2), segments)
+            revolve_builder(
+                &capsule_profile(*radius, *length, segments / 4 + 2),
+                segments,
+            )
         }
         Shape::Sphere { radius } => return sphere_geometry(*radius, options.sphere_subdivisions),
         Shape::Mesh { mesh, .. } => return Ok(Geometry::from_trimesh(mesh)),
@@ -133,12 +148,27 @@ impl RobotGeometry {
                 positions.extend(g.positions().iter().map(|p| shape.link_from_shape * p));
                 triangles.extend(g.triangles().iter().map(|t| t.map(|v| v + base)));
             }
-            links.push(if triangles.is_empty() { None } else { Some(Arc::new(Geometry::new(positions, triangles)?)) });
+            links.push(if triangles.is_empty() {
+                None
+            } else {
+                Some(Arc::new(Geometry::new(positions, triangles)?))
+            });
         }
-        let parents = (0..robot.links().len()).map(|l| robot.parent_link(l)).collect();
+        let parents = (0..robot.links().len())
+            .map(|l| robot.parent_link(l))
+            .collect();
         let names: Vec<String> = robot.links().iter().map(|l| l.name.clone()).collect();
-        let colours = names.iter().enumerate().map(|(i, n)| default_link_colour(robot, i, n)).collect();
-        Ok(Self { names, parents, links, colours })
+        let colours = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| default_link_colour(robot, i, n))
+            .collect();
+        Ok(Self {
+            names,
+            parents,
+            links,
+            colours,
+        })
     }
 
     /// Number of links.
@@ -175,7 +205,11 @@ impl RobotGeometry {
 
     /// Total number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.links.iter().flatten().map(|g| g.triangle_count()).sum()
+        self.links
+            .iter()
+            .flatten()
+            .map(|g| g.triangle_count())
+            .sum()
     }
 
     /// Adds every link with geometry to `scene` at `world_from_links` (one pose per link).
@@ -195,7 +229,11 @@ impl RobotGeometry {
         }
         for (link, pose) in world_from_links.iter().enumerate() {
             if let Some(g) = &self.links[link] {
-                scene.push(Instance::new(g.clone(), *pose, Paint::Uniform(self.colours[link]))?);
+                scene.push(Instance::new(
+                    g.clone(),
+                    *pose,
+                    Paint::Uniform(self.colours[link]),
+                )?);
             }
         }
         Ok(())
@@ -218,7 +256,11 @@ fn default_link_colour(robot: &RobotModel, link: usize, name: &str) -> Colour {
         depth += 1;
         l = p;
     }
-    if depth % 2 == 0 { Colour::new(215, 215, 220) } else { Colour::new(185, 188, 196) }
+    if depth % 2 == 0 {
+        Colour::new(215, 215, 220)
+    } else {
+        Colour::new(185, 188, 196)
+    }
 }
 
 #[cfg(test)]
@@ -237,29 +279,72 @@ mod tests {
     fn primitives_are_centred_closed_and_outward() {
         let options = RobotGeometryOptions::default();
         let shapes = [
-            Shape::Box { half_extents: Vector3::new(0.1, 0.2, 0.3) },
-            Shape::Cylinder { radius: 0.05, length: 0.4 },
-            Shape::Capsule { radius: 0.05, length: 0.2 },
-            Shape::Capsule { radius: 0.05, length: 0.0 },
+            Shape::Box {
+                half_extents: Vector3::new(0.1, 0.2, 0.3),
+            },
+            Shape::Cylinder {
+                radius: 0.05,
+                length: 0.4,
+            },
+            Shape::Capsule {
+                radius: 0.05,
+                length: 0.2,
+            },
+            Shape::Capsule {
+                radius: 0.05,
+                length: 0.0,
+            },
             Shape::Sphere { radius: 0.07 },
         ];
         let expected_half_z = [0.3, 0.2, 0.15, 0.05, 0.07];
         for (shape, half_z) in shapes.iter().zip(expected_half_z) {
             let g = shape_geometry(shape, &options).expect("valid shape");
             let (lo, hi) = g.bounds(&Isometry3::identity()).expect("not empty");
-            assert!((hi.z - half_z).abs() < 1e-9 && (lo.z + half_z).abs() < 1e-9, "{} z extent", shape.kind());
-            assert!((lo.coords + hi.coords).norm() < 1e-3 * half_z.max(0.1), "{} centred", shape.kind());
+            assert!(
+                (hi.z - half_z).abs() < 1e-9 && (lo.z + half_z).abs() < 1e-9,
+                "{} z extent",
+                shape.kind()
+            );
+            assert!(
+                (lo.coords + hi.coords).norm() < 1e-3 * half_z.max(0.1),
+                "{} centred",
+                shape.kind()
+            );
             assert!(centroid_outward(&g), "{} faces outwards", shape.kind());
         }
-        assert!(shape_geometry(&Shape::Cylinder { radius: 0.0, length: 1.0 }, &options).is_err());
-        assert!(shape_geometry(&Shape::Capsule { radius: 0.1, length: -1.0 }, &options).is_err());
+        assert!(
+            shape_geometry(
+                &Shape::Cylinder {
+                    radius: 0.0,
+                    length: 1.0
+                },
+                &options
+            )
+            .is_err()
+        );
+        assert!(
+            shape_geometry(
+                &Shape::Capsule {
+                    radius: 0.1,
+                    length: -1.0
+                },
+                &options
+            )
+            .is_err()
+        );
     }
 
     #[test]
     fn capsule_volume_is_close_to_the_exact_one() {
         let g = shape_geometry(
-            &Shape::Capsule { radius: 0.05, length: 0.2 },
-            &RobotGeometryOptions { segments: 64, ..RobotGeometryOptions::default() },
+            &Shape::Capsule {
+                radius: 0.05,
+                length: 0.2,
+            },
+            &RobotGeometryOptions {
+                segments: 64,
+                ..RobotGeometryOptions::default()
+            },
         )
         .expect("valid capsule");
         // Divergence theorem: V = Σ (a · (b × c)) / 6 over outward triangles.

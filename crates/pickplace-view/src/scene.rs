@@ -21,8 +21,13 @@ impl Geometry {
     /// # Errors
     /// [`GeometryErrorKind::IndexOutOfRange`] or [`GeometryErrorKind::NonFiniteCoordinate`].
     pub fn new(positions: Vec<Point3>, triangles: Vec<[u32; 3]>) -> Result<Self> {
-        if let Some(vertex) = positions.iter().position(|p| !p.coords.iter().all(|c| c.is_finite())) {
-            return Err(Error::Geometry { kind: GeometryErrorKind::NonFiniteCoordinate { vertex } });
+        if let Some(vertex) = positions
+            .iter()
+            .position(|p| !p.coords.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::Geometry {
+                kind: GeometryErrorKind::NonFiniteCoordinate { vertex },
+            });
         }
         for (triangle, t) in triangles.iter().enumerate() {
             if let Some(&index) = t.iter().find(|&&i| i as usize >= positions.len()) {
@@ -35,12 +40,18 @@ impl Geometry {
                 });
             }
         }
-        Ok(Self { positions, triangles })
+        Ok(Self {
+            positions,
+            triangles,
+        })
     }
 
     /// The geometry of a mesh (a [`TriMesh`] is valid by construction).
     pub fn from_trimesh(mesh: &TriMesh) -> Self {
-        Self { positions: mesh.vertices().to_vec(), triangles: mesh.triangles().to_vec() }
+        Self {
+            positions: mesh.vertices().to_vec(),
+            triangles: mesh.triangles().to_vec(),
+        }
     }
 
     /// Vertex positions (mesh frame, m).
@@ -63,7 +74,11 @@ impl Geometry {
         let [a, b, c] = self.triangles[triangle].map(|v| self.positions[v as usize]);
         let n = (b - a).cross(&(c - a));
         let norm = n.norm();
-        if norm > 0.0 { n / norm } else { Vector3::zeros() }
+        if norm > 0.0 {
+            n / norm
+        } else {
+            Vector3::zeros()
+        }
     }
 
     /// Axis-aligned bounds `(min, max)` of the positions under `pose`, or `None` when empty.
@@ -126,7 +141,12 @@ impl Instance {
             });
         }
         check_pose(&world_from_mesh, "instance")?;
-        Ok(Self { geometry, world_from_mesh, paint, opacity: 1.0 })
+        Ok(Self {
+            geometry,
+            world_from_mesh,
+            paint,
+            opacity: 1.0,
+        })
     }
 
     /// The same instance drawn translucent: `opacity` 1 is opaque, 0 invisible. Translucent
@@ -138,7 +158,11 @@ impl Instance {
     /// [`Error::InvalidParameter`] for an opacity outside [0, 1].
     pub fn with_opacity(self, opacity: Real) -> Result<Self> {
         if !(0.0..=1.0).contains(&opacity) {
-            return Err(Error::InvalidParameter { name: "opacity", value: opacity, reason: "must be in [0, 1]" });
+            return Err(Error::InvalidParameter {
+                name: "opacity",
+                value: opacity,
+                reason: "must be in [0, 1]",
+            });
         }
         Ok(Self { opacity, ..self })
     }
@@ -167,7 +191,13 @@ impl Instance {
 pub(crate) fn check_pose(pose: &Isometry3, what: &'static str) -> Result<()> {
     let finite = pose.translation.vector.iter().all(|c| c.is_finite())
         && pose.rotation.coords.iter().all(|c| c.is_finite());
-    if finite { Ok(()) } else { Err(Error::Geometry { kind: GeometryErrorKind::NonFinitePose { what } }) }
+    if finite {
+        Ok(())
+    } else {
+        Err(Error::Geometry {
+            kind: GeometryErrorKind::NonFinitePose { what },
+        })
+    }
 }
 
 /// A list of instances to render or export.
@@ -189,7 +219,10 @@ impl Scene {
 
     /// Total number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.instances.iter().map(|i| i.geometry.triangle_count()).sum()
+        self.instances
+            .iter()
+            .map(|i| i.geometry.triangle_count())
+            .sum()
     }
 
     /// Adds an instance.
@@ -201,9 +234,17 @@ impl Scene {
     ///
     /// # Errors
     /// [`GeometryErrorKind::NonFinitePose`].
-    pub fn add_mesh(&mut self, mesh: &TriMesh, world_from_mesh: Isometry3, colour: Colour) -> Result<()> {
-        let instance =
-            Instance::new(Arc::new(Geometry::from_trimesh(mesh)), world_from_mesh, Paint::Uniform(colour))?;
+    pub fn add_mesh(
+        &mut self,
+        mesh: &TriMesh,
+        world_from_mesh: Isometry3,
+        colour: Colour,
+    ) -> Result<()> {
+        let instance = Instance::new(
+            Arc::new(Geometry::from_trimesh(mesh)),
+            world_from_mesh,
+            Paint::Uniform(colour),
+        )?;
         self.push(instance);
         Ok(())
     }
@@ -220,7 +261,11 @@ impl Scene {
         colours: Vec<Colour>,
     ) -> Result<()> {
         let paint = Paint::PerTriangle(colours.into());
-        let instance = Instance::new(Arc::new(Geometry::from_trimesh(mesh)), world_from_mesh, paint)?;
+        let instance = Instance::new(
+            Arc::new(Geometry::from_trimesh(mesh)),
+            world_from_mesh,
+            paint,
+        )?;
         self.push(instance);
         Ok(())
     }
@@ -230,7 +275,12 @@ impl Scene {
     /// # Errors
     /// [`Error::InvalidParameter`] for a non-positive radius;
     /// [`GeometryErrorKind::NonFinitePose`] for a non-finite point.
-    pub fn add_point_marker(&mut self, p_in_world: Point3, radius: Real, colour: Colour) -> Result<()> {
+    pub fn add_point_marker(
+        &mut self,
+        p_in_world: Point3,
+        radius: Real,
+        colour: Colour,
+    ) -> Result<()> {
         let geometry = Arc::new(sphere_geometry(radius, 2)?);
         let pose = Isometry3::translation(p_in_world.x, p_in_world.y, p_in_world.z);
         self.push(Instance::new(geometry, pose, Paint::Uniform(colour))?);
@@ -261,7 +311,11 @@ impl Scene {
         let geometry = Arc::new(arrow_geometry(length, shaft_radius, 16)?);
         let rotation = rotation_from_z(&(vector / length));
         let world_from_arrow = Isometry3::from_parts(start_in_world.coords.into(), rotation);
-        self.push(Instance::new(geometry, world_from_arrow, Paint::Uniform(colour))?);
+        self.push(Instance::new(
+            geometry,
+            world_from_arrow,
+            Paint::Uniform(colour),
+        )?);
         Ok(())
     }
 
@@ -273,8 +327,17 @@ impl Scene {
         check_pose(world_from_frame, "frame axes")?;
         let origin = Point3::from(world_from_frame.translation.vector);
         let radius = length * 0.04;
-        for (axis, colour) in [(Vector3::x(), Colour::RED), (Vector3::y(), Colour::GREEN), (Vector3::z(), Colour::BLUE)] {
-            self.add_arrow(origin, world_from_frame.rotation * axis * length, radius, colour)?;
+        for (axis, colour) in [
+            (Vector3::x(), Colour::RED),
+            (Vector3::y(), Colour::GREEN),
+            (Vector3::z(), Colour::BLUE),
+        ] {
+            self.add_arrow(
+                origin,
+                world_from_frame.rotation * axis * length,
+                radius,
+                colour,
+            )?;
         }
         Ok(())
     }
@@ -292,15 +355,20 @@ impl Scene {
 /// The rotation taking +z to the unit vector `direction` (the half-turn about x when
 /// `direction` is -z).
 pub(crate) fn rotation_from_z(direction: &Vector3) -> UnitQuaternion {
-    UnitQuaternion::rotation_between(&Vector3::z(), direction)
-        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
+    UnitQuaternion::rotation_between(&Vector3::z(), direction).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    })
 }
 
 fn positive(name: &'static str, value: Real) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(Error::InvalidParameter { name, value, reason: "must be positive and finite" })
+        Err(Error::InvalidParameter {
+            name,
+            value,
+            reason: "must be positive and finite",
+        })
     }
 }
 
@@ -330,10 +398,26 @@ pub fn sphere_geometry(radius: Real, subdivisions: u32) -> Result<Geometry> {
     .map(|p| Vector3::from(*p).normalize())
     .collect();
     let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..subdivisions.min(5) {
         // Edge midpoints are shared through a sorted list of (edge, vertex) pairs, which keeps
@@ -361,7 +445,10 @@ pub fn sphere_geometry(radius: Real, subdivisions: u32) -> Result<Geometry> {
         }
         triangles = next;
     }
-    let positions = positions.into_iter().map(|p| Point3::from(p * radius)).collect();
+    let positions = positions
+        .into_iter()
+        .map(|p| Point3::from(p * radius))
+        .collect();
     Geometry::new(positions, triangles)
 }
 
@@ -419,7 +506,10 @@ mod tests {
             let centroid = Point3::from((a.coords + b.coords + c.coords) / 3.0);
             let n = g.triangle_normal(t);
             assert!(n.norm() > 0.5, "triangle {t} degenerate");
-            assert!(n.dot(&(centroid - centre)) > -1e-12, "triangle {t} faces inwards");
+            assert!(
+                n.dot(&(centroid - centre)) > -1e-12,
+                "triangle {t} faces inwards"
+            );
         }
     }
 
@@ -427,7 +517,11 @@ mod tests {
     fn sphere_is_closed_outward_and_round() {
         let g = sphere_geometry(0.5, 2).expect("valid radius");
         assert_eq!(g.triangle_count(), 320);
-        assert_eq!(g.positions().len(), 162, "shared midpoints: V = 10 * 4^s + 2");
+        assert_eq!(
+            g.positions().len(),
+            162,
+            "shared midpoints: V = 10 * 4^s + 2"
+        );
         for p in g.positions() {
             assert!((p.coords.norm() - 0.5).abs() < 1e-12);
         }
@@ -448,7 +542,8 @@ mod tests {
             let [a, b, c] = g.triangles()[t].map(|v| g.positions()[v as usize]);
             let centroid = (a.coords + b.coords + c.coords) / 3.0;
             let radial = Vector3::new(centroid.x, centroid.y, 0.0);
-            let outward = n.dot(&radial) > 1e-9 || (n.x.abs() < 1e-9 && n.y.abs() < 1e-9 && n.z < 0.0);
+            let outward =
+                n.dot(&radial) > 1e-9 || (n.x.abs() < 1e-9 && n.y.abs() < 1e-9 && n.z < 0.0);
             assert!(outward, "triangle {t} normal {n:?} at {centroid:?}");
         }
     }
@@ -457,17 +552,27 @@ mod tests {
     fn arrows_point_where_asked() {
         let mut scene = Scene::new();
         for v in [Vector3::z(), -Vector3::z(), Vector3::new(1.0, 2.0, -0.5)] {
-            scene.add_arrow(Point3::new(1.0, 0.0, 0.0), v, 0.01, Colour::RED).expect("valid arrow");
+            scene
+                .add_arrow(Point3::new(1.0, 0.0, 0.0), v, 0.01, Colour::RED)
+                .expect("valid arrow");
             let i = scene.instances().last().expect("just added");
             let tip = i.world_from_mesh() * Point3::new(0.0, 0.0, v.norm());
             assert!((tip - (Point3::new(1.0, 0.0, 0.0) + v)).norm() < 1e-12);
         }
-        assert!(scene.add_arrow(Point3::origin(), Vector3::zeros(), 0.01, Colour::RED).is_err());
+        assert!(
+            scene
+                .add_arrow(Point3::origin(), Vector3::zeros(), 0.01, Colour::RED)
+                .is_err()
+        );
     }
 
     #[test]
     fn bad_geometry_is_rejected() {
-        let p = vec![Point3::origin(), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)];
+        let p = vec![
+            Point3::origin(),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
         assert!(Geometry::new(p.clone(), vec![[0, 1, 3]]).is_err());
         let mut nan = p.clone();
         nan[1].x = f64::NAN;

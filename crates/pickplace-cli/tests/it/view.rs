@@ -5,7 +5,7 @@
 use crate::args;
 use crate::support::{Scratch, fails_with, mesh, ok, run_in};
 use pickplace::plan::{
-    Event, EventKind, KeyPose, ObjectMotion, PLAN_FORMAT, Plan, PlacementInfo, Stats,
+    Event, EventKind, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, Stats,
     TrajectoryPoint,
 };
 use pickplace::scene::PoseSpec;
@@ -13,7 +13,9 @@ use pickplace::{Arm, Strategy};
 use std::path::{Path, PathBuf};
 
 fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
 }
 
 /// A scene on the shipped robot and meshes, with absolute paths.
@@ -76,8 +78,14 @@ fn pose(x: f64, y: f64, z: f64) -> PoseSpec {
 /// A synthetic plan: the right arm swings from home in `points` samples over 3 s, grasping at
 /// 1 s and releasing at 2 s; three key poses.
 fn plan(points: usize) -> Plan {
-    let shoulder = JOINTS.iter().position(|&j| j == "RARM_JOINT1").expect("joint");
-    let elbow = JOINTS.iter().position(|&j| j == "RARM_JOINT2").expect("joint");
+    let shoulder = JOINTS
+        .iter()
+        .position(|&j| j == "RARM_JOINT1")
+        .expect("joint");
+    let elbow = JOINTS
+        .iter()
+        .position(|&j| j == "RARM_JOINT2")
+        .expect("joint");
     let trajectory: Vec<TrajectoryPoint> = (0..points)
         .map(|i| {
             let s = i as f64 / (points - 1) as f64;
@@ -124,7 +132,11 @@ fn plan(points: usize) -> Plan {
             rank: 0,
         },
         grasps: Vec::new(),
-        key_poses: vec![key("pre-grasp", 0.5), key("grasp", 1.0), key("place/release", 2.0)],
+        key_poses: vec![
+            key("pre-grasp", 0.5),
+            key("grasp", 1.0),
+            key("place/release", 2.0),
+        ],
         stats: Stats {
             trajectory_points: points,
             duration: 3.0,
@@ -161,7 +173,12 @@ fn assert_picture(path: &Path, size: (u32, u32)) {
     let mut colours: Vec<&[u8]> = pixels.clone();
     colours.sort_unstable();
     colours.dedup();
-    assert!(colours.len() > 12, "{}: {} colours", path.display(), colours.len());
+    assert!(
+        colours.len() > 12,
+        "{}: {} colours",
+        path.display(),
+        colours.len()
+    );
 }
 
 #[test]
@@ -172,7 +189,9 @@ fn view_writes_a_valid_glb_and_key_pose_pictures() {
     let out_dir = dir.join("out");
     let out = run_in(
         dir.path(),
-        args!["view", plan_path, "--scene", scene, "--out", out_dir, "--size", "320x240"],
+        args![
+            "view", plan_path, "--scene", scene, "--out", out_dir, "--size", "320x240"
+        ],
     );
     let stdout = ok(&out);
     assert_eq!(
@@ -195,15 +214,31 @@ fn view_writes_a_valid_glb_and_key_pose_pictures() {
     assert_eq!(summary.animations.len(), 1);
     let channels = &summary.animations[0].channels;
     assert!(channels.len() >= 4, "object and moving links animated");
-    assert!(channels.iter().all(|c| c.samples == 13), "one sample per trajectory point");
+    assert!(
+        channels.iter().all(|c| c.samples == 13),
+        "one sample per trajectory point"
+    );
     for link in ["WAIST", "RARM_JOINT2_Link", "RARM_TCP", "LARM_FINGER1_Link"] {
         assert!(
-            summary.node_names.iter().any(|n| n.as_deref() == Some(link)),
+            summary
+                .node_names
+                .iter()
+                .any(|n| n.as_deref() == Some(link)),
             "node {link}"
         );
     }
-    assert!(summary.node_names.iter().any(|n| n.as_deref() == Some("pallet")));
-    assert!(summary.node_names.iter().any(|n| n.as_deref() == Some("object")));
+    assert!(
+        summary
+            .node_names
+            .iter()
+            .any(|n| n.as_deref() == Some("pallet"))
+    );
+    assert!(
+        summary
+            .node_names
+            .iter()
+            .any(|n| n.as_deref() == Some("object"))
+    );
 }
 
 #[test]
@@ -229,14 +264,22 @@ fn view_bad_input_exits_2_naming_the_file_and_writes_nothing() {
     let out = run(&good, &bad_scene);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.starts_with("error: ") && err.contains("bad.toml") && !err.contains("panicked"), "{err}");
+    assert!(
+        err.starts_with("error: ") && err.contains("bad.toml") && !err.contains("panicked"),
+        "{err}"
+    );
 
     let mut renamed = plan(4);
     renamed.joint_names[0] = "WAIST_JOINT".into();
     let renamed = dir.file("renamed.json", renamed.to_json().as_bytes());
     fails_with(
         &run(&renamed, &scene),
-        &["renamed.json", "joint names do not match", "WAIST_JOINT", "CHEST_JOINT0"],
+        &[
+            "renamed.json",
+            "joint names do not match",
+            "WAIST_JOINT",
+            "CHEST_JOINT0",
+        ],
     );
 
     let mut wrong_link = plan(4);
@@ -247,7 +290,9 @@ fn view_bad_input_exits_2_naming_the_file_and_writes_nothing() {
     fails_with(
         &run_in(
             dir.path(),
-            args!["view", good, "--scene", scene, "--out", out_dir, "--size", "0x10"],
+            args![
+                "view", good, "--scene", scene, "--out", out_dir, "--size", "0x10"
+            ],
         ),
         &["--size"],
     );
@@ -261,7 +306,16 @@ fn clusters_png_draws_the_clusters() {
     for mode in ["env", "finger"] {
         let out = run_in(
             dir.path(),
-            args!["clusters", mesh("can.stl"), "--mode", mode, "--png", png, "--size", "200x150"],
+            args![
+                "clusters",
+                mesh("can.stl"),
+                "--mode",
+                mode,
+                "--png",
+                png,
+                "--size",
+                "200x150"
+            ],
         );
         ok(&out);
         assert_picture(&png, (200, 150));

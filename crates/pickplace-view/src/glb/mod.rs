@@ -131,7 +131,12 @@ pub struct GltfBuilder {
 impl GltfBuilder {
     /// An empty document whose animation (if any track is added) is called `animation_name`.
     pub fn new(animation_name: &str) -> Self {
-        Self { animation_name: animation_name.to_owned(), meshes: Vec::new(), nodes: Vec::new(), tracks: Vec::new() }
+        Self {
+            animation_name: animation_name.to_owned(),
+            meshes: Vec::new(),
+            nodes: Vec::new(),
+            tracks: Vec::new(),
+        }
     }
 
     /// A document with one mesh and one root node per scene instance (instances sharing a
@@ -144,23 +149,38 @@ impl GltfBuilder {
         let mut builder = Self::new(animation_name);
         for (i, instance) in scene.instances().iter().enumerate() {
             if instance.geometry().triangle_count() == 0 {
-                builder.add_node(&format!("instance-{i}"), None, None, instance.world_from_mesh())?;
+                builder.add_node(
+                    &format!("instance-{i}"),
+                    None,
+                    None,
+                    instance.world_from_mesh(),
+                )?;
                 continue;
             }
             let existing = builder.meshes.iter().position(|m| {
-                m.source
-                    .as_ref()
-                    .is_some_and(|(g, p)| Arc::ptr_eq(g, instance.geometry()) && p == instance.paint())
+                m.source.as_ref().is_some_and(|(g, p)| {
+                    Arc::ptr_eq(g, instance.geometry()) && p == instance.paint()
+                })
             });
             let mesh = match existing {
                 Some(k) => MeshId(k),
                 None => {
-                    let id = builder.add_mesh(&format!("mesh-{i}"), instance.geometry(), instance.paint())?;
-                    builder.meshes[id.0].source = Some((instance.geometry().clone(), instance.paint().clone()));
+                    let id = builder.add_mesh(
+                        &format!("mesh-{i}"),
+                        instance.geometry(),
+                        instance.paint(),
+                    )?;
+                    builder.meshes[id.0].source =
+                        Some((instance.geometry().clone(), instance.paint().clone()));
                     id
                 }
             };
-            builder.add_node(&format!("instance-{i}"), Some(mesh), None, instance.world_from_mesh())?;
+            builder.add_node(
+                &format!("instance-{i}"),
+                Some(mesh),
+                None,
+                instance.world_from_mesh(),
+            )?;
         }
         Ok(builder)
     }
@@ -179,13 +199,18 @@ impl GltfBuilder {
     pub fn add_mesh(&mut self, name: &str, geometry: &Geometry, paint: &Paint) -> Result<MeshId> {
         let n = geometry.triangle_count();
         if n == 0 {
-            return Err(Error::Geometry { kind: crate::error::GeometryErrorKind::Empty });
+            return Err(Error::Geometry {
+                kind: crate::error::GeometryErrorKind::Empty,
+            });
         }
         if let Paint::PerTriangle(cs) = paint
             && cs.len() != n
         {
             return Err(Error::Geometry {
-                kind: crate::error::GeometryErrorKind::ColourCount { expected: n, found: cs.len() },
+                kind: crate::error::GeometryErrorKind::ColourCount {
+                    expected: n,
+                    found: cs.len(),
+                },
             });
         }
         let mut positions = Vec::with_capacity(9 * n);
@@ -193,7 +218,11 @@ impl GltfBuilder {
         for (t, tri) in geometry.triangles().iter().enumerate() {
             let normal = geometry.triangle_normal(t);
             // A degenerate triangle gets an arbitrary unit normal: glTF requires unit normals.
-            let normal = if normal.norm() > 0.5 { normal } else { Vector3::z() };
+            let normal = if normal.norm() > 0.5 {
+                normal
+            } else {
+                Vector3::z()
+            };
             for &v in tri {
                 let p = geometry.positions()[v as usize];
                 positions.extend([p.x as f32, p.y as f32, p.z as f32]);
@@ -213,7 +242,14 @@ impl GltfBuilder {
                 (Some(colours), Colour::WHITE.to_linear())
             }
         };
-        self.meshes.push(FlatMesh { name: name.to_owned(), positions, normals, colours, base_colour, source: None });
+        self.meshes.push(FlatMesh {
+            name: name.to_owned(),
+            positions,
+            normals,
+            colours,
+            base_colour,
+            source: None,
+        });
         Ok(MeshId(self.meshes.len() - 1))
     }
 
@@ -234,14 +270,22 @@ impl GltfBuilder {
             && m.0 >= self.meshes.len()
         {
             return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange { what: "mesh", index: m.0, count: self.meshes.len() },
+                kind: GltfErrorKind::IndexOutOfRange {
+                    what: "mesh",
+                    index: m.0,
+                    count: self.meshes.len(),
+                },
             });
         }
         if let Some(p) = parent
             && p.0 >= self.nodes.len()
         {
             return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange { what: "parent", index: p.0, count: self.nodes.len() },
+                kind: GltfErrorKind::IndexOutOfRange {
+                    what: "parent",
+                    index: p.0,
+                    count: self.nodes.len(),
+                },
             });
         }
         check_pose(parent_from_node, "node")?;
@@ -263,17 +307,31 @@ impl GltfBuilder {
     /// # Errors
     /// See [`GltfErrorKind`]: unknown node, empty or mismatched track, times not strictly
     /// increasing in `f32`, non-finite values, or a second translation track for the node.
-    pub fn animate_translation(&mut self, node: NodeId, times: &[f64], translations: &[Vector3]) -> Result<()> {
+    pub fn animate_translation(
+        &mut self,
+        node: NodeId,
+        times: &[f64],
+        translations: &[Vector3],
+    ) -> Result<()> {
         let path = TrackPath::Translation;
         let times = self.check_track(node, path, times, translations.len())?;
         let mut values = Vec::with_capacity(3 * translations.len());
         for (index, t) in translations.iter().enumerate() {
             if !t.iter().all(|c| c.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue { node: node.0, path: path.name(), index }));
+                return Err(track_error(GltfErrorKind::NonFiniteValue {
+                    node: node.0,
+                    path: path.name(),
+                    index,
+                }));
             }
             values.extend([t.x as f32, t.y as f32, t.z as f32]);
         }
-        self.tracks.push(Track { node, path, times, values });
+        self.tracks.push(Track {
+            node,
+            path,
+            times,
+            values,
+        });
         Ok(())
     }
 
@@ -282,7 +340,12 @@ impl GltfBuilder {
     ///
     /// # Errors
     /// As [`GltfBuilder::animate_translation`].
-    pub fn animate_rotation(&mut self, node: NodeId, times: &[f64], rotations: &[UnitQuaternion]) -> Result<()> {
+    pub fn animate_rotation(
+        &mut self,
+        node: NodeId,
+        times: &[f64],
+        rotations: &[UnitQuaternion],
+    ) -> Result<()> {
         let path = TrackPath::Rotation;
         let times = self.check_track(node, path, times, rotations.len())?;
         let mut values = Vec::with_capacity(4 * rotations.len());
@@ -290,7 +353,11 @@ impl GltfBuilder {
         for (index, q) in rotations.iter().enumerate() {
             let c = q.coords;
             if !c.iter().all(|x| x.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue { node: node.0, path: path.name(), index }));
+                return Err(track_error(GltfErrorKind::NonFiniteValue {
+                    node: node.0,
+                    path: path.name(),
+                    index,
+                }));
             }
             let mut xyzw = [c.x, c.y, c.z, c.w];
             if let Some(p) = previous
@@ -301,7 +368,12 @@ impl GltfBuilder {
             previous = Some(xyzw);
             values.extend(xyzw.map(|x| x as f32));
         }
-        self.tracks.push(Track { node, path, times, values });
+        self.tracks.push(Track {
+            node,
+            path,
+            times,
+            values,
+        });
         Ok(())
     }
 
@@ -310,8 +382,16 @@ impl GltfBuilder {
     ///
     /// # Errors
     /// As [`GltfBuilder::animate_translation`].
-    pub fn animate_poses(&mut self, node: NodeId, times: &[f64], parent_from_node: &[Isometry3]) -> Result<()> {
-        let translations: Vec<Vector3> = parent_from_node.iter().map(|p| p.translation.vector).collect();
+    pub fn animate_poses(
+        &mut self,
+        node: NodeId,
+        times: &[f64],
+        parent_from_node: &[Isometry3],
+    ) -> Result<()> {
+        let translations: Vec<Vector3> = parent_from_node
+            .iter()
+            .map(|p| p.translation.vector)
+            .collect();
         let rotations: Vec<UnitQuaternion> = parent_from_node.iter().map(|p| p.rotation).collect();
         // Check both before pushing either, so that a failure leaves the builder unchanged.
         self.check_track(node, TrackPath::Translation, times, translations.len())?;
@@ -320,7 +400,13 @@ impl GltfBuilder {
         self.animate_rotation(node, times, &rotations)
     }
 
-    fn check_track(&self, node: NodeId, path: TrackPath, times: &[f64], values: usize) -> Result<Vec<f32>> {
+    fn check_track(
+        &self,
+        node: NodeId,
+        path: TrackPath,
+        times: &[f64],
+        values: usize,
+    ) -> Result<Vec<f32>> {
         if node.0 >= self.nodes.len() {
             return Err(track_error(GltfErrorKind::IndexOutOfRange {
                 what: "node",
@@ -340,13 +426,19 @@ impl GltfBuilder {
             }));
         }
         if self.tracks.iter().any(|t| t.node == node && t.path == path) {
-            return Err(track_error(GltfErrorKind::DuplicateTrack { node: node.0, path: path.name() }));
+            return Err(track_error(GltfErrorKind::DuplicateTrack {
+                node: node.0,
+                path: path.name(),
+            }));
         }
         let times: Vec<f32> = times.iter().map(|&t| t as f32).collect();
         for (index, &t) in times.iter().enumerate() {
             let ok = t.is_finite() && t >= 0.0 && (index == 0 || t > times[index - 1]);
             if !ok {
-                return Err(track_error(GltfErrorKind::TimesNotIncreasing { node: node.0, index }));
+                return Err(track_error(GltfErrorKind::TimesNotIncreasing {
+                    node: node.0,
+                    index,
+                }));
             }
         }
         Ok(times)
@@ -368,7 +460,10 @@ impl GltfBuilder {
             attributes.insert("POSITION".into(), json!(position));
             attributes.insert("NORMAL".into(), json!(normal));
             if let Some(colours) = &mesh.colours {
-                attributes.insert("COLOR_0".into(), json!(bin.push_f32(colours, "VEC3", Some(ARRAY_BUFFER), false)));
+                attributes.insert(
+                    "COLOR_0".into(),
+                    json!(bin.push_f32(colours, "VEC3", Some(ARRAY_BUFFER), false)),
+                );
             }
             let indices: Vec<u32> = (0..vertex_count as u32).collect();
             let indices = bin.push_indices(&indices);
@@ -392,7 +487,8 @@ impl GltfBuilder {
             .nodes
             .iter()
             .map(|n| {
-                let mut node = json!({ "name": n.name, "translation": n.translation, "rotation": n.rotation });
+                let mut node =
+                    json!({ "name": n.name, "translation": n.translation, "rotation": n.rotation });
                 if let Some(mesh) = n.mesh {
                     node["mesh"] = json!(mesh.0);
                 }
@@ -401,20 +497,28 @@ impl GltfBuilder {
             .collect();
         for (i, n) in self.nodes.iter().enumerate() {
             if let Some(p) = n.parent {
-                let children = nodes[p.0].as_object_mut().expect("nodes are JSON objects").entry("children");
+                let children = nodes[p.0]
+                    .as_object_mut()
+                    .expect("nodes are JSON objects")
+                    .entry("children");
                 if let Value::Array(list) = children.or_insert_with(|| json!([])) {
                     list.push(json!(i));
                 }
             }
         }
-        let roots: Vec<usize> = (0..self.nodes.len()).filter(|&i| self.nodes[i].parent.is_none()).collect();
+        let roots: Vec<usize> = (0..self.nodes.len())
+            .filter(|&i| self.nodes[i].parent.is_none())
+            .collect();
 
         let mut samplers = Vec::with_capacity(self.tracks.len());
         let mut channels = Vec::with_capacity(self.tracks.len());
         // Tracks with identical times share one input accessor.
         let mut inputs: Vec<(usize, usize)> = Vec::new(); // (track index, accessor)
         for (k, track) in self.tracks.iter().enumerate() {
-            let input = match inputs.iter().find(|&&(j, _)| self.tracks[j].times == track.times) {
+            let input = match inputs
+                .iter()
+                .find(|&&(j, _)| self.tracks[j].times == track.times)
+            {
                 Some(&(_, accessor)) => accessor,
                 None => {
                     let accessor = bin.push_f32(&track.times, "SCALAR", None, true);
@@ -422,16 +526,27 @@ impl GltfBuilder {
                     accessor
                 }
             };
-            let kind = if track.path == TrackPath::Translation { "VEC3" } else { "VEC4" };
+            let kind = if track.path == TrackPath::Translation {
+                "VEC3"
+            } else {
+                "VEC4"
+            };
             let output = bin.push_f32(&track.values, kind, None, false);
             samplers.push(json!({ "input": input, "output": output, "interpolation": "LINEAR" }));
             channels.push(json!({ "sampler": k, "target": { "node": track.node.0, "path": track.path.name() } }));
         }
 
         let mut root = serde_json::Map::new();
-        root.insert("asset".into(), json!({ "version": "2.0", "generator": "pickplace-view" }));
+        root.insert(
+            "asset".into(),
+            json!({ "version": "2.0", "generator": "pickplace-view" }),
+        );
         root.insert("scene".into(), json!(0));
-        let scene = if roots.is_empty() { json!({ "name": "scene" }) } else { json!({ "name": "scene", "nodes": roots }) };
+        let scene = if roots.is_empty() {
+            json!({ "name": "scene" })
+        } else {
+            json!({ "name": "scene", "nodes": roots })
+        };
         root.insert("scenes".into(), json!([scene]));
         let mut put = |key: &str, list: Vec<Value>| {
             if !list.is_empty() {
@@ -444,18 +559,32 @@ impl GltfBuilder {
         put("accessors", std::mem::take(&mut bin.accessors));
         put("bufferViews", std::mem::take(&mut bin.views));
         if !channels.is_empty() {
-            put("animations", vec![json!({ "name": self.animation_name, "samplers": samplers, "channels": channels })]);
+            put(
+                "animations",
+                vec![
+                    json!({ "name": self.animation_name, "samplers": samplers, "channels": channels }),
+                ],
+            );
         }
         if !bin.data.is_empty() {
             root.insert("buffers".into(), json!([{ "byteLength": bin.data.len() }]));
         }
-        let mut json_bytes = serde_json::to_vec(&Value::Object(root)).expect("a JSON value always serialises");
-        while json_bytes.len() % 4 != 0 {
+        let mut json_bytes =
+            serde_json::to_vec(&Value::Object(root)).expect("a JSON value always serialises");
+        while !json_bytes.len().is_multiple_of(4) {
             json_bytes.push(b' ');
         }
         let bin_bytes = bin.data;
-        let total = 12 + 8 + json_bytes.len() as u64 + if bin_bytes.is_empty() { 0 } else { 8 + bin_bytes.len() as u64 };
-        let total = u32::try_from(total).map_err(|_| track_error(GltfErrorKind::TooLarge { bytes: total }))?;
+        let total = 12
+            + 8
+            + json_bytes.len() as u64
+            + if bin_bytes.is_empty() {
+                0
+            } else {
+                8 + bin_bytes.len() as u64
+            };
+        let total = u32::try_from(total)
+            .map_err(|_| track_error(GltfErrorKind::TooLarge { bytes: total }))?;
         let mut out = Vec::with_capacity(total as usize);
         out.extend(GLB_MAGIC.to_le_bytes());
         out.extend(2u32.to_le_bytes());
@@ -504,10 +633,11 @@ impl BinWriter {
 
     /// Appends a buffer view for `bytes` at a 4-byte aligned offset; returns its index.
     fn push_view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
-        while self.data.len() % 4 != 0 {
+        while !self.data.len().is_multiple_of(4) {
             self.data.push(0);
         }
-        let mut view = json!({ "buffer": 0, "byteOffset": self.data.len(), "byteLength": bytes.len() });
+        let mut view =
+            json!({ "buffer": 0, "byteOffset": self.data.len(), "byteLength": bytes.len() });
         if let Some(target) = target {
             view["target"] = json!(target);
         }
@@ -517,7 +647,13 @@ impl BinWriter {
     }
 
     /// Appends a float accessor (with `min`/`max` when asked); returns its index.
-    fn push_f32(&mut self, values: &[f32], kind: &str, target: Option<u32>, min_max: bool) -> usize {
+    fn push_f32(
+        &mut self,
+        values: &[f32],
+        kind: &str,
+        target: Option<u32>,
+        min_max: bool,
+    ) -> usize {
         let n = Self::components(kind);
         let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
         let view = self.push_view(&bytes, target);

@@ -58,15 +58,27 @@ pub struct ChannelSummary {
 }
 
 fn truncated(what: &'static str, needed: u64, available: u64) -> crate::Error {
-    glb_error(GlbErrorKind::Truncated { what, needed, available })
+    glb_error(GlbErrorKind::Truncated {
+        what,
+        needed,
+        available,
+    })
 }
 
 fn property(element: &'static str, index: usize, property: &'static str) -> crate::Error {
-    glb_error(GlbErrorKind::Property { element, index, property })
+    glb_error(GlbErrorKind::Property {
+        element,
+        index,
+        property,
+    })
 }
 
 fn rule(element: &'static str, index: usize, rule: &'static str) -> crate::Error {
-    glb_error(GlbErrorKind::Rule { element, index, rule })
+    glb_error(GlbErrorKind::Rule {
+        element,
+        index,
+        rule,
+    })
 }
 
 fn read_u32(bytes: &[u8], at: usize, what: &'static str) -> Result<u32> {
@@ -85,13 +97,23 @@ fn list<'a>(root: &'a Value, key: &'static str) -> Result<&'a [Value]> {
 }
 
 fn required_u64(v: &Value, element: &'static str, index: usize, key: &'static str) -> Result<u64> {
-    v.get(key).and_then(Value::as_u64).ok_or_else(|| property(element, index, key))
+    v.get(key)
+        .and_then(Value::as_u64)
+        .ok_or_else(|| property(element, index, key))
 }
 
-fn optional_u64(v: &Value, element: &'static str, index: usize, key: &'static str) -> Result<Option<u64>> {
+fn optional_u64(
+    v: &Value,
+    element: &'static str,
+    index: usize,
+    key: &'static str,
+) -> Result<Option<u64>> {
     match v.get(key) {
         None => Ok(None),
-        Some(x) => x.as_u64().map(Some).ok_or_else(|| property(element, index, key)),
+        Some(x) => x
+            .as_u64()
+            .map(Some)
+            .ok_or_else(|| property(element, index, key)),
     }
 }
 
@@ -105,16 +127,29 @@ fn reference(
     match optional_u64(v, element, index, key)? {
         None => Ok(None),
         Some(value) if value < count as u64 => Ok(Some(value as usize)),
-        Some(value) => Err(glb_error(GlbErrorKind::Reference { element, index, property: key, value, count })),
+        Some(value) => Err(glb_error(GlbErrorKind::Reference {
+            element,
+            index,
+            property: key,
+            value,
+            count,
+        })),
     }
 }
 
-fn floats(v: &Value, element: &'static str, index: usize, key: &'static str) -> Result<Option<Vec<f64>>> {
+fn floats(
+    v: &Value,
+    element: &'static str,
+    index: usize,
+    key: &'static str,
+) -> Result<Option<Vec<f64>>> {
     match v.get(key) {
         None => Ok(None),
-        Some(Value::Array(a)) => {
-            a.iter().map(|x| x.as_f64().ok_or_else(|| property(element, index, key))).collect::<Result<_>>().map(Some)
-        }
+        Some(Value::Array(a)) => a
+            .iter()
+            .map(|x| x.as_f64().ok_or_else(|| property(element, index, key)))
+            .collect::<Result<_>>()
+            .map(Some),
         Some(_) => Err(property(element, index, key)),
     }
 }
@@ -197,7 +232,10 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
     }
     let length = u64::from(read_u32(bytes, 8, "header")?);
     if length != bytes.len() as u64 {
-        return Err(glb_error(GlbErrorKind::LengthMismatch { header: length, actual: bytes.len() as u64 }));
+        return Err(glb_error(GlbErrorKind::LengthMismatch {
+            header: length,
+            actual: bytes.len() as u64,
+        }));
     }
     let mut chunks: Vec<(u32, &[u8])> = Vec::new();
     let mut at = 12usize;
@@ -205,12 +243,19 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
         let chunk_length = read_u32(bytes, at, "chunk header")? as usize;
         let chunk_type = read_u32(bytes, at + 4, "chunk header")?;
         let end = at + 8 + chunk_length;
-        let data = bytes.get(at + 8..end).ok_or_else(|| truncated("chunk", end as u64, bytes.len() as u64))?;
+        let data = bytes
+            .get(at + 8..end)
+            .ok_or_else(|| truncated("chunk", end as u64, bytes.len() as u64))?;
         let index = chunks.len();
         let chunk_rule = |reason| {
-            glb_error(GlbErrorKind::Chunk { index, chunk_type, length: chunk_length as u64, reason })
+            glb_error(GlbErrorKind::Chunk {
+                index,
+                chunk_type,
+                length: chunk_length as u64,
+                reason,
+            })
         };
-        if chunk_length % 4 != 0 {
+        if !chunk_length.is_multiple_of(4) {
             return Err(chunk_rule("length is not a multiple of 4"));
         }
         match (index, chunk_type) {
@@ -222,11 +267,22 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
         chunks.push((chunk_type, data));
         at = end;
     }
-    let json_bytes = chunks.first().map(|c| c.1).ok_or_else(|| truncated("JSON chunk", 20, bytes.len() as u64))?;
+    let json_bytes = chunks
+        .first()
+        .map(|c| c.1)
+        .ok_or_else(|| truncated("JSON chunk", 20, bytes.len() as u64))?;
     let bin: &[u8] = chunks.get(1).map_or(&[], |c| c.1);
-    let root: Value =
-        serde_json::from_slice(json_bytes).map_err(|e| glb_error(GlbErrorKind::Json { detail: e.to_string() }))?;
-    if root.get("asset").and_then(|a| a.get("version")).and_then(Value::as_str) != Some("2.0") {
+    let root: Value = serde_json::from_slice(json_bytes).map_err(|e| {
+        glb_error(GlbErrorKind::Json {
+            detail: e.to_string(),
+        })
+    })?;
+    if root
+        .get("asset")
+        .and_then(|a| a.get("version"))
+        .and_then(Value::as_str)
+        != Some("2.0")
+    {
         return Err(property("asset", 0, "version"));
     }
 
@@ -235,7 +291,11 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
     let buffer_length = match buffers {
         [] => {
             if !bin.is_empty() {
-                return Err(rule("buffer", 0, "a BIN chunk is present but no buffer describes it"));
+                return Err(rule(
+                    "buffer",
+                    0,
+                    "a BIN chunk is present but no buffer describes it",
+                ));
             }
             0
         }
@@ -245,7 +305,11 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
             }
             let n = required_u64(buffer, "buffer", 0, "byteLength")?;
             if n > bin.len() as u64 || bin.len() as u64 - n > 3 {
-                return Err(rule("buffer", 0, "byteLength must equal the BIN chunk's content (up to 3 padding bytes)"));
+                return Err(rule(
+                    "buffer",
+                    0,
+                    "byteLength must equal the BIN chunk's content (up to 3 padding bytes)",
+                ));
             }
             n
         }
@@ -255,7 +319,8 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
     // Buffer views: (offset, length, stride).
     let mut views = Vec::new();
     for (i, v) in list(&root, "bufferViews")?.iter().enumerate() {
-        reference(v, "bufferView", i, "buffer", buffers.len())?.ok_or_else(|| property("bufferView", i, "buffer"))?;
+        reference(v, "bufferView", i, "buffer", buffers.len())?
+            .ok_or_else(|| property("bufferView", i, "buffer"))?;
         let offset = optional_u64(v, "bufferView", i, "byteOffset")?.unwrap_or(0);
         let len = required_u64(v, "bufferView", i, "byteLength")?;
         if len == 0 {
@@ -274,13 +339,21 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
         if let Some(s) = stride
             && !((4..=252).contains(&s) && s % 4 == 0)
         {
-            return Err(rule("bufferView", i, "byteStride must be a multiple of 4 in [4, 252]"));
+            return Err(rule(
+                "bufferView",
+                i,
+                "byteStride must be a multiple of 4 in [4, 252]",
+            ));
         }
         if let Some(t) = optional_u64(v, "bufferView", i, "target")?
             && t != 34962
             && t != 34963
         {
-            return Err(rule("bufferView", i, "target must be ARRAY_BUFFER or ELEMENT_ARRAY_BUFFER"));
+            return Err(rule(
+                "bufferView",
+                i,
+                "target must be ARRAY_BUFFER or ELEMENT_ARRAY_BUFFER",
+            ));
         }
         views.push((offset, len, stride));
     }
@@ -288,12 +361,22 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
     // Accessors.
     let mut accessors = Vec::new();
     for (i, a) in list(&root, "accessors")?.iter().enumerate() {
-        let view = reference(a, "accessor", i, "bufferView", views.len())?
-            .ok_or_else(|| rule("accessor", i, "accessors without a bufferView are not supported"))?;
+        let view = reference(a, "accessor", i, "bufferView", views.len())?.ok_or_else(|| {
+            rule(
+                "accessor",
+                i,
+                "accessors without a bufferView are not supported",
+            )
+        })?;
         let component_type = required_u64(a, "accessor", i, "componentType")?;
-        let size = component_size(component_type).ok_or_else(|| property("accessor", i, "componentType"))?;
-        let type_name = a.get("type").and_then(Value::as_str).ok_or_else(|| property("accessor", i, "type"))?;
-        let components = component_count(type_name).ok_or_else(|| property("accessor", i, "type"))?;
+        let size = component_size(component_type)
+            .ok_or_else(|| property("accessor", i, "componentType"))?;
+        let type_name = a
+            .get("type")
+            .and_then(Value::as_str)
+            .ok_or_else(|| property("accessor", i, "type"))?;
+        let components =
+            component_count(type_name).ok_or_else(|| property("accessor", i, "type"))?;
         let count = required_u64(a, "accessor", i, "count")?;
         if count == 0 {
             return Err(rule("accessor", i, "count must be at least 1"));
@@ -301,14 +384,24 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
         let offset = optional_u64(a, "accessor", i, "byteOffset")?.unwrap_or(0);
         let (view_offset, view_length, view_stride) = views[view];
         if offset % size as u64 != 0 || (view_offset + offset) % size as u64 != 0 {
-            return Err(rule("accessor", i, "byteOffset must be a multiple of the component size"));
+            return Err(rule(
+                "accessor",
+                i,
+                "byteOffset must be a multiple of the component size",
+            ));
         }
         let element = (size * components) as u64;
         let stride = view_stride.unwrap_or(element);
         if stride < element {
-            return Err(rule("accessor", i, "the buffer view's byteStride is smaller than an element"));
+            return Err(rule(
+                "accessor",
+                i,
+                "the buffer view's byteStride is smaller than an element",
+            ));
         }
-        let end = offset.saturating_add(stride.saturating_mul(count - 1)).saturating_add(element);
+        let end = offset
+            .saturating_add(stride.saturating_mul(count - 1))
+            .saturating_add(element);
         if end > view_length {
             return Err(glb_error(GlbErrorKind::Range {
                 element: "accessor",
@@ -332,7 +425,11 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
         };
         if let (Some(lo), Some(hi)) = (&accessor.min, &accessor.max) {
             if lo.len() != components || hi.len() != components {
-                return Err(rule("accessor", i, "min and max need one value per component"));
+                return Err(rule(
+                    "accessor",
+                    i,
+                    "min and max need one value per component",
+                ));
             }
             for k in 0..components {
                 let (mut dlo, mut dhi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -364,22 +461,40 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
             .filter(|p| !p.is_empty())
             .ok_or_else(|| property("mesh", m, "primitives"))?;
         for p in primitives {
-            let attributes = p.get("attributes").and_then(Value::as_object).ok_or_else(|| property("mesh", m, "attributes"))?;
+            let attributes = p
+                .get("attributes")
+                .and_then(Value::as_object)
+                .ok_or_else(|| property("mesh", m, "attributes"))?;
             let mut vertex_count = None;
             for (name, value) in attributes {
-                let index = value.as_u64().filter(|&x| x < accessors.len() as u64).ok_or_else(|| {
-                    rule("mesh", m, "an attribute refers to a missing accessor")
-                })? as usize;
+                let index = value
+                    .as_u64()
+                    .filter(|&x| x < accessors.len() as u64)
+                    .ok_or_else(|| rule("mesh", m, "an attribute refers to a missing accessor"))?
+                    as usize;
                 let a = &accessors[index];
                 if *vertex_count.get_or_insert(a.count) != a.count {
-                    return Err(rule("mesh", m, "attributes of a primitive must have the same count"));
+                    return Err(rule(
+                        "mesh",
+                        m,
+                        "attributes of a primitive must have the same count",
+                    ));
                 }
-                if name == "POSITION" && (a.type_name != "VEC3" || a.component_type != 5126 || a.min.is_none()) {
-                    return Err(rule("mesh", m, "POSITION must be a float VEC3 accessor with min and max"));
+                if name == "POSITION"
+                    && (a.type_name != "VEC3" || a.component_type != 5126 || a.min.is_none())
+                {
+                    return Err(rule(
+                        "mesh",
+                        m,
+                        "POSITION must be a float VEC3 accessor with min and max",
+                    ));
                 }
                 if name == "NORMAL" {
                     for e in 0..a.count {
-                        let n: f64 = (0..3).map(|k| a.component(bin, e, k).powi(2)).sum::<f64>().sqrt();
+                        let n: f64 = (0..3)
+                            .map(|k| a.component(bin, e, k).powi(2))
+                            .sum::<f64>()
+                            .sqrt();
                         if (n - 1.0).abs() > 1e-3 {
                             return Err(rule("mesh", m, "NORMAL values must be unit vectors"));
                         }
@@ -410,7 +525,11 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
             };
             if mode == 4 {
                 if corner_count % 3 != 0 {
-                    return Err(rule("mesh", m, "a triangle list needs a multiple of 3 corners"));
+                    return Err(rule(
+                        "mesh",
+                        m,
+                        "a triangle list needs a multiple of 3 corners",
+                    ));
                 }
                 triangles += corner_count / 3;
             }
@@ -436,7 +555,9 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
             }
         }
         if let Some(children) = node.get("children") {
-            let children = children.as_array().ok_or_else(|| property("node", i, "children"))?;
+            let children = children
+                .as_array()
+                .ok_or_else(|| property("node", i, "children"))?;
             for c in children {
                 let c = c.as_u64().ok_or_else(|| property("node", i, "children"))?;
                 if c >= nodes.len() as u64 {
@@ -477,7 +598,10 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
     // Animations.
     let mut animations = Vec::new();
     for (a, animation) in list(&root, "animations")?.iter().enumerate() {
-        let samplers = animation.get("samplers").and_then(Value::as_array).ok_or_else(|| property("animation", a, "samplers"))?;
+        let samplers = animation
+            .get("samplers")
+            .and_then(Value::as_array)
+            .ok_or_else(|| property("animation", a, "samplers"))?;
         let mut duration: f64 = 0.0;
         let mut sampler_info = Vec::with_capacity(samplers.len());
         for (s, sampler) in samplers.iter().enumerate() {
@@ -487,18 +611,29 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
                 .ok_or_else(|| property("animation sampler", s, "output"))?;
             let (input, output) = (&accessors[input], &accessors[output]);
             if input.type_name != "SCALAR" || input.component_type != 5126 || input.min.is_none() {
-                return Err(rule("animation sampler", s, "input must be float scalars with min and max"));
+                return Err(rule(
+                    "animation sampler",
+                    s,
+                    "input must be float scalars with min and max",
+                ));
             }
             let mut previous = -1.0;
             for e in 0..input.count {
                 let t = input.component(bin, e, 0);
                 if !(t >= 0.0 && t > previous) {
-                    return Err(rule("animation sampler", s, "input times must be non-negative and strictly increasing"));
+                    return Err(rule(
+                        "animation sampler",
+                        s,
+                        "input times must be non-negative and strictly increasing",
+                    ));
                 }
                 previous = t;
             }
             duration = duration.max(previous);
-            let interpolation = sampler.get("interpolation").and_then(Value::as_str).unwrap_or("LINEAR");
+            let interpolation = sampler
+                .get("interpolation")
+                .and_then(Value::as_str)
+                .unwrap_or("LINEAR");
             let expected = match interpolation {
                 "LINEAR" | "STEP" => input.count,
                 "CUBICSPLINE" => 3 * input.count,
@@ -512,18 +647,30 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
                     output: output.count,
                 }));
             }
-            sampler_info.push((input.count, output.type_name.clone(), output.components, output.component_type));
+            sampler_info.push((
+                input.count,
+                output.type_name.clone(),
+                output.components,
+                output.component_type,
+            ));
         }
-        let channels_json =
-            animation.get("channels").and_then(Value::as_array).ok_or_else(|| property("animation", a, "channels"))?;
+        let channels_json = animation
+            .get("channels")
+            .and_then(Value::as_array)
+            .ok_or_else(|| property("animation", a, "channels"))?;
         let mut channels: Vec<ChannelSummary> = Vec::with_capacity(channels_json.len());
         for (c, channel) in channels_json.iter().enumerate() {
             let s = reference(channel, "animation channel", c, "sampler", samplers.len())?
                 .ok_or_else(|| property("animation channel", c, "sampler"))?;
-            let target = channel.get("target").ok_or_else(|| property("animation channel", c, "target"))?;
+            let target = channel
+                .get("target")
+                .ok_or_else(|| property("animation channel", c, "target"))?;
             let node = reference(target, "animation channel", c, "node", nodes.len())?
                 .ok_or_else(|| property("animation channel", c, "node"))?;
-            let path = target.get("path").and_then(Value::as_str).ok_or_else(|| property("animation channel", c, "path"))?;
+            let path = target
+                .get("path")
+                .and_then(Value::as_str)
+                .ok_or_else(|| property("animation channel", c, "path"))?;
             let (samples, ref output_type, _, component_type) = sampler_info[s];
             let ok = match path {
                 "translation" | "scale" => output_type == "VEC3" && component_type == 5126,
@@ -532,15 +679,37 @@ pub fn validate_glb(bytes: &[u8]) -> Result<GlbSummary> {
                 _ => return Err(property("animation channel", c, "path")),
             };
             if !ok {
-                return Err(rule("animation channel", c, "the output type does not match the target path"));
+                return Err(rule(
+                    "animation channel",
+                    c,
+                    "the output type does not match the target path",
+                ));
             }
-            if channels.iter().any(|other| other.node == node && other.path == path) {
-                return Err(rule("animation channel", c, "two channels target the same node and path"));
+            if channels
+                .iter()
+                .any(|other| other.node == node && other.path == path)
+            {
+                return Err(rule(
+                    "animation channel",
+                    c,
+                    "two channels target the same node and path",
+                ));
             }
-            channels.push(ChannelSummary { node, path: path.to_owned(), samples });
+            channels.push(ChannelSummary {
+                node,
+                path: path.to_owned(),
+                samples,
+            });
         }
-        let name = animation.get("name").and_then(Value::as_str).map(str::to_owned);
-        animations.push(AnimationSummary { name, duration, channels });
+        let name = animation
+            .get("name")
+            .and_then(Value::as_str)
+            .map(str::to_owned);
+        animations.push(AnimationSummary {
+            name,
+            duration,
+            channels,
+        });
     }
 
     Ok(GlbSummary {

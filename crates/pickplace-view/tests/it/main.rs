@@ -21,8 +21,11 @@ pub fn decode_png(bytes: &[u8]) -> (u32, u32, Vec<u8>) {
 
 /// Distinct pixel values of an image, sorted.
 pub fn distinct_colours(image: &Image) -> Vec<[u8; 4]> {
-    let mut colours: Vec<[u8; 4]> =
-        image.as_rgba().chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+    let mut colours: Vec<[u8; 4]> = image
+        .as_rgba()
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2], p[3]])
+        .collect();
     colours.sort_unstable();
     colours.dedup();
     colours
