@@ -13,6 +13,13 @@
 //!   with local transforms and one animation of per-node translation and rotation tracks, for
 //!   any glTF viewer; [`glb::validate_glb`] reads a file back and checks it.
 //!
+//! - **The paper's pictures** ([`pictures`]): clusters coloured like Harada et al. Figs. 3–5
+//!   ([`render_clusters`]) and candidate placements like Fig. 6 ([`render_placements`]).
+//! - **Plans played back** ([`plan::PlanView`]): robot links ([`RobotGeometry`], URDF
+//!   primitives triangulated) posed by forward kinematics at every trajectory sample, the
+//!   object following the link that holds it between grasp and release; rendered per frame
+//!   or exported as an animated glTF with one keyframe per sample.
+//!
 //! Files are written atomically (temporary file, then rename): an output path is never left
 //! half-written.
 //!
@@ -42,10 +49,13 @@
 //! ```
 //!
 //! # Limitations
-//! - Flat shading only: one normal per triangle, no smoothing, textures, shadows or
-//!   transparency; a single directional light fixed in the camera frame.
+//! - Flat shading only: one normal per triangle, no smoothing, textures or shadows;
+//!   a single directional light fixed in the camera frame.
 //! - Anti-aliasing is 2x2 supersampling; thin features below half a pixel may still alias.
 //! - No text: montages have no labels, and pictures carry no legend.
+//! - Translucency is sorted per instance, not per triangle; the glTF export of a [`Scene`]
+//!   writes translucent instances opaque.
+//! - Robot links are coloured by name (hands and fingers darker), not by URDF materials.
 //! - Single-threaded; memory grows with the sample count (9 bytes per sample).
 //! - The glTF writer emits one buffer in the `.glb`, float accessors without compression or
 //!   quantisation, flat (unwelded) vertices, `LINEAR` interpolation only, translation and

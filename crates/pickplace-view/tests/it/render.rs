@@ -471,3 +471,56 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn translucent_instances_blend_over_what_is_behind_and_hide_behind_what_is_in_front() {
+    let small_box = Arc::new(Geometry::from_trimesh(&box_mesh([0.05, 0.05, 0.05])));
+    let back = Arc::new(Geometry::from_trimesh(&box_mesh([0.3, 0.3, 0.05])));
+    let camera = Camera::look_at(Point3::new(0.0, 0.0, 2.0), Point3::origin(), Vector3::y());
+    let centre = |front_z: f64, opacity: f64| -> [u8; 4] {
+        let mut scene = Scene::new();
+        let red = Instance::new(
+            small_box.clone(),
+            Isometry3::translation(0.0, 0.0, front_z),
+            Paint::Uniform(Colour::RED),
+        )
+        .expect("valid")
+        .with_opacity(opacity)
+        .expect("opacity in range");
+        // Translucent first in the scene: the renderer still draws it after the opaque box.
+        scene.push(red);
+        scene.push(
+            Instance::new(
+                back.clone(),
+                Isometry3::identity(),
+                Paint::Uniform(Colour::BLUE),
+            )
+            .expect("valid"),
+        );
+        render(&scene, &camera, &small(100, 100))
+            .expect("render")
+            .pixel(50, 50)
+            .expect("centre")
+    };
+    let opaque_red = centre(0.3, 1.0);
+    let blended = centre(0.3, 0.5);
+    let hidden = centre(-0.3, 0.5);
+    assert!(
+        blended[0] > 60 && blended[2] > 60,
+        "both colours show: {blended:?}"
+    );
+    assert!(blended[0] < opaque_red[0], "less red than the opaque box");
+    assert!(
+        hidden[2] > hidden[0],
+        "behind the opaque box it does not show: {hidden:?}"
+    );
+    let invisible = centre(0.3, 0.0);
+    assert_eq!(invisible, hidden, "opacity 0 draws nothing");
+    let bad = Instance::new(
+        small_box,
+        Isometry3::identity(),
+        Paint::Uniform(Colour::RED),
+    )
+    .expect("valid");
+    assert!(bad.with_opacity(1.5).is_err());
+}
