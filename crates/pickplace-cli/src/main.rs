@@ -5,6 +5,7 @@ mod clusters;
 mod demo;
 mod grasps;
 mod placements;
+mod plan;
 mod robot;
 mod view;
 
@@ -45,6 +46,11 @@ enum Command {
     },
     /// Plan parallel-gripper grasps of an object (ranked, with rejection counts).
     Grasps(grasps::GraspsArgs),
+    /// Plan a pick-and-place motion for a scene (paper Fig. 8): strategy, grasps, placement,
+    /// key poses and a timed trajectory.
+    Plan(plan::PlanArgs),
+    /// Re-check a plan independently: dense interpolation, limits, collisions, stability.
+    Validate(plan::ValidateArgs),
     /// Pictures of a plan: an animated glTF (plan.glb) and PNGs of the key poses.
     View(view::ViewArgs),
 }
@@ -83,6 +89,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Placements(args) => placements::run(&args),
         Command::Robot { command } => robot::run(command),
         Command::Grasps(args) => grasps::run(&args),
+        Command::Plan(args) => plan::run(&args),
+        Command::Validate(args) => plan::run_validate(&args),
         Command::View(args) => view::run(&args),
     }
 }

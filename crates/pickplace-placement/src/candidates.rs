@@ -11,13 +11,16 @@
 //!
 //! Every pose must pass the stability test (Fig. 7): for face-face contacts the common area of
 //! the two outer boundaries minus both regions' holes, its convex hull, and the vertical through
-//! the CoG must pass inside it; for edge-face contacts the hull of the contact points. And it
-//! must not penetrate the environment (parry3d-f64, object mesh against environment mesh, with a
-//! small clearance).
+//! the CoG must pass inside it; for edge-face contacts the hull of the segment and the points
+//! where C_j meets the environment. And it must not penetrate the environment (parry3d-f64, with
+//! a small clearance; a convex object is tested as its convex hull against the environment
+//! mesh, others mesh against mesh).
 //!
 //! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
 //! a grid in order of distance to the target so the first candidates are the best ranked;
-//! the stability margin is reported; every rejection is counted with its reason.
+//! the stability margin is reported; every rejection is counted with its reason; object regions
+//! and hull segments that cannot pass the stability test are rejected by cheap bounds before
+//! any collision test.
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
@@ -348,13 +351,14 @@ pub fn candidates(
     others.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     env_indices.extend(others.into_iter().map(|(_, i)| i));
 
+    let supporting = supporting_regions(object);
     let mut placements = Vec::new();
     let mut rejections = Vec::new();
     for &e in &env_indices {
         let env_region = &env.regions[e];
         let mut counts = Rejections::default();
         for (o, object_region) in object.regions.iter().enumerate() {
-            if !supporting(object, o) {
+            if !supporting[o] {
                 continue;
             }
             if object_region.support.len() < 3 {
@@ -364,6 +368,12 @@ pub fn candidates(
                 continue;
             }
             let found = if include_bounding_box(object_region, env_region) {
+                if !face_face_can_be_stable(object, object_region, options) {
+                    // No pose of this region can pass the stability test (Fig. 7): its support
+                    // is too narrow for the margin (a strip of a tessellated cylinder).
+                    counts.unstable += 1;
+                    continue;
+                }
                 search_face_face(
                     object,
                     object_region,
@@ -422,18 +432,46 @@ fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
 /// Resolution (m) at which distances and margins are compared when ranking (0.1 mm).
 pub const RANK_RESOLUTION: Real = 1e-4;
 
-/// Whether object region `o` can touch a plane at all: every other object region lies on the
-/// inner side of its contact plane. Checked on the regions' boundary points (cheap and exact for
-/// clusters on the convex hull, such as a can's caps or a box's faces).
-fn supporting(object: &ObjectModel, o: usize) -> bool {
-    let r = &object.regions[o];
+/// Which object regions can touch a plane at all: every other object region lies on the inner
+/// side of the region's contact plane. Checked on the regions' boundary points (cheap and exact
+/// for clusters on the convex hull, such as a can's caps or a box's faces).
+fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
     let tolerance = 0.002;
-    object.regions.iter().all(|other| {
-        other.polygon.outer.iter().all(|q| {
-            let p = other.parent_from_plane * Point3::new(q.x, q.y, 0.0);
-            r.to_plane(&p).1 <= tolerance
+    let boundary: Vec<Point3> = object
+        .regions
+        .iter()
+        .flat_map(|r| {
+            r.polygon
+                .outer
+                .iter()
+                .map(|q| r.parent_from_plane * Point3::new(q.x, q.y, 0.0))
         })
-    })
+        .collect();
+    object
+        .regions
+        .iter()
+        .map(|r| {
+            let (n, origin) = (r.normal(), r.parent_from_plane.translation.vector);
+            boundary
+                .iter()
+                .all(|p| n.dot(&(p.coords - origin)) <= tolerance)
+        })
+        .collect()
+}
+
+/// A bound checked before any face-face pose of object region `o` is tried: the support hull
+/// of a face-face contact is the object's support intersected with the environment's region
+/// (Fig. 7), so it lies inside the object's support, and the margin of the CoG can be no
+/// larger than half the support's width (half the short side of its minimum-area rectangle,
+/// which is at least the width). The CoG's height above the contact plane is the same for
+/// every face-face pose, so the tipping-angle bound follows.
+fn face_face_can_be_stable(object: &ObjectModel, o: &Region, options: &PlacementOptions) -> bool {
+    let Some(rect) = pickplace_geometry::polygon::min_area_rect(&o.support) else {
+        return false;
+    };
+    let bound = 0.5 * rect.sorted_sides().0 + 1e-9;
+    let height = -o.to_plane(&object.cog).1;
+    stable(bound, height, options)
 }
 
 /// includeBoundingBox (paper Fig. 6(b), (d)): the object's 2D bounding box fits in the
@@ -608,9 +646,10 @@ fn search_face_face(
 /// longer penetrates the environment: the second contact (bisection to
 /// [`PlacementOptions::tilt_tolerance`]).
 ///
-/// Improvement: the rotation stops where the CoG would cross the segment (past that angle the
+/// Improvements: the rotation stops where the CoG would cross the segment (past that angle the
 /// object tips over whatever it touches), so hopeless positions cost one collision test
-/// instead of a bisection.
+/// instead of a bisection; a segment whose region is too narrow along it for the margin is
+/// rejected before any collision test (the support is the segment and [`second_contacts`]).
 fn search_edge_face(
     object: &ObjectModel,
     o: &Region,
@@ -658,6 +697,11 @@ fn search_edge_face(
             UnitQuaternion::from_axis_angle(&Vector3::z_axis(), x.y.atan2(x.x)),
         );
         let segment_from_object = (o.parent_from_plane * plane_from_segment).inverse();
+        // Both ends of the segment must lie on the environment's region.
+        let (env_short, env_long) = e.rect.sorted_sides();
+        if len > env_short.hypot(env_long) {
+            continue;
+        }
         // The CoG's offset into the region and its height above the plane; tilted by t, its
         // horizontal offset into the region is cy cos t - ch sin t.
         let c = segment_from_object * object.cog;
@@ -675,6 +719,22 @@ fn search_edge_face(
         if tilt_limit <= 0.0 {
             counts.unstable += 1;
             continue;
+        }
+        // Sideways bound, before any collision test: the support is the segment and points of
+        // the region's support (see `second_contacts`), all within the region's extent
+        // [x_min, x_max] along the segment. On a horizontal environment plane the segment is
+        // horizontal and the tilt about it keeps every x, so the CoG's vertical is no further
+        // than min(c.x - x_min, x_max - c.x) from the support hull's boundary. A strip of a
+        // tessellated cylinder (one facet wide) stood on its short edge fails here.
+        if e.normal().z >= 1.0 - 1e-12 {
+            let along = |q: &Point2| (q - m).dot(&x);
+            let x_min = hull.iter().map(along).fold(Real::INFINITY, Real::min);
+            let x_max = hull.iter().map(along).fold(Real::NEG_INFINITY, Real::max);
+            let bound = (c.x - x_min).min(x_max - c.x) + 1e-9;
+            if bound < options.min_margin {
+                counts.unstable += 1;
+                continue;
+            }
         }
         for p in &positions {
             for &yaw in &yaws {
@@ -741,8 +801,7 @@ fn search_edge_face(
                 // the object meets the environment again.
                 let a_w = e.parent_from_plane * e_point(p, yaw, -len * 0.5);
                 let b_w = e.parent_from_plane * e_point(p, yaw, len * 0.5);
-                let second =
-                    object_contact_points(object, env, &world_from_object, &pose_at(lo), options);
+                let second = second_contacts(object, o, env, &world_from_object, options);
                 let horizontal = |q: &Point3| Point2::new(q.x, q.y);
                 let mut support: Vec<Point2> = vec![horizontal(&a_w), horizontal(&b_w)];
                 support.extend(second.iter().map(horizontal));
@@ -785,20 +844,30 @@ fn e_point(p: &Point2, yaw: Real, along: Real) -> Point3 {
     Point3::new(p.x + along * yaw.cos(), p.y + along * yaw.sin(), 0.0)
 }
 
-/// Points where the object, at `pose`, touches the environment: the intersection of the two
-/// surfaces at `penetrating` (a pose a tilt tolerance deeper), reduced to the object's vertices
-/// and edge samples lying within reach of the environment at `pose`.
-fn object_contact_points(
+/// The second contact of an edge-face pose (paper Fig. 6(d)): the points where the object's
+/// region `o` (its support, the part that lies flat) touches the environment at `pose`, world
+/// frame, sorted. Contacts elsewhere on the object are left out: the support hull is then never
+/// larger than the one that bears the load, so the stability test stays on the safe side, and
+/// the sideways bound of [`search_edge_face`] holds.
+fn second_contacts(
     object: &ObjectModel,
+    o: &Region,
     env: &EnvironmentModel,
     pose: &Isometry3,
-    penetrating: &Isometry3,
     options: &PlacementOptions,
 ) -> Vec<Point3> {
     let reach = options.clearance * 0.5;
-    let mut out = env
+    let slack = reach + CONTACT_TOLERANCE;
+    let object_from_world = pose.inverse();
+    let mut out: Vec<Point3> = env
         .collision
-        .touching_points(&object.collision, pose, penetrating, reach);
+        .touching_points(&object.collision, pose, reach)
+        .into_iter()
+        .filter(|w| {
+            let (q, h) = o.to_plane(&(object_from_world * w));
+            h.abs() <= slack && signed_margin(&q, &o.support) >= -slack
+        })
+        .collect();
     out.sort_by(|a, b| {
         a.x.total_cmp(&b.x)
             .then(a.y.total_cmp(&b.y))

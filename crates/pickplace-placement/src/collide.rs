@@ -4,16 +4,41 @@
 //! in this module only.
 
 use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
-use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+use parry3d_f64::shape::{ConvexPolyhedron, TriMesh as ParryTriMesh, TriMeshFlags};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
 
 /// A mesh prepared for collision queries (its BVH is built once).
+///
+/// A convex object mesh (built with [`CollisionMesh::new`]) also keeps its solid as a parry convex polyhedron: a convex solid against a triangle mesh is
+/// one GJK test per nearby environment triangle instead of a test per pair of triangles, about
+/// ten times cheaper for the can, and it also sees an environment triangle swallowed whole.
 #[derive(Debug, Clone)]
 pub struct CollisionMesh {
     shape: ParryTriMesh,
+    convex: Option<ConvexPolyhedron>,
     vertices: Vec<Point3>,
     triangles: Vec<[u32; 3]>,
+}
+
+/// The convex hull of a closed, outward-wound mesh when the mesh bounds that hull: the volumes
+/// agree to within one part in 10^6 (a dent, a hole or a handle makes the hull larger).
+fn convex_solid(
+    points: &[PVector],
+    vertices: &[Point3],
+    triangles: &[[u32; 3]],
+) -> Option<ConvexPolyhedron> {
+    use parry3d_f64::shape::Shape;
+    let hull = ConvexPolyhedron::from_convex_hull(points)?;
+    let hull_volume = hull.mass_properties(1.0).mass();
+    let mesh_volume: Real = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize].coords);
+            a.dot(&b.cross(&c)) / 6.0
+        })
+        .sum();
+    ((hull_volume - mesh_volume).abs() <= 1e-6 * hull_volume).then_some(hull)
 }
 
 impl CollisionMesh {
@@ -23,7 +48,7 @@ impl CollisionMesh {
     /// parry rejects meshes without triangles; a [`TriMesh`] always has some, so this only
     /// fails on internal inconsistency, reported as [`crate::Error::DegenerateHull`].
     pub fn new(mesh: &TriMesh) -> crate::Result<Self> {
-        Self::from_parts(mesh.vertices().to_vec(), mesh.triangles().to_vec())
+        Self::from_parts(mesh.vertices().to_vec(), mesh.triangles().to_vec(), true)
     }
 
     /// Prepares several meshes, each placed at its pose, as one collision mesh.
@@ -47,17 +72,27 @@ impl CollisionMesh {
             vertices.extend(mesh.vertices().iter().map(|p| pose * p));
             triangles.extend(mesh.triangles().iter().map(|t| t.map(|i| i + base)));
         }
-        Self::from_parts(vertices, triangles)
+        Self::from_parts(vertices, triangles, false)
     }
 
-    fn from_parts(vertices: Vec<Point3>, triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
+    fn from_parts(
+        vertices: Vec<Point3>,
+        triangles: Vec<[u32; 3]>,
+        detect_convex: bool,
+    ) -> crate::Result<Self> {
         let points: Vec<PVector> = vertices.iter().map(to_parry_point).collect();
+        let convex = if detect_convex {
+            convex_solid(&points, &vertices, &triangles)
+        } else {
+            None
+        };
         let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
             .map_err(|e| crate::Error::DegenerateHull {
                 reason: format!("collision mesh: {e:?}"),
             })?;
         Ok(Self {
             shape,
+            convex,
             vertices,
             triangles,
         })
@@ -76,11 +111,15 @@ impl CollisionMesh {
         let env_pose = Pose::IDENTITY;
         // A query parry does not support between two meshes is treated as a collision, the
         // safe answer for a placement.
+        let object_shape: &dyn parry3d_f64::shape::Shape = match &object.convex {
+            Some(hull) => hull,
+            None => &object.shape,
+        };
         parry3d_f64::query::intersection_test(
             &env_pose,
             &self.shape,
             &to_parry_pose(&pose),
-            &object.shape,
+            object_shape,
         )
         .map(|hit| hit.intersecting)
         .unwrap_or(true)
@@ -92,7 +131,6 @@ impl CollisionMesh {
         &self,
         object: &CollisionMesh,
         world_from_object: &Isometry3,
-        _deeper: &Isometry3,
         reach: Real,
     ) -> Vec<Point3> {
         use parry3d_f64::bounding_volume::Aabb;
@@ -119,6 +157,11 @@ impl CollisionMesh {
             }
         }
         out
+    }
+
+    /// Whether this mesh bounds a convex solid (queries then use its convex hull).
+    pub fn is_convex(&self) -> bool {
+        self.convex.is_some()
     }
 
     /// Distance from a world point to this mesh's surface (m).
@@ -156,5 +199,17 @@ mod tests {
         assert!(table.intersects(&cube, &on_top, &Vector3::new(0.0, 0.0, -1e-3)));
         let p = Point3::new(0.0, 0.0, 0.2);
         assert!((table.distance_to_point(&p) - 0.15).abs() < 1e-9);
+        assert!(cube.is_convex());
+    }
+
+    #[test]
+    fn a_dented_or_hollow_mesh_is_not_convex() {
+        let can = CollisionMesh::new(&shapes::can_builder().build().expect("can")).expect("can");
+        assert!(can.is_convex());
+        let mug = CollisionMesh::new(&shapes::mug_builder().build().expect("mug")).expect("mug");
+        assert!(!mug.is_convex());
+        let pallet =
+            CollisionMesh::new(&shapes::pallet_builder().build().expect("pallet")).expect("pallet");
+        assert!(!pallet.is_convex());
     }
 }

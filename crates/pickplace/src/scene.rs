@@ -193,6 +193,10 @@ pub struct PlannerOptions {
     pub time_budget: Real,
     /// Strategy (default: auto).
     pub strategy: StrategyChoice,
+    /// SRDF group of the right arm; its end effector is the right hand (default: `right_arm`).
+    pub right_arm: String,
+    /// SRDF group of the left arm (default: `left_arm`).
+    pub left_arm: String,
 }
 
 impl Default for PlannerOptions {
@@ -203,6 +207,8 @@ impl Default for PlannerOptions {
             h_max_finger: 0.005,
             time_budget: 10.0,
             strategy: StrategyChoice::Auto,
+            right_arm: "right_arm".to_owned(),
+            left_arm: "left_arm".to_owned(),
         }
     }
 }

@@ -2,7 +2,7 @@
 //! (face-face), the can on a dent smaller than its base (edge-face, tilted), the mug on the
 //! table among obstacles; every accepted pose checked by the rigid-body drop test.
 
-use crate::simulate::drop_test;
+use crate::simulate::{Drift, Obstacle, drop_test, pallet_cuboids};
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
@@ -35,7 +35,7 @@ pub fn scene(object_mesh: TriMesh, env_mesh: TriMesh) -> Scene {
     }
 }
 
-pub fn can_on_pallet() -> Scene {
+fn can_on_pallet() -> Scene {
     scene(
         shapes::can_builder().build().expect("can"),
         shapes::pallet_builder().build().expect("pallet"),
@@ -47,36 +47,49 @@ fn dent_floor(i: usize) -> Point3 {
     Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth)
 }
 
-/// The drop test on every placement; returns those that moved more than 5 mm or 3°, with
-/// their drift (mm, degrees) for the failure message.
-fn unsettled(scene: &Scene, placements: &[Placement]) -> Vec<(usize, ContactKind, String)> {
-    let env = [scene.env_mesh.clone()];
+/// The drop test (issue 3) on every placement, on the environment `env`: each pose's drift
+/// after 2 s.
+fn drifts(scene: &Scene, placements: &[Placement], env: &[Obstacle]) -> Vec<Drift> {
     placements
         .iter()
-        .enumerate()
-        .filter_map(|(i, p)| {
-            let d = drop_test(
+        .map(|p| {
+            drop_test(
                 &scene.object_mesh,
                 &scene.object.cog,
                 &p.world_from_object,
-                &env,
-            );
-            (!d.settled()).then(|| {
-                (
-                    i,
-                    p.contact,
-                    format!(
-                        "{:.1} mm {:.1}° margin {:.4} tilt {:.3} cluster {}",
-                        d.distance * 1e3,
-                        d.angle.to_degrees(),
-                        p.stability_margin,
-                        p.tilt,
-                        p.object_cluster
-                    ),
-                )
-            })
+                env,
+            )
         })
         .collect()
+}
+
+/// The placements that moved more than 5 mm or 3° in the drop test, with their drift and what
+/// they are, for the failure message.
+fn unsettled(placements: &[Placement], drifts: &[Drift]) -> Vec<String> {
+    placements
+        .iter()
+        .zip(drifts)
+        .enumerate()
+        .filter(|(_, (_, d))| !d.settled())
+        .map(|(i, (p, d))| {
+            format!(
+                "#{i} {:?} cluster {}: {:.1} mm {:.1}° (margin {:.4}, tilt {:.3})",
+                p.contact,
+                p.object_cluster,
+                d.distance * 1e3,
+                d.angle.to_degrees(),
+                p.stability_margin,
+                p.tilt,
+            )
+        })
+        .collect()
+}
+
+/// Every placement of `set` passes the drop test on the scene's own mesh.
+fn assert_all_settle(scene: &Scene, set: &PlacementSet) {
+    let env = [Obstacle::Mesh(scene.env_mesh.clone())];
+    let d = drifts(scene, &set.placements, &env);
+    assert_eq!(unsettled(&set.placements, &d), Vec::<String>::new());
 }
 
 /// Ranked by distance to the target, then by margin, both at 0.1 mm.
@@ -139,7 +152,7 @@ fn can_stands_in_the_large_dent_face_face() {
             .count()
             >= 2
     );
-    assert_eq!(unsettled(&s, &set.placements), vec![]);
+    assert_all_settle(&s, &set);
 }
 
 /// Fig. 10(a): the groove (0.16 x 0.04 m, 12 mm deep) is narrower than the can's base
@@ -166,24 +179,68 @@ fn can_tilts_on_the_narrow_groove_edge_face() {
             target.z
         );
     }
-    // The drop test on edge-face poses is the exception to the 5 mm / 3° bound: rapier
-    // resolves the line contact between the can's tessellated base (a fan of thin triangles)
-    // and the groove's rim edge unsteadily, the contact switching between fan triangles from
-    // step to step, and the can creeps along the rim before it stops. We measured 2-15 mm and
-    // 3-16° over these poses, and different numbers again with the contact flags changed
-    // (internal-edge fixing on or off for either body) or the step shortened (120-1000 Hz),
-    // which is what a simulation artefact does and a real instability does not. What the
-    // check can still say independently: the poses do not fall over or out of the groove.
-    // One in 16 does fall in the simulation (the upside-down can, 45 mm and 25°): an open
-    // question, written in the issue's closing note.
-    let env = [s.env_mesh.clone()];
-    let fell: Vec<String> = in_dent
+    // The drop test, on the pallet's mesh and, independently, on the cuboids the pallet is
+    // made of: every pose holds (no exception). The can stands on one 3.2 mm edge of its base
+    // on the groove's floor and its base leans on the far rim along a chord; the support
+    // triangle holds the CoG's vertical 11 mm inside.
+    assert_all_settle(&s, &set);
+    let d = drifts(&s, in_dent, &pallet_cuboids());
+    assert_eq!(unsettled(in_dent, &d), Vec::<String>::new());
+}
+
+/// The issue's independent check over every pose the planner returns on the pallet, for
+/// targets on each dent, on the top (its middle and a corner) and at the groove's end: 96
+/// poses, face-face and edge-face. The simulated pallet is the cuboids it is made of (exact
+/// flat faces and edges): every pose holds within 5 mm and 3°, no exception.
+///
+/// On the pallet's triangle mesh instead, 3 of the 96 poses fail, all the same artefact: the
+/// can standing upright on the pallet's top at x = 0, where the top's triangulation has a long
+/// edge (the grid line of the groove's end) under the centre of the can's fan-triangulated
+/// base; rapier's triangle-triangle contacts there push the can sideways (30-60 mm) or through
+/// the top. The same poses on the cuboids move 0.1 mm. The test allows these, and only these:
+/// face-face poses on the top cluster, at most 5 % of the poses.
+#[test]
+fn every_pallet_pose_passes_the_drop_test() {
+    let s = can_on_pallet();
+    let top = shapes::PALLET_SIZE[2];
+    let mut targets: Vec<Point3> = (0..4).map(dent_floor).collect();
+    targets.extend([
+        Point3::new(0.0, -0.03, top),
+        Point3::new(0.17, 0.12, top),
+        Point3::new(-0.15, -0.09, dent_floor(3).z),
+    ]);
+    let options = PlacementOptions::default();
+    let mut all = Vec::new();
+    let mut top_cluster = None;
+    for t in &targets {
+        let set = candidates(&s.object, &s.env, t, &options).expect("target");
+        if t.z == top {
+            top_cluster = Some(set.target_cluster);
+        }
+        all.extend(set.placements);
+    }
+    assert_eq!(all.len(), 96, "poses over the scenes");
+    assert!(all.iter().any(|p| p.contact == ContactKind::EdgeFace));
+    let d = drifts(&s, &all, &pallet_cuboids());
+    assert_eq!(unsettled(&all, &d), Vec::<String>::new());
+
+    let d = drifts(&s, &all, &[Obstacle::Mesh(s.env_mesh.clone())]);
+    let failed: Vec<&Placement> = all
         .iter()
-        .map(|p| drop_test(&s.object_mesh, &s.object.cog, &p.world_from_object, &env))
-        .filter(|d| d.distance >= 0.02 || d.angle >= 20f64.to_radians())
-        .map(|d| format!("{d:?}"))
+        .zip(&d)
+        .filter(|(_, d)| !d.settled())
+        .map(|(p, _)| p)
         .collect();
-    assert!(fell.len() * 16 <= in_dent.len(), "fell: {fell:?}");
+    assert!(
+        failed.len() * 20 <= all.len(),
+        "{}",
+        unsettled(&all, &d).join("; ")
+    );
+    for p in failed {
+        assert_eq!(p.contact, ContactKind::FaceFace);
+        assert_eq!(Some(p.env_cluster), top_cluster);
+        assert!(p.world_from_object.translation.x.abs() < 1e-9, "{p:?}");
+    }
 }
 
 /// The square dent (0.05 x 0.05 m) is smaller than the can's base both ways: neither
@@ -222,7 +279,12 @@ fn mug_on_the_table_among_obstacles() {
         set.rejections.iter().any(|(_, r)| r.penetrates > 0),
         "the obstacle rejected some poses"
     );
-    assert_eq!(unsettled(&s, &set.placements), vec![]);
+    assert_all_settle(&s, &set);
+    // In the open, in the middle of the table: every pose settles too.
+    let open = Point3::new(0.0, 0.0, shapes::TABLE_HEIGHT);
+    let set = candidates(&s.object, &s.env, &open, &PlacementOptions::default()).expect("target");
+    assert!(!set.placements.is_empty());
+    assert_all_settle(&s, &set);
 }
 
 #[test]

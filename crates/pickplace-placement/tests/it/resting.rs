@@ -1,6 +1,6 @@
 //! Resting poses on a plane, checked by simulation.
 
-use crate::simulate::drop_test;
+use crate::simulate::{Obstacle, drop_test};
 use pickplace_geometry::math::Point3;
 use pickplace_geometry::shapes::{self, MeshBuilder};
 use pickplace_placement::{RestingOptions, resting_poses};
@@ -16,7 +16,7 @@ fn floor() -> pickplace_geometry::mesh::TriMesh {
 
 fn check_all_settle(mesh: &pickplace_geometry::mesh::TriMesh, cog: Point3) -> usize {
     let poses = resting_poses(mesh, &cog, &RestingOptions::default()).expect("resting poses");
-    let env = [floor()];
+    let env = [Obstacle::Mesh(floor())];
     for p in &poses {
         let drift = drop_test(mesh, &cog, &p.world_from_object, &env);
         assert!(drift.settled(), "pose {p:?} drifted {drift:?}");
@@ -61,7 +61,12 @@ fn l_shape_rejects_the_tipping_face() {
     // Lying on the bar's bottom (normal -z, support spans the whole L footprint) is stable.
     assert!(poses.iter().any(|p| p.support_normal.z < -0.99));
     for p in &poses {
-        let drift = drop_test(&mesh, &cog, &p.world_from_object, &[floor()]);
+        let drift = drop_test(
+            &mesh,
+            &cog,
+            &p.world_from_object,
+            &[Obstacle::Mesh(floor())],
+        );
         assert!(drift.settled(), "{p:?}: {drift:?}");
     }
 }

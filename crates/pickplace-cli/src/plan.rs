@@ -1,0 +1,197 @@
+//! `pickplace plan SCENE` and `pickplace validate SCENE PLAN`.
+
+use crate::clusters::default_cache_dir;
+use anyhow::Context;
+use pickplace::planner::{Outcome, PlanOptions};
+use pickplace::scene::StrategyChoice;
+use pickplace::{Plan, Setup, SetupOptions};
+use pickplace_geometry::export::write_atomic;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Strategy on the command line.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum StrategyArg {
+    /// The paper's order: nearest hands first, switch on failure.
+    Auto,
+    /// Right hand picks and places.
+    RightRight,
+    /// Left hand picks and places.
+    LeftLeft,
+    /// Right picks, hands over, left places.
+    RightLeft,
+    /// Left picks, hands over, right places.
+    LeftRight,
+}
+
+impl From<StrategyArg> for StrategyChoice {
+    fn from(s: StrategyArg) -> Self {
+        match s {
+            StrategyArg::Auto => StrategyChoice::Auto,
+            StrategyArg::RightRight => StrategyChoice::RightRight,
+            StrategyArg::LeftLeft => StrategyChoice::LeftLeft,
+            StrategyArg::RightLeft => StrategyChoice::RightLeft,
+            StrategyArg::LeftRight => StrategyChoice::LeftRight,
+        }
+    }
+}
+
+/// Arguments of `pickplace plan`.
+#[derive(Debug, clap::Args)]
+pub struct PlanArgs {
+    /// Scene file (TOML, docs/scene-format.md).
+    pub scene: PathBuf,
+    /// Where to write the plan (JSON, docs/plan-format.md); default: print it on stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Seed of every random choice (default: the scene's planner.seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Manipulation strategy (default: the scene's planner.strategy).
+    #[arg(long, value_enum)]
+    pub strategy: Option<StrategyArg>,
+    /// Leave the stage timings out of the plan, so that the same seed gives the same bytes.
+    #[arg(long)]
+    pub no_timings: bool,
+    /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
+    /// target/pickplace-cache).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+}
+
+/// Loads a scene with progress on stderr.
+pub fn setup(scene: &Path, cache: Option<PathBuf>) -> anyhow::Result<Setup> {
+    let t = Instant::now();
+    let options = SetupOptions {
+        cache_dir: Some(cache.unwrap_or_else(default_cache_dir)),
+    };
+    let setup = Setup::load(scene, &options)?;
+    for line in &setup.log {
+        eprintln!("  {line}");
+    }
+    eprintln!(
+        "  scene {} set up in {:.0} ms",
+        scene.display(),
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(setup)
+}
+
+/// Plans a loaded scene and prints a summary on stderr; the outcome is returned.
+pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
+    let mut options = PlanOptions::for_setup(setup);
+    if let Some(seed) = args.seed {
+        options.seed = seed;
+    }
+    if let Some(s) = args.strategy {
+        options.strategy = s.into();
+    }
+    options.timings = !args.no_timings;
+    let t = Instant::now();
+    let outcome = pickplace::plan(setup, &options)?;
+    let elapsed = t.elapsed().as_secs_f64() * 1e3;
+    match &outcome {
+        Outcome::Planned(plan) => {
+            for s in &plan.stats.strategies {
+                eprintln!(
+                    "  {}: {}",
+                    s.strategy,
+                    if s.success { "planned" } else { "failed" }
+                );
+            }
+            eprintln!(
+                "  plan: {} with a {} placement on {:?} (margin {:.1} mm), {} grasp(s), {} key poses, {:.2} s of motion, {} samples; planned in {elapsed:.1} ms",
+                plan.strategy,
+                plan.placement.contact,
+                plan.placement.environment,
+                plan.placement.stability_margin * 1e3,
+                plan.grasps.len(),
+                plan.key_poses.len(),
+                plan.stats.duration,
+                plan.trajectory.len()
+            );
+        }
+        Outcome::NoPlan(failure) => {
+            eprintln!("  no plan ({elapsed:.1} ms):");
+            for r in &failure.reasons {
+                eprintln!("    {r}");
+            }
+        }
+    }
+    Ok(outcome)
+}
+
+/// Runs `pickplace plan`.
+pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
+    eprintln!("pickplace plan {}", args.scene.display());
+    let setup = setup(&args.scene, args.cache.clone())?;
+    match plan_setup(&setup, args)? {
+        Outcome::Planned(plan) => {
+            let json = plan.to_json();
+            match &args.out {
+                Some(out) => {
+                    write_atomic(out, json.as_bytes())
+                        .with_context(|| format!("{}: cannot write the plan", out.display()))?;
+                    eprintln!("  wrote {}", out.display());
+                }
+                None => print!("{json}"),
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Outcome::NoPlan(_) => Ok(ExitCode::from(1)),
+    }
+}
+
+/// Arguments of `pickplace validate`.
+#[derive(Debug, clap::Args)]
+pub struct ValidateArgs {
+    /// Scene file the plan was made for.
+    pub scene: PathBuf,
+    /// Plan file.
+    pub plan: PathBuf,
+    /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
+    /// target/pickplace-cache).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// Print the report as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `pickplace validate`: exit 0 when the plan passes, 1 when it does not.
+pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
+    eprintln!(
+        "pickplace validate {} {}",
+        args.scene.display(),
+        args.plan.display()
+    );
+    let text = std::fs::read_to_string(&args.plan)
+        .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
+    let plan = Plan::from_json(&text)
+        .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
+    let setup = setup(&args.scene, args.cache.clone())?;
+    let t = Instant::now();
+    let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
+    eprintln!(
+        "  checked {} states over {:.2} s of motion in {:.0} ms",
+        report.states_checked,
+        report.duration,
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    }
+    if report.problems.is_empty() {
+        eprintln!("  valid");
+        Ok(ExitCode::SUCCESS)
+    } else {
+        for p in report.problems.iter().take(20) {
+            eprintln!("  {p}");
+        }
+        if report.problems.len() > 20 {
+            eprintln!("  … {} problems in all", report.problems.len());
+        }
+        Ok(ExitCode::from(1))
+    }
+}

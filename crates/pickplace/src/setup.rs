@@ -1,0 +1,516 @@
+//! Everything the online planner needs, loaded once per scene: the robot and its arms (IK,
+//! roadmaps), the object and the environment with their cluster databases (paper §III-A, the
+//! offline phase), and the collision world.
+//!
+//! Cluster databases and roadmaps are read from a cache folder when one is given and valid,
+//! and built (then written there) otherwise, so the first plan of a scene is slower than the
+//! next ones.
+
+use crate::error::{Error, Result};
+use crate::roadmaps::{self, RoadmapSource};
+use crate::scene::Scene;
+use crate::strategy::Arm;
+use pickplace_geometry::cluster::{ClusterParams, Clustering};
+use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
+use pickplace_geometry::math::{Isometry3, Point3, Real};
+use pickplace_geometry::mesh::{MassProperties, MeshOptions, TriMesh};
+use pickplace_grasp::GripperParams;
+use pickplace_grasp::collide::ObjectCollider;
+use pickplace_placement::{EnvironmentModel, ObjectModel};
+use pickplace_prm::{JointSpace, Roadmap};
+use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
+use pickplace_robot::{IkSolver, LoadOptions, RobotModel, Semantics};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of [`Setup::load`].
+#[derive(Debug, Clone, Default)]
+pub struct SetupOptions {
+    /// Folder of cluster databases and roadmaps (default: none, everything is built in
+    /// memory). The CLI passes `$PICKPLACE_CACHE`, else `target/pickplace-cache`.
+    pub cache_dir: Option<PathBuf>,
+}
+
+/// One arm of the robot as the planner uses it.
+#[derive(Debug)]
+pub struct ArmSetup {
+    /// Which arm.
+    pub arm: Arm,
+    /// Its SRDF group.
+    pub group: String,
+    /// IK of the group's chain (root frame to the TCP link).
+    pub ik: IkSolver,
+    /// The group's variables (model order).
+    pub variables: Vec<usize>,
+    /// The group's joint space (the PRM's).
+    pub space: JointSpace,
+    /// The precomputed roadmap.
+    pub roadmap: Roadmap,
+    /// Whether the roadmap came from the cache.
+    pub roadmap_source: RoadmapSource,
+    /// The TCP link (the end effector's parent link).
+    pub tcp_link: usize,
+    /// Its name.
+    pub tcp_name: String,
+    /// The gripper's actuated variables (the finger joint value is half the opening).
+    pub finger_variables: Vec<usize>,
+    /// Links of the gripper (they may touch a grasped object).
+    pub finger_links: Vec<String>,
+    /// The arm's base (its first joint's position), world frame: the paper's "which hand is
+    /// closer" is measured from here.
+    pub shoulder: Point3,
+    /// Largest distance from the shoulder the TCP reaches (m), measured by sampling.
+    pub reach: Real,
+}
+
+/// An environment mesh of the scene.
+#[derive(Debug)]
+pub struct EnvironmentPart {
+    /// Its scene name.
+    pub name: String,
+    /// The mesh, in its own frame.
+    pub mesh: TriMesh,
+    /// Its environment-contact clusters.
+    pub clustering: Clustering,
+    /// Its pose.
+    pub world_from_mesh: Isometry3,
+    /// Its triangles in the world frame, for gripper-only collision tests.
+    pub collider: ObjectCollider,
+}
+
+/// A scene ready for planning.
+#[derive(Debug)]
+pub struct Setup {
+    /// The scene file's path (for messages).
+    pub scene_path: PathBuf,
+    /// The scene.
+    pub scene: Scene,
+    /// The robot.
+    pub model: RobotModel,
+    /// Its SRDF.
+    pub semantics: Semantics,
+    /// The gripper.
+    pub gripper: GripperParams,
+    /// `world_from_root` of the robot.
+    pub world_from_root: Isometry3,
+    /// The start configuration (every variable).
+    pub start: Vec<Real>,
+    /// The right and left arm.
+    pub arms: [ArmSetup; 2],
+    /// The object's mesh (object frame).
+    pub object_mesh: TriMesh,
+    /// The object's environment-contact clusters.
+    pub object_env: Clustering,
+    /// The object's finger-contact clusters and pairs.
+    pub object_finger: Clustering,
+    /// Its centre of gravity (object frame).
+    pub cog: Point3,
+    /// `world_from_object` at the start.
+    pub object_start: Isometry3,
+    /// The object as the placement planner sees it.
+    pub placement_object: ObjectModel,
+    /// The environment as the placement planner sees it (regions of every mesh).
+    pub placement_env: EnvironmentModel,
+    /// The environment meshes.
+    pub environment: Vec<EnvironmentPart>,
+    /// The object's collision shape.
+    pub object_shape: CollisionShape,
+    /// Robot and environment (no object).
+    pub world: CollisionWorld,
+    /// What loading did (cache hits, builds, times), one line each.
+    pub log: Vec<String>,
+}
+
+fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
+    move |source| Error::Robot {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+impl Setup {
+    /// Reads a scene file and sets it up.
+    ///
+    /// # Errors
+    /// As [`Setup::new`], and [`Error::Scene`] for the file itself.
+    pub fn load(path: &Path, options: &SetupOptions) -> Result<Self> {
+        let scene = Scene::load(path)?;
+        Self::new(scene, path, options)
+    }
+
+    /// Sets up a parsed scene; `scene_path` names it in errors.
+    ///
+    /// # Errors
+    /// [`Error::Robot`], [`Error::Gripper`], [`Error::Mesh`] naming the file at fault;
+    /// [`Error::Invalid`] for a start state or arm group that does not fit the robot, or an
+    /// object start pose in collision; [`Error::Cache`] when the cache cannot be written.
+    pub fn new(scene: Scene, scene_path: &Path, options: &SetupOptions) -> Result<Self> {
+        let mut log = Vec::new();
+        let invalid = |field: &str, reason: String| Error::Invalid {
+            path: scene_path.to_path_buf(),
+            field: field.to_owned(),
+            reason,
+        };
+        let t = Instant::now();
+        let urdf_path = &scene.robot.urdf;
+        let model = RobotModel::from_urdf_file(urdf_path, &LoadOptions::default())
+            .map_err(robot_err(urdf_path))?;
+        let srdf_path = &scene.robot.srdf;
+        let semantics = Semantics::from_file(&model, srdf_path).map_err(robot_err(srdf_path))?;
+        let gripper = GripperParams::load(&scene.robot.gripper)
+            .map_err(|source| Error::Gripper { source })?;
+        let world_from_root = scene
+            .robot
+            .base_pose
+            .to_isometry()
+            .map_err(|r| invalid("robot.base_pose", r.into()))?;
+
+        // Start state: zeros, the SRDF's `home` when it has one, then the scene's values.
+        let mut start = model.zero_configuration();
+        if semantics
+            .srdf()
+            .group_states
+            .iter()
+            .any(|s| s.name == "home")
+        {
+            semantics
+                .apply_state(&model, "home", &mut start)
+                .map_err(robot_err(srdf_path))?;
+        }
+        for (name, &value) in &scene.robot.start_state {
+            let v = model.variable_index(name).ok_or_else(|| {
+                invalid(
+                    &format!("robot.start_state.{name}"),
+                    format!(
+                        "the robot {:?} has no actuated joint of that name",
+                        model.name()
+                    ),
+                )
+            })?;
+            let limits = model.variable_joint(v).limits;
+            if !limits.contains(value, 1e-9) {
+                return Err(invalid(
+                    &format!("robot.start_state.{name}"),
+                    format!(
+                        "{value} is outside the joint's limits [{}, {}]",
+                        limits.lower, limits.upper
+                    ),
+                ));
+            }
+            start[v] = value;
+        }
+        log.push(format!(
+            "robot {:?}: {} links, {} joints ({} actuated) in {:.1} ms",
+            model.name(),
+            model.links().len(),
+            model.joints().len(),
+            model.variable_count(),
+            ms(t)
+        ));
+
+        // The collision world: robot, SRDF's disabled pairs, environment meshes.
+        let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+        let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(urdf_path))?;
+        self_world.set_world_from_root(world_from_root);
+        let mut world = self_world.clone();
+
+        // Environment meshes and their clusters.
+        let env_params = ClusterParams {
+            h_max: scene.planner.h_max_environment,
+            ..ClusterParams::environment()
+        };
+        let finger_params = ClusterParams {
+            h_max: scene.planner.h_max_finger,
+            ..ClusterParams::finger()
+        };
+        let cache = options.cache_dir.as_deref();
+        let mut environment = Vec::new();
+        for (i, env) in scene.environment.iter().enumerate() {
+            let what = format!("environment[{i}] {:?}", env.name);
+            let mesh = load_mesh(&env.mesh, env.scale, &what)?;
+            let clustering = clusters(&mesh, &env.mesh, &env_params, cache, &what, &mut log)?;
+            let world_from_mesh = env
+                .pose
+                .to_isometry()
+                .map_err(|r| invalid(&format!("environment[{i}].pose"), r.into()))?;
+            let shape = CollisionShape::mesh(&mesh).map_err(robot_err(&env.mesh))?;
+            world.add_environment(&env.name, shape, &world_from_mesh);
+            let collider = ObjectCollider::new(&mesh.transformed(&world_from_mesh))
+                .map_err(|source| Error::Gripper { source })?;
+            environment.push(EnvironmentPart {
+                name: env.name.clone(),
+                mesh,
+                clustering,
+                world_from_mesh,
+                collider,
+            });
+        }
+
+        // The object.
+        let object_mesh = load_mesh(&scene.object.mesh, scene.object.scale, "object.mesh")?;
+        let object_env = clusters(
+            &object_mesh,
+            &scene.object.mesh,
+            &env_params,
+            cache,
+            "object.mesh",
+            &mut log,
+        )?;
+        let object_finger = clusters(
+            &object_mesh,
+            &scene.object.mesh,
+            &finger_params,
+            cache,
+            "object.mesh",
+            &mut log,
+        )?;
+        let cog = scene
+            .object
+            .center_of_gravity
+            .map(Point3::from)
+            .unwrap_or_else(|| MassProperties::of(&object_mesh).center_of_mass);
+        let object_start = scene
+            .object
+            .start_pose
+            .to_isometry()
+            .map_err(|r| invalid("object.start_pose", r.into()))?;
+        let placement_object = ObjectModel::new(&object_mesh, &object_env, cog)
+            .map_err(crate::error::internal("placement object model"))?;
+        let parts: Vec<_> = environment
+            .iter()
+            .map(|e| (&e.mesh, &e.clustering, e.world_from_mesh))
+            .collect();
+        let placement_env = EnvironmentModel::from_parts(&parts)
+            .map_err(crate::error::internal("placement environment model"))?;
+        let object_shape =
+            CollisionShape::mesh(&object_mesh).map_err(robot_err(&scene.object.mesh))?;
+
+        // The arms.
+        let mut arms = Vec::with_capacity(2);
+        let urdf_text = std::fs::read_to_string(urdf_path).unwrap_or_default();
+        let srdf_text = std::fs::read_to_string(srdf_path).unwrap_or_default();
+        for (arm, group, field) in [
+            (Arm::Right, &scene.planner.right_arm, "planner.right_arm"),
+            (Arm::Left, &scene.planner.left_arm, "planner.left_arm"),
+        ] {
+            let t = Instant::now();
+            let arm_setup = arm_setup(
+                &model,
+                &semantics,
+                &self_world,
+                &start,
+                &world_from_root,
+                arm,
+                group,
+                cache.map(|dir| {
+                    roadmaps::roadmap_path(
+                        dir,
+                        model.name(),
+                        group,
+                        roadmaps::roadmap_key(&urdf_text, &srdf_text, group),
+                    )
+                }),
+            )
+            .map_err(|e| match e {
+                Error::Robot { source, .. } => invalid(field, source.to_string()),
+                e => e,
+            })?;
+            log.push(format!(
+                "{arm} arm ({group}): roadmap {} nodes {} in {:.1} ms",
+                arm_setup.roadmap.node_count(),
+                match arm_setup.roadmap_source {
+                    RoadmapSource::Loaded => "loaded from the cache",
+                    RoadmapSource::Built => "built",
+                },
+                ms(t)
+            ));
+            arms.push(arm_setup);
+        }
+        let [right, left]: [ArmSetup; 2] = arms
+            .try_into()
+            .map_err(|_| crate::error::internal("arms")("two arms expected"))?;
+        Ok(Self {
+            scene_path: scene_path.to_path_buf(),
+            scene,
+            model,
+            semantics,
+            gripper,
+            world_from_root,
+            start,
+            arms: [right, left],
+            object_mesh,
+            object_env,
+            object_finger,
+            cog,
+            object_start,
+            placement_object,
+            placement_env,
+            environment,
+            object_shape,
+            world,
+            log,
+        })
+    }
+
+    /// The arm's setup.
+    pub fn arm(&self, arm: Arm) -> &ArmSetup {
+        &self.arms[arm.index()]
+    }
+
+    /// The environment mesh a placement region (numbered across meshes) belongs to, and the
+    /// cluster's index in that mesh's clustering.
+    pub fn environment_of_cluster(&self, cluster: usize) -> Option<(usize, usize)> {
+        let mut offset = 0;
+        for (i, e) in self.environment.iter().enumerate() {
+            let n = e.clustering.clusters.len();
+            if cluster < offset + n {
+                return Some((i, cluster - offset));
+            }
+            offset += n;
+        }
+        None
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn load_mesh(path: &Path, scale: Real, what: &str) -> Result<TriMesh> {
+    pickplace_geometry::mesh::load(
+        path,
+        &MeshOptions {
+            scale,
+            ..MeshOptions::default()
+        },
+    )
+    .map_err(|source| Error::Mesh {
+        what: what.to_owned(),
+        source,
+    })
+}
+
+fn clusters(
+    mesh: &TriMesh,
+    mesh_path: &Path,
+    params: &ClusterParams,
+    cache: Option<&Path>,
+    what: &str,
+    log: &mut Vec<String>,
+) -> Result<Clustering> {
+    let t = Instant::now();
+    let mesh_err = |source| Error::Mesh {
+        what: what.to_owned(),
+        source,
+    };
+    let (db, status) = match cache {
+        Some(dir) => {
+            std::fs::create_dir_all(dir).map_err(|source| Error::Cache {
+                path: dir.to_path_buf(),
+                source,
+            })?;
+            ClusterDatabase::load_or_build(&cache_path(dir, mesh_path, params), mesh, params)
+                .map_err(mesh_err)?
+        }
+        None => (
+            ClusterDatabase::build(mesh, params).map_err(mesh_err)?,
+            CacheStatus::Built { reason: None },
+        ),
+    };
+    log.push(format!(
+        "{what} {} clusters ({}): {} in {:.1} ms",
+        params.mode.name(),
+        db.clustering.clusters.len(),
+        match status {
+            CacheStatus::Loaded => "loaded from the cache",
+            _ => "built",
+        },
+        ms(t)
+    ));
+    Ok(db.clustering)
+}
+
+fn arm_setup(
+    model: &RobotModel,
+    semantics: &Semantics,
+    self_world: &CollisionWorld,
+    start: &[Real],
+    world_from_root: &Isometry3,
+    arm: Arm,
+    group: &str,
+    cache: Option<PathBuf>,
+) -> Result<ArmSetup> {
+    let srdf = semantics.source().to_path_buf();
+    semantics.group(group).map_err(robot_err(&srdf))?;
+    let ik = IkSolver::for_group(model, semantics, group).map_err(robot_err(&srdf))?;
+    let variables = ik.chain().variables().to_vec();
+    let tcp_link = ik.chain().tip_link();
+    let end_effector = semantics
+        .end_effectors()
+        .iter()
+        .find(|e| e.parent_group.as_deref() == Some(group) || e.parent_link == tcp_link)
+        .ok_or_else(|| Error::Robot {
+            path: srdf.clone(),
+            source: pickplace_robot::Error::UnknownGroup {
+                name: format!("end effector of {group}"),
+            },
+        })?;
+    let hand = semantics
+        .group(&end_effector.group)
+        .map_err(robot_err(&srdf))?;
+    let finger_variables = hand.variables.clone();
+    let mut finger_links: Vec<String> = hand
+        .links
+        .iter()
+        .map(|&l| model.links()[l].name.clone())
+        .collect();
+    finger_links.push(model.links()[tcp_link].name.clone());
+    if let Some(&last) = variables.last() {
+        let parent = model.joints()[model.variable_joints()[last]].child_link;
+        let name = model.links()[parent].name.clone();
+        if !finger_links.contains(&name) {
+            finger_links.push(name);
+        }
+    }
+    let space = roadmaps::arm_space(model, &variables)?;
+    let (roadmap, roadmap_source) = roadmaps::load_or_build(
+        model,
+        self_world,
+        &variables,
+        start,
+        &space,
+        cache.as_deref(),
+    )?;
+    // The shoulder: the first joint's origin at the start configuration.
+    let poses = model.link_poses(start).map_err(robot_err(model.source()))?;
+    let first_joint = &model.joints()[model.variable_joints()[variables[0]]];
+    let shoulder_local = poses[first_joint.child_link].translation.vector;
+    let shoulder = world_from_root * Point3::from(shoulder_local);
+    // Reach: the farthest the TCP gets from the shoulder over a seeded sample of the arm's
+    // space (a bound for the cheap "out of reach" test, padded by 2 %).
+    let mut rng = pickplace_robot::rng::Rng::new(0x5eed);
+    let mut q = start.to_vec();
+    let mut reach: Real = 0.0;
+    for _ in 0..2000 {
+        for (c, &v) in variables.iter().enumerate() {
+            q[v] = rng.uniform(space.lower()[c], space.upper()[c]);
+        }
+        let p = ik.chain().pose(&q).translation.vector;
+        reach = reach.max((p - shoulder_local).norm());
+    }
+    Ok(ArmSetup {
+        arm,
+        group: group.to_owned(),
+        ik,
+        variables,
+        space,
+        roadmap,
+        roadmap_source,
+        tcp_link,
+        tcp_name: model.links()[tcp_link].name.clone(),
+        finger_variables,
+        finger_links,
+        shoulder,
+        reach: reach * 1.02,
+    })
+}
