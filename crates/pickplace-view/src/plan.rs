@@ -17,6 +17,9 @@ use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_robot::RobotModel;
 use std::sync::Arc;
 
+/// How far below the object's lowest point [`PlanView::camera`] frames the scene (m).
+pub const CROP_BELOW_OBJECT: Real = 0.25;
+
 /// An object held by a link from `grasp_time` to `release_time` (both included).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grip {
@@ -222,7 +225,7 @@ impl PlanView {
     }
 
     /// A camera that frames the environment, the object's whole path and the robot at the
-    /// first frame, seen obliquely from the front ([`OBLIQUE_VIEW`]) in an image of
+    /// first frame down to [`CROP_BELOW_OBJECT`] under the object's lowest point, seen obliquely from the front ([`OBLIQUE_VIEW`]) in an image of
     /// `aspect = width / height`.
     ///
     /// # Errors
@@ -232,13 +235,22 @@ impl PlanView {
         let mut bounds = scene
             .bounds()
             .unwrap_or((Point3::origin(), Point3::origin()));
-        if let Some((lo, hi)) = self.object.geometry.bounds(&Isometry3::identity()) {
-            for pose in &self.world_from_object {
-                for corner in [lo, hi] {
-                    let p = pose * corner;
-                    bounds = (bounds.0.inf(&p), bounds.1.sup(&p));
-                }
+        let mut object_low = Real::INFINITY;
+        for pose in &self.world_from_object {
+            if let Some((lo, hi)) = self.object.geometry.bounds(pose) {
+                bounds = (bounds.0.inf(&lo), bounds.1.sup(&hi));
+                object_low = object_low.min(lo.z);
             }
+        }
+        // What happens is on and above the work surface: table legs and the robot's stand more
+        // than CROP_BELOW_OBJECT under the object's lowest point are left out of the framing
+        // (they are still drawn where they fall in the picture).
+        if object_low.is_finite() {
+            bounds.0.z = bounds
+                .0
+                .z
+                .max(object_low - CROP_BELOW_OBJECT)
+                .min(bounds.1.z);
         }
         Ok(Camera::fit_with_aspect(bounds, OBLIQUE_VIEW, aspect))
     }

@@ -352,3 +352,37 @@ fn placements_png_draws_the_candidates() {
     ok(&out);
     assert_picture(&resting, (800, 600));
 }
+
+#[test]
+fn view_of_a_real_plan_has_one_keyframe_per_trajectory_point() {
+    let dir = Scratch::new("view-real");
+    let plan_path = dir.join("plan.json");
+    let scene = repo("scenes/fig9-near.toml");
+    ok(&run_in(
+        dir.path(),
+        args!["plan", scene, "--out", plan_path],
+    ));
+    let plan = Plan::from_json(&std::fs::read_to_string(&plan_path).expect("plan written"))
+        .expect("a valid plan");
+    let out_dir = dir.join("out");
+    ok(&run_in(
+        dir.path(),
+        args![
+            "view", plan_path, "--scene", scene, "--out", out_dir, "--size", "160x120"
+        ],
+    ));
+    let glb = std::fs::read(out_dir.join("plan.glb")).expect("glb");
+    let summary = pickplace_view::glb::validate_glb(&glb).expect("a valid glb");
+    let samples = plan.trajectory.len() as u64;
+    assert!(
+        summary.animations[0]
+            .channels
+            .iter()
+            .all(|c| c.samples == samples)
+    );
+    assert_eq!(dir.files("out").len(), 1 + plan.key_poses.len());
+    for (i, key) in plan.key_poses.iter().enumerate() {
+        let name = format!("keypose-{i:02}-{}.png", key.name);
+        assert_picture(&out_dir.join(name), (160, 120));
+    }
+}
