@@ -46,6 +46,9 @@ const IK_SOLUTIONS: usize = 4;
 /// clearance margin: the ends are grasp and release poses that may be close to the object.
 const END_EXEMPT_RADIUS: Real = 0.1;
 
+/// Clearance kept between the two hands at a handover (m).
+const HAND_CLEARANCE: Real = 0.004;
+
 /// Name of the object in collision worlds.
 pub const OBJECT_NAME: &str = "object";
 
@@ -75,7 +78,7 @@ pub struct PlanOptions {
     pub min_grasp_quality: Real,
     /// Clearance kept by PRM motions (m) (default: 0.01).
     pub motion_margin: Real,
-    /// Object poses tried for a handover (default: 36); see [`handover_candidates`].
+    /// Picking-hand poses tried for a handover (default: 96); see [`handover_candidates`].
     pub handover_poses: usize,
     /// Feasible handover poses compared before the best is kept (default: 3).
     pub handover_feasible: usize,
@@ -114,7 +117,7 @@ impl Default for PlanOptions {
             max_grasps: 48,
             min_grasp_quality: 0.2,
             motion_margin: 0.01,
-            handover_poses: 36,
+            handover_poses: 96,
             handover_feasible: 3,
             contact_zone: 0.005,
             timings: true,
@@ -891,7 +894,7 @@ impl Ctx<'_> {
         if picks.is_empty() {
             return Ok(None);
         }
-        let handovers = handover_candidates(self.setup, self.options.handover_poses);
+        let handovers = handover_candidates(self.setup, a, self.options.handover_poses);
         for pi in 0..self.placements.len().min(self.options.max_placements) {
             // Places by arm B, seeded from its start configuration.
             let mut places = Vec::new();
@@ -908,12 +911,14 @@ impl Ctx<'_> {
                 stage(report, "placement").reject("no grasp of the placing arm reaches it");
                 continue;
             }
-            // The handover: object poses in front of the torso, scored by both arms'
-            // reachability and clearance.
+            // The handover: object poses in front of the torso (where the picking hand
+            // holds it at a searched tool pose), scored by both arms' reach and clearance.
             let mut feasible: Vec<(Real, Handover)> = Vec::new();
             'poses: for (hi, h) in handovers.iter().enumerate() {
                 for (g1, pick) in &picks {
-                    match self.handover_at(strategy, hi, h, *g1, pick, &places) {
+                    // The object where the picking hand holds it at this tool pose.
+                    let world_from_object = h * self.grasps[*g1].object_from_tcp.inverse();
+                    match self.handover_at(strategy, hi, &world_from_object, *g1, pick, &places) {
                         Ok(found) => {
                             stage(report, "handover").accept();
                             feasible.push(found);
@@ -978,15 +983,12 @@ impl Ctx<'_> {
         }
         let lifted = pick.lift.last().expect("non-empty");
         let salt = (hi as u64) << 24 | (g1 as u64) << 8 | 0x40;
-        let q_a = self
-            .ik(a, &pose_a, lifted, salt)
-            .ok_or_else(|| "picking arm: no IK".to_owned())?;
         let holding_a = self
             .world_holding(a, &grasp1.object_from_tcp, &[])
             .map_err(|e| e.to_string())?;
-        if let Some(c) = self.collision(&holding_a, &q_a, 0.0) {
-            return Err(format!("picking arm: {c}"));
-        }
+        let q_a = self
+            .free_ik(a, &pose_a, lifted, salt, &holding_a)
+            .map_err(|r| format!("picking arm: {r}"))?;
         let arm_b = self.setup.arm(b);
         let mut last_reason = "no regrasp".to_owned();
         for (g2, _) in places {
@@ -1002,14 +1004,13 @@ impl Ctx<'_> {
                 continue;
             }
             let seed = self.with_fingers(b, &q_a, self.open_half());
-            let Some(q_b) = self.ik(b, &pose_b, &seed, salt ^ (*g2 as u64) << 40) else {
-                last_reason = "placing arm: no IK".to_owned();
-                continue;
+            let q_b = match self.free_ik(b, &pose_b, &seed, salt ^ (*g2 as u64) << 40, &holding_a) {
+                Ok(q) => q,
+                Err(r) => {
+                    last_reason = format!("regrasp: {r}");
+                    continue;
+                }
             };
-            if let Some(c) = self.collision(&holding_a, &q_b, 0.0) {
-                last_reason = format!("regrasp: {c}");
-                continue;
-            }
             let pre_pose =
                 pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
             let approach = match self.cartesian(b, &q_b, &pre_pose, &|_, _| &holding_a, salt ^ 0x55)
@@ -1479,7 +1480,7 @@ struct Handover {
 
 /// Whether the gripper of `second` (open) would overlap the gripper of `first` (closed on
 /// the object) when both hold the object: any of their palm and finger boxes intersect
-/// (separating-axis test on oriented boxes, object frame), with a 1 cm clearance.
+/// (separating-axis test on oriented boxes, object frame), with [`HAND_CLEARANCE`].
 fn hands_overlap(gripper: &pickplace_grasp::GripperParams, first: &Grasp, second: &Grasp) -> bool {
     let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
         let [f1, f2] = gripper.fingers(opening);
@@ -1488,7 +1489,7 @@ fn hands_overlap(gripper: &pickplace_grasp::GripperParams, first: &Grasp, second
             .map(|b| Obb {
                 center: grasp.object_from_tcp * b.center,
                 axes: grasp.object_from_tcp.rotation.to_rotation_matrix().matrix() * b.tcp_from_box,
-                half: b.half_extents.add_scalar(0.005),
+                half: b.half_extents.add_scalar(HAND_CLEARANCE / 2.0),
             })
             .collect()
     };
@@ -1531,35 +1532,48 @@ impl Obb {
     }
 }
 
-/// Object poses tried for a handover, best guess first: in front of the torso between the
-/// shoulders, at and above shoulder height minus 0.3 m, the object kept upright as it starts
-/// and turned about the vertical in 90° steps. The original planner used one hard-coded pose;
-/// here the pose is searched and each feasible one scored by both arms' reach margin and the
-/// robot's clearance.
-pub fn handover_candidates(setup: &Setup, count: usize) -> Vec<Isometry3> {
+/// Poses of the picking hand (`world_from_tcp`) tried for a handover, best guess first; the
+/// object's handover pose is where this hand holds it. The original planner used one
+/// hard-coded pose; here the pose is searched: tool positions in front of the torso between
+/// the shoulders (0.32–0.40 m ahead, 0.15–0.25 m below the shoulders), approach directions
+/// forward, forward and inward, forward and down, and down, each rolled in 90° steps. Each
+/// feasible one is scored by both arms' reach margin and the robot's clearance.
+pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Isometry3> {
     let [r, l] = [setup.arms[0].shoulder, setup.arms[1].shoulder];
     let mid = Point3::from((r.coords + l.coords) / 2.0);
     let forward = setup.world_from_root.rotation * Vector3::x();
-    let side = setup.world_from_root.rotation * Vector3::y();
+    let left = setup.world_from_root.rotation * Vector3::y();
     let up = Vector3::z();
-    let start_rotation = setup.object_start.rotation;
+    // The picking hand reaches across towards the other arm.
+    let inward = match picking {
+        Arm::Left => -left,
+        Arm::Right => left,
+    };
+    let directions = [
+        forward,
+        (forward + inward).normalize(),
+        (forward - up).normalize(),
+        -up,
+    ];
     let mut out = Vec::new();
-    for (i, &ahead) in [0.40, 0.34, 0.46].iter().enumerate() {
-        for (j, &lateral) in [0.0, -0.06, 0.06].iter().enumerate() {
-            for (k, &height) in [-0.30, -0.22].iter().enumerate() {
-                for (m, &yaw) in [0.0, 90.0, -90.0, 180.0].iter().enumerate() {
-                    let p = mid + forward * ahead + side * lateral + up * height;
-                    let rotation =
-                        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), Real::to_radians(yaw))
-                            * start_rotation;
-                    // Centre the object (its CoG) on the point.
-                    let c = rotation * setup.cog.coords;
-                    let pose = Isometry3::from_parts(Translation3::from(p.coords - c), rotation);
-                    out.push(((i + j + k) * 4 + m, out.len(), pose));
+    for &ahead in &[0.36, 0.30, 0.42] {
+        for &height in &[-0.15, -0.25] {
+            for (d, approach) in directions.iter().enumerate() {
+                for roll in 0..4 {
+                    let p = mid + forward * ahead + up * height;
+                    // A frame with z along the approach; x from a reference not parallel to it.
+                    let reference = if approach.cross(&up).norm() > 1e-6 { up } else { forward };
+                    let x0 = reference.cross(approach).normalize();
+                    let y0 = approach.cross(&x0);
+                    let angle = Real::from(roll) * std::f64::consts::FRAC_PI_2;
+                    let x = x0 * angle.cos() + y0 * angle.sin();
+                    let y = approach.cross(&x);
+                    let m = pickplace_geometry::math::Matrix3::from_columns(&[x, y, *approach]);
+                    let rotation = UnitQuaternion::from_matrix(&m);
+                    out.push((d, out.len(), Isometry3::from_parts(Translation3::from(p.coords), rotation)));
                 }
             }
         }
     }
-    out.sort_by_key(|&(rank, index, _)| (rank, index));
     out.into_iter().take(count).map(|(_, _, p)| p).collect()
 }

@@ -289,7 +289,7 @@ pub(crate) fn supports(setup: &Setup, world_from_object: &Isometry3) -> Vec<Stri
             Err(_) => continue,
         };
         if !env
-            .touching_points(object, world_from_object, world_from_object, 1e-3)
+            .touching_points(object, world_from_object, 1e-3)
             .is_empty()
         {
             names.push(e.name.clone());
@@ -426,7 +426,7 @@ impl Validator<'_> {
         if env.intersects(obj, object, &Vector3::new(0.0, 0.0, 1e-3)) {
             self.problem(t, "the placed object penetrates the environment".into());
         }
-        let points = env.touching_points(obj, object, object, 1.5e-3);
+        let points = env.touching_points(obj, object, 1.5e-3);
         let ring: Vec<Point2> = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
         let hull = convex_hull(&ring);
         let cog = object * setup.cog;
