@@ -66,6 +66,13 @@ pub struct ClustersArgs {
     /// Also write the clusters as a PLY mesh with one colour per cluster.
     #[arg(long, value_name = "FILE")]
     pub ply: Option<PathBuf>,
+    /// Also draw the clusters as a PNG picture (each cluster in its own colour, the two
+    /// clusters of a finger pair in one hue; the paper's Figs. 3-5).
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
+    /// Size of the --png picture, WIDTHxHEIGHT in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600", requires = "png")]
+    pub size: String,
     /// Read the clusters from this database (written by `pickplace precompute`) instead of
     /// computing them; it must have been built for MESH with the same mode and h_max.
     #[arg(long, value_name = "FILE")]
@@ -126,6 +133,7 @@ fn pairs_note(c: &Clustering) -> String {
 /// `pickplace clusters`.
 pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     let params = args.mode.params(args.h_max)?;
+    let size = crate::view::parse_size(&args.size)?;
     let mesh = load_mesh(&args.mesh, args.scale)?;
     let db = match &args.db {
         Some(db_path) => ClusterDatabase::load(db_path, mesh_hash(&mesh), &params)?,
@@ -135,6 +143,14 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     if let Some(ply) = &args.ply {
         pickplace_geometry::export::write_clusters_ply(ply, &mesh, c)?;
         eprintln!("wrote {} ({} clusters)", ply.display(), c.clusters.len());
+    }
+    if let Some(png) = &args.png {
+        let options = pickplace_view::PictureOptions {
+            render: crate::view::render_options(size),
+            ..Default::default()
+        };
+        pickplace_view::render_clusters(&mesh, c, &options)?.write_png(png)?;
+        eprintln!("wrote {} ({} clusters)", png.display(), c.clusters.len());
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());

@@ -7,6 +7,7 @@ mod grasps;
 mod placements;
 mod plan;
 mod robot;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -50,6 +51,8 @@ enum Command {
     Plan(plan::PlanArgs),
     /// Re-check a plan independently: dense interpolation, limits, collisions, stability.
     Validate(plan::ValidateArgs),
+    /// Pictures of a plan: an animated glTF (plan.glb) and PNGs of the key poses.
+    View(view::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -88,6 +91,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Grasps(args) => grasps::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Validate(args) => plan::run_validate(&args),
+        Command::View(args) => view::run(&args),
     }
 }
 

@@ -49,6 +49,14 @@ pub struct PlacementsArgs {
     /// Print JSON on stdout instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the placements as a PNG picture (the paper's Fig. 6): the environment, the
+    /// best placement opaque and the others translucent, the target as a red sphere. Without
+    /// --on, the resting poses side by side on a plate.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
+    /// Size of the --png picture, WIDTHxHEIGHT in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600", requires = "png")]
+    pub size: String,
 }
 
 #[derive(Serialize)]
@@ -156,6 +164,7 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         scale: args.scale,
         ..Default::default()
     };
+    let size = crate::view::parse_size(&args.size)?;
     let object_mesh = mesh::load(&args.object, &options)?;
     let mass = MassProperties::of(&object_mesh);
     let cog = mass.center_of_mass;
@@ -177,6 +186,14 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
                 tilt: 0.0,
             })
             .collect();
+        if let Some(png) = &args.png {
+            let poses: Vec<Isometry3> = poses
+                .iter()
+                .take(args.max)
+                .map(|p| p.world_from_object)
+                .collect();
+            write_resting_png(png, size, &object_mesh, &poses)?;
+        }
         let out = JsonOutput {
             format: FORMAT,
             object: object_name,
@@ -220,6 +237,23 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
     };
     let set = candidates(&object, &env, &target, &placement_options)
         .map_err(|e| anyhow::anyhow!("{}: {e}", env_path.display()))?;
+    if let Some(png) = &args.png {
+        let poses: Vec<Isometry3> = set.placements.iter().map(|p| p.world_from_object).collect();
+        let options = pickplace_view::PictureOptions {
+            render: crate::view::render_options(size),
+            ..Default::default()
+        };
+        pickplace_view::render_placements(
+            &object_mesh,
+            &env_mesh,
+            &world_from_env,
+            &poses,
+            Some(target),
+            &options,
+        )?
+        .write_png(png)?;
+        eprintln!("wrote {} ({} placements)", png.display(), poses.len());
+    }
     let out = JsonOutput {
         format: FORMAT,
         object: object_name,
@@ -252,6 +286,57 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
             .collect(),
     };
     print(&out, args.json)
+}
+
+/// Resting poses side by side along x on a thin plate, as a picture.
+fn write_resting_png(
+    png: &std::path::Path,
+    size: (u32, u32),
+    object: &pickplace_geometry::mesh::TriMesh,
+    world_from_object: &[Isometry3],
+) -> anyhow::Result<()> {
+    let (lo, hi) = object.aabb();
+    let spacing = (hi - lo).norm() * 1.2;
+    let poses: Vec<Isometry3> = world_from_object
+        .iter()
+        .enumerate()
+        .map(|(i, p)| Translation3::new(spacing * i as Real, 0.0, 0.0) * p)
+        .collect();
+    // The plate spans every copy; its top is at the lowest point of any copy.
+    let (mut min, mut max) = (
+        Point3::new(Real::MAX, Real::MAX, Real::MAX),
+        Point3::new(Real::MIN, Real::MIN, Real::MIN),
+    );
+    for pose in &poses {
+        for v in object.vertices() {
+            let p = pose * v;
+            min = min.inf(&p);
+            max = max.sup(&p);
+        }
+    }
+    if poses.is_empty() {
+        (min, max) = (lo, hi);
+    }
+    let margin = spacing * 0.25;
+    let half = [
+        0.5 * (max.x - min.x) + margin,
+        0.5 * (max.y - min.y) + margin,
+        0.001,
+    ];
+    let plate = pickplace_geometry::shapes::box_mesh(half);
+    let world_from_plate = Isometry3::translation(
+        0.5 * (min.x + max.x),
+        0.5 * (min.y + max.y),
+        min.z - half[2],
+    );
+    let options = pickplace_view::PictureOptions {
+        render: crate::view::render_options(size),
+        ..Default::default()
+    };
+    pickplace_view::render_placements(object, &plate, &world_from_plate, &poses, None, &options)?
+        .write_png(png)?;
+    eprintln!("wrote {} ({} resting poses)", png.display(), poses.len());
+    Ok(())
 }
 
 /// The centre of the largest upward-facing environment region (world frame).

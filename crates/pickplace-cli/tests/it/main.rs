@@ -6,6 +6,7 @@ mod demo;
 mod placements;
 mod precompute;
 mod support;
+mod view;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -1,0 +1,286 @@
+//! `pickplace view`: an animated glTF (`plan.glb`) and PNG pictures of the key poses of a
+//! plan, rendered on the CPU by `pickplace-view`; and the `--png` pictures of `clusters` and
+//! `placements`.
+//!
+//! Everything is computed and encoded in memory before the first file is written, and every
+//! file is written atomically, so bad input never leaves a partial output behind.
+
+use anyhow::{Context, Result, bail};
+use pickplace::plan::EventKind;
+use pickplace::{Plan, Scene};
+use pickplace_geometry::math::Isometry3;
+use pickplace_geometry::mesh::{self, MeshOptions};
+use pickplace_robot::{LoadOptions, RobotModel};
+use pickplace_view::{
+    Colour, Geometry, Grip, Motion, PlanView, Prop, RenderOptions, RobotGeometry,
+    RobotGeometryOptions,
+};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+/// Arguments of `pickplace view`.
+#[derive(Debug, clap::Args)]
+pub struct ViewArgs {
+    /// Plan file (JSON, format `pickplace.plan/1`, as written by `pickplace plan`).
+    pub plan: PathBuf,
+    /// The scene the plan was made for (robot, object and environment meshes).
+    #[arg(long, value_name = "SCENE.toml")]
+    pub scene: PathBuf,
+    /// Output folder, created if needed.
+    #[arg(long, value_name = "DIR", default_value = "pickplace-view")]
+    pub out: PathBuf,
+    /// Size of the key-pose pictures, WIDTHxHEIGHT in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x600")]
+    pub size: String,
+}
+
+/// Default size of the key-pose pictures written by [`write_view`] (pixels).
+#[allow(dead_code, reason = "used by write_view, which `pickplace demo` calls")]
+pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
+
+/// Parses `WIDTHxHEIGHT` (each 1 to 16384 pixels).
+pub fn parse_size(text: &str) -> Result<(u32, u32)> {
+    let parse =
+        |s: &str| -> Option<u32> { s.trim().parse().ok().filter(|v| (1..=16_384).contains(v)) };
+    match text.split_once(['x', 'X']) {
+        Some((w, h)) => match (parse(w), parse(h)) {
+            (Some(w), Some(h)) => Ok((w, h)),
+            _ => bail!("--size `{text}`: width and height must be whole numbers from 1 to 16384"),
+        },
+        None => bail!("--size `{text}`: expected WIDTHxHEIGHT, for example 800x600"),
+    }
+}
+
+/// Render options for a picture of `size`.
+pub fn render_options(size: (u32, u32)) -> RenderOptions {
+    RenderOptions {
+        width: size.0,
+        height: size.1,
+        ..RenderOptions::default()
+    }
+}
+
+/// `pickplace view`.
+pub fn run(args: &ViewArgs) -> Result<ExitCode> {
+    let size = parse_size(&args.size)?;
+    let text = std::fs::read_to_string(&args.plan)
+        .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
+    let plan = Plan::from_json(&text)
+        .map_err(|e| anyhow::anyhow!("{}: not a valid plan: {e}", args.plan.display()))?;
+    let scene = Scene::load(&args.scene)?;
+    let written = write_view_sized(&scene, &plan, &args.out, size)
+        .with_context(|| format!("{}", args.plan.display()))?;
+    for path in &written {
+        println!("{}", path.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes `out/plan.glb` and `out/keypose-NN-NAME.png` (800x600) for `plan` in `scene`, and
+/// returns the paths written (the glb first). Creates `out` if needed.
+///
+/// # Errors
+/// Unreadable robot or meshes (naming the file), a plan whose joint names are not the robot's
+/// actuated joints, events naming unknown links, or a write failure. Nothing is written
+/// unless everything could be computed.
+#[allow(dead_code, reason = "the entry point for `pickplace demo`")]
+pub fn write_view(scene: &Scene, plan: &Plan, out: &Path) -> Result<Vec<PathBuf>> {
+    write_view_sized(scene, plan, out, DEFAULT_SIZE)
+}
+
+/// As [`write_view`], with pictures of `size` (width, height) pixels.
+pub fn write_view_sized(
+    scene: &Scene,
+    plan: &Plan,
+    out: &Path,
+    size: (u32, u32),
+) -> Result<Vec<PathBuf>> {
+    let view = plan_view(scene, plan)?;
+    // Compute and encode everything before writing anything.
+    let glb = view
+        .gltf("plan")
+        .and_then(|g| g.encode())
+        .context("building the glTF")?;
+    let options = render_options(size);
+    let camera = view.camera(f64::from(size.0) / f64::from(size.1))?;
+    let mut files: Vec<(PathBuf, Vec<u8>)> = vec![(out.join("plan.glb"), glb)];
+    for (i, key) in plan.key_poses.iter().enumerate() {
+        let frame = view.frame_at_time(key.time);
+        let png = view
+            .render_frame(frame, Some(&camera), &options)?
+            .encode_png()?;
+        let name = format!("keypose-{:02}-{}.png", i, file_name_part(&key.name));
+        files.push((out.join(name), png));
+    }
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("{}: cannot create the folder", out.display()))?;
+    let mut written = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        pickplace_geometry::export::write_atomic(&path, &bytes)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// `name` with every character outside `[A-Za-z0-9_-]` replaced by `-`.
+fn file_name_part(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    if s.is_empty() { "pose".into() } else { s }
+}
+
+/// Colours of the environment parts, in scene order.
+const ENVIRONMENT_COLOURS: [Colour; 4] = [
+    Colour::new(176, 140, 100),
+    Colour::new(150, 160, 175),
+    Colour::new(140, 170, 130),
+    Colour::new(190, 170, 150),
+];
+
+/// The plan evaluated in the scene: robot loaded, joints mapped, grips from the events.
+pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
+    let robot = RobotModel::from_urdf_file(&scene.robot.urdf, &LoadOptions::default())?;
+    let world_from_root = scene
+        .robot
+        .base_pose
+        .to_isometry()
+        .map_err(|e| anyhow::anyhow!("robot.base_pose: {e}"))?;
+
+    // Plan columns -> robot variables; the names must be exactly the robot's variables.
+    let robot_names: Vec<&str> = robot.variable_names().collect();
+    let missing: Vec<&str> = robot_names
+        .iter()
+        .copied()
+        .filter(|n| !plan.joint_names.iter().any(|p| p == n))
+        .collect();
+    let unknown: Vec<&str> = plan
+        .joint_names
+        .iter()
+        .map(String::as_str)
+        .filter(|p| !robot_names.contains(p))
+        .collect();
+    if !missing.is_empty() || !unknown.is_empty() {
+        bail!(
+            "the plan's joint names do not match the robot {} ({}): missing {:?}, unknown {:?}",
+            robot.name(),
+            scene.robot.urdf.display(),
+            missing,
+            unknown
+        );
+    }
+    let columns: Vec<usize> = robot_names
+        .iter()
+        .map(|n| {
+            plan.joint_names
+                .iter()
+                .position(|p| p == n)
+                .expect("every robot variable is in the plan (checked above)")
+        })
+        .collect();
+    let times: Vec<f64> = plan.trajectory.iter().map(|p| p.time_from_start).collect();
+    let configurations: Vec<Vec<f64>> = plan
+        .trajectory
+        .iter()
+        .map(|p| columns.iter().map(|&c| p.positions[c]).collect())
+        .collect();
+
+    // Grips: each grasp lasts until the next release by the same link.
+    let mut events: Vec<&pickplace::plan::Event> = plan.events.iter().collect();
+    events.sort_by(|a, b| a.time.total_cmp(&b.time));
+    let mut grips: Vec<Grip> = Vec::new();
+    let mut open: Vec<(String, usize)> = Vec::new();
+    for (i, e) in events.iter().enumerate() {
+        let link = robot.link_index(&e.link).with_context(|| {
+            format!(
+                "event {i} ({:?} at {} s): the robot has no link {:?}",
+                e.kind, e.time, e.link
+            )
+        })?;
+        match e.kind {
+            EventKind::Grasp => {
+                let link_from_object = e
+                    .link_from_object
+                    .to_isometry()
+                    .map_err(|r| anyhow::anyhow!("event {i}: link_from_object: {r}"))?;
+                open.push((e.link.clone(), grips.len()));
+                grips.push(Grip {
+                    link,
+                    link_from_object,
+                    grasp_time: e.time,
+                    release_time: None,
+                });
+            }
+            EventKind::Release => {
+                let k = open
+                    .iter()
+                    .rposition(|(l, _)| *l == e.link)
+                    .with_context(|| {
+                        format!(
+                            "event {i}: release by {:?} without a grasp before it",
+                            e.link
+                        )
+                    })?;
+                let (_, g) = open.remove(k);
+                grips[g].release_time = Some(e.time);
+            }
+        }
+    }
+    let motion = Motion {
+        world_from_root,
+        times,
+        configurations,
+        grips,
+    };
+
+    let object_mesh = mesh::load(
+        &scene.object.mesh,
+        &MeshOptions {
+            scale: scene.object.scale,
+            ..MeshOptions::default()
+        },
+    )?;
+    let object = Prop {
+        name: "object".into(),
+        geometry: Arc::new(Geometry::from_trimesh(&object_mesh)),
+        world_from_mesh: pose(&plan.object.start_pose, "object.start_pose")?,
+        colour: Colour::ORANGE,
+    };
+    let mut environment = Vec::with_capacity(scene.environment.len());
+    for (i, env) in scene.environment.iter().enumerate() {
+        let m = mesh::load(
+            &env.mesh,
+            &MeshOptions {
+                scale: env.scale,
+                ..MeshOptions::default()
+            },
+        )?;
+        environment.push(Prop {
+            name: env.name.clone(),
+            geometry: Arc::new(Geometry::from_trimesh(&m)),
+            world_from_mesh: pose(&env.pose, "environment pose")?,
+            colour: ENVIRONMENT_COLOURS[i % ENVIRONMENT_COLOURS.len()],
+        });
+    }
+    let geometry = RobotGeometry::new(&robot, &RobotGeometryOptions::default())?;
+    Ok(PlanView::new(
+        &robot,
+        geometry,
+        &motion,
+        object,
+        environment,
+    )?)
+}
+
+fn pose(spec: &pickplace::scene::PoseSpec, what: &str) -> Result<Isometry3> {
+    spec.to_isometry()
+        .map_err(|e| anyhow::anyhow!("{what}: {e}"))
+}
