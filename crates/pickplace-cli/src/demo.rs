@@ -1,27 +1,50 @@
-//! `pickplace demo`: the built-in scene of the paper's Fig. 9 (a drink can placed into a dent of
-//! a pallet by NX-HIRO), run through every stage the workspace has so far.
+//! `pickplace demo`: the paper's Fig. 9 (NX-HIRO puts a drink can into a dent of a pallet),
+//! planned end to end from the scene built into the binary.
 //!
-//! The scene is built into the binary (the shipped meshes' generators and the robot's gripper
-//! configuration), so the demo runs from any directory. Stages: surface clustering of the can
-//! and the pallet (Algorithm 1, pictures as PLY), stable placements of the can in the dent
-//! (Algorithm 2), grasps of the can with NX-HIRO's gripper. The online planner that joins them
-//! into a motion (Fig. 8) is not written yet; the demo says so.
+//! The robot files, the scene files and the meshes' generators are compiled in, so the demo
+//! runs from any directory: it writes them into `<out>/scene/` and plans from there, twice —
+//! the can near the right hand (RIGHT-RIGHT) and far to the left (a handover, LEFT-RIGHT) —
+//! then re-checks each plan with the independent validator and draws the handover plan
+//! (animated glTF and key-pose pictures) and the clusters of the can and the pallet.
 
+use crate::plan::{PlanArgs, plan_setup, setup};
 use anyhow::Context;
+use pickplace::planner::Outcome;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::export::{write_atomic, write_clusters_ply};
-use pickplace_geometry::math::{Isometry3, Point3};
-use pickplace_geometry::mesh::MassProperties;
+use pickplace_geometry::mesh::encode_stl_binary;
 use pickplace_geometry::shapes;
-use pickplace_grasp::json::GraspsJson;
-use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
-use pickplace_placement::{EnvironmentModel, ObjectModel, PlacementOptions, candidates};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// NX-HIRO's gripper configuration, as shipped in `robots/nx-hiro/gripper.toml`.
-const GRIPPER_TOML: &str = include_str!("../../../robots/nx-hiro/gripper.toml");
+/// Files of the built-in scene: (path under `<out>/scene/`, contents).
+const FILES: [(&str, &str); 6] = [
+    (
+        "robots/nx-hiro/nx-hiro.urdf",
+        include_str!("../../../robots/nx-hiro/nx-hiro.urdf"),
+    ),
+    (
+        "robots/nx-hiro/nx-hiro.srdf",
+        include_str!("../../../robots/nx-hiro/nx-hiro.srdf"),
+    ),
+    (
+        "robots/nx-hiro/gripper.toml",
+        include_str!("../../../robots/nx-hiro/gripper.toml"),
+    ),
+    (
+        "scenes/fig9-near.toml",
+        include_str!("../../../scenes/fig9-near.toml"),
+    ),
+    (
+        "scenes/fig9-far-left.toml",
+        include_str!("../../../scenes/fig9-far-left.toml"),
+    ),
+    (
+        "scenes/fig10a-edge.toml",
+        include_str!("../../../scenes/fig10a-edge.toml"),
+    ),
+];
 
 /// Arguments of `pickplace demo`.
 #[derive(Debug, clap::Args)]
@@ -33,120 +56,105 @@ pub struct DemoArgs {
 
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("{}: cannot create the output folder", args.out.display()))?;
-    let out = |name: &str| args.out.join(name);
     let start = Instant::now();
-    eprintln!("pickplace demo: the paper's Fig. 9 scene, a can into a dent of a pallet");
+    eprintln!("pickplace demo: the paper's Fig. 9, a can into a dent of a pallet, by NX-HIRO");
+    let scene_dir = args.out.join("scene");
+    write_scene(&scene_dir)?;
+    let mut written: Vec<PathBuf> = Vec::new();
 
+    // The offline phase's pictures: clusters of the can and the pallet (§III-A, Figs. 3–5).
     let can = shapes::can_builder().build()?;
     let pallet = shapes::pallet_builder().build()?;
-    let env_params = ClusterParams::environment();
-    let finger_params = ClusterParams::finger();
-    let can_env = cluster_surface(&can, &env_params)?;
-    let can_finger = cluster_surface(&can, &finger_params)?;
-    let pallet_env = cluster_surface(&pallet, &env_params)?;
-    write_clusters_ply(&out("can.env-clusters.ply"), &can, &can_env)?;
-    write_clusters_ply(&out("can.finger-clusters.ply"), &can, &can_finger)?;
-    write_clusters_ply(&out("pallet.env-clusters.ply"), &pallet, &pallet_env)?;
-    eprintln!(
-        "  clustering (§III-A): can {} env clusters, {} finger clusters in {} parallel pairs; pallet {} env clusters",
-        can_env.clusters.len(),
-        can_finger.clusters.len(),
-        can_finger.pairs.len(),
-        pallet_env.clusters.len()
-    );
-
-    // The pallet lies on a table in front of the robot; the user clicks the large dent.
-    let world_from_pallet = Isometry3::translation(0.45, -0.10, 0.72);
-    let dent = &shapes::PALLET_DENTS[0];
-    let target = world_from_pallet
-        * Point3::new(
-            dent.center[0],
-            dent.center[1],
-            shapes::PALLET_SIZE[2] - dent.depth,
-        );
-    let cog = MassProperties::of(&can).center_of_mass;
-    let object = ObjectModel::new(&can, &can_env, cog)?;
-    let env = EnvironmentModel::new(&pallet, &pallet_env, &world_from_pallet)?;
-    let placed = candidates(&object, &env, &target, &PlacementOptions::default())
-        .map_err(|e| anyhow::anyhow!("built-in scene: {e}"))?;
-    let placements_json = serde_json::json!({
-        "format": "pickplace.placements.v1",
-        "target": [target.x, target.y, target.z],
-        "target_cluster": placed.target_cluster,
-        "placements": placed.placements.iter().map(|p| {
-            let t = p.world_from_object.translation.vector;
-            let q = p.world_from_object.rotation.quaternion();
-            serde_json::json!({
-                "pose": { "position": [t.x, t.y, t.z], "orientation": [q.i, q.j, q.k, q.w] },
-                "contact": p.contact,
-                "object_cluster": p.object_cluster,
-                "env_cluster": p.env_cluster,
-                "stability_margin": p.stability_margin,
-            })
-        }).collect::<Vec<_>>(),
-    });
-    write_json(&out("placements.json"), &placements_json)?;
-    match placed.placements.first() {
-        Some(best) => {
-            let t = best.world_from_object.translation.vector;
-            eprintln!(
-                "  placement (§III-B.2): {} stable candidates; best {:?} at ({:.3}, {:.3}, {:.3}), margin {:.1} mm",
-                placed.placements.len(),
-                best.contact,
-                t.x,
-                t.y,
-                t.z,
-                best.stability_margin * 1e3
-            );
-        }
-        None => eprintln!("  placement (§III-B.2): no stable candidate"),
-    }
-
-    let gripper =
-        GripperParams::from_toml_str(GRIPPER_TOML, Path::new("robots/nx-hiro/gripper.toml"))?;
-    let planner = GraspPlanner::new(&can)?;
-    let grasps = planner.plan(&can_finger, &gripper, &GraspOptions::default())?;
-    let doc = GraspsJson::new(
-        "built-in can",
-        "robots/nx-hiro/gripper.toml",
-        finger_params.h_max,
-        &planner.center_of_mass(),
-        &grasps,
-    );
-    write_json(&out("grasps.json"), &serde_json::to_value(&doc)?)?;
-    eprintln!(
-        "  grasps (§III-B.1): {} candidates on {} pairs, {} collision-free grasps",
-        grasps.candidates,
-        grasps.pairs,
-        grasps.grasps.len()
-    );
-    eprintln!(
-        "  not yet: strategy selection, key poses with IK, PRM motions and the plan (§III-B.3, §III-C)"
-    );
-    eprintln!("done in {:.2} s; wrote:", start.elapsed().as_secs_f64());
-    for name in [
-        "can.env-clusters.ply",
-        "can.finger-clusters.ply",
-        "pallet.env-clusters.ply",
-        "placements.json",
-        "grasps.json",
+    for (name, mesh, params) in [
+        ("can.env-clusters.ply", &can, ClusterParams::environment()),
+        ("can.finger-clusters.ply", &can, ClusterParams::finger()),
+        ("pallet.env-clusters.ply", &pallet, ClusterParams::environment()),
     ] {
-        println!("{}", out(name).display());
+        let clustering = cluster_surface(mesh, &params)?;
+        let path = args.out.join(name);
+        write_clusters_ply(&path, mesh, &clustering)?;
+        written.push(path);
     }
-    Ok(
-        if placed.placements.is_empty() || grasps.grasps.is_empty() {
-            ExitCode::from(1)
+
+    let mut failed = false;
+    for (case, scene) in [
+        ("near", "scenes/fig9-near.toml"),
+        ("far-left", "scenes/fig9-far-left.toml"),
+    ] {
+        let scene_path = scene_dir.join(scene);
+        eprintln!("{case}: the can starts {}", match case {
+            "near" => "near the right hand",
+            _ => "far to the left",
+        });
+        let setup = setup(&scene_path, Some(args.out.join("cache")))?;
+        let plan_args = PlanArgs {
+            scene: scene_path.clone(),
+            out: None,
+            seed: None,
+            strategy: None,
+            no_timings: false,
+            cache: None,
+        };
+        let plan = match plan_setup(&setup, &plan_args)? {
+            Outcome::Planned(plan) => plan,
+            Outcome::NoPlan(_) => {
+                failed = true;
+                continue;
+            }
+        };
+        let plan_path = args.out.join(format!("plan-{case}.json"));
+        write_atomic(&plan_path, plan.to_json().as_bytes())
+            .with_context(|| format!("{}: cannot write the plan", plan_path.display()))?;
+        written.push(plan_path.clone());
+        let report = pickplace::validate::validate(&setup, &plan, &plan_path)?;
+        if report.problems.is_empty() {
+            eprintln!(
+                "  validated: {} states checked densely, stability margin {:.1} mm",
+                report.states_checked,
+                report.stability_margin.unwrap_or(0.0) * 1e3
+            );
         } else {
-            ExitCode::SUCCESS
-        },
-    )
+            failed = true;
+            for p in &report.problems {
+                eprintln!("  INVALID: {p}");
+            }
+        }
+        let view_dir = args.out.join(format!("view-{case}"));
+        let pictures = crate::view::write_view(&setup.scene, &plan, &view_dir)?;
+        eprintln!(
+            "  pictures: {} (animated glTF) and {} key-pose PNGs",
+            pictures.first().map_or(String::new(), |p| p.display().to_string()),
+            pictures.len().saturating_sub(1)
+        );
+        written.extend(pictures);
+    }
+    eprintln!("done in {:.2} s; wrote:", start.elapsed().as_secs_f64());
+    for path in &written {
+        println!("{}", path.display());
+    }
+    Ok(if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
-fn write_json(path: &Path, value: &serde_json::Value) -> anyhow::Result<()> {
-    let mut text = serde_json::to_string_pretty(value)?;
-    text.push('\n');
-    write_atomic(path, text.as_bytes())?;
+/// Writes the built-in scene (robot, scenes, meshes) under `dir`.
+fn write_scene(dir: &Path) -> anyhow::Result<()> {
+    for (name, text) in FILES {
+        let path = dir.join(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("{}: cannot create the folder", parent.display()))?;
+        }
+        write_atomic(&path, text.as_bytes())?;
+    }
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes)
+        .with_context(|| format!("{}: cannot create the folder", meshes.display()))?;
+    for shipped in shapes::shipped_meshes() {
+        let bytes = encode_stl_binary(&shipped.builder)?;
+        write_atomic(&meshes.join(shipped.file_name), &bytes)?;
+    }
     Ok(())
 }

@@ -36,7 +36,6 @@ pub struct ViewArgs {
 }
 
 /// Default size of the key-pose pictures written by [`write_view`] (pixels).
-#[allow(dead_code, reason = "used by write_view, which `pickplace demo` calls")]
 pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
 
 /// Parses `WIDTHxHEIGHT` (each 1 to 16384 pixels).
@@ -84,7 +83,6 @@ pub fn run(args: &ViewArgs) -> Result<ExitCode> {
 /// Unreadable robot or meshes (naming the file), a plan whose joint names are not the robot's
 /// actuated joints, events naming unknown links, or a write failure. Nothing is written
 /// unless everything could be computed.
-#[allow(dead_code, reason = "the entry point for `pickplace demo`")]
 pub fn write_view(scene: &Scene, plan: &Plan, out: &Path) -> Result<Vec<PathBuf>> {
     write_view_sized(scene, plan, out, DEFAULT_SIZE)
 }
