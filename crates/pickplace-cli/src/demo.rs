@@ -68,7 +68,11 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     for (name, mesh, params) in [
         ("can.env-clusters.ply", &can, ClusterParams::environment()),
         ("can.finger-clusters.ply", &can, ClusterParams::finger()),
-        ("pallet.env-clusters.ply", &pallet, ClusterParams::environment()),
+        (
+            "pallet.env-clusters.ply",
+            &pallet,
+            ClusterParams::environment(),
+        ),
     ] {
         let clustering = cluster_surface(mesh, &params)?;
         let path = args.out.join(name);
@@ -82,10 +86,13 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         ("far-left", "scenes/fig9-far-left.toml"),
     ] {
         let scene_path = scene_dir.join(scene);
-        eprintln!("{case}: the can starts {}", match case {
-            "near" => "near the right hand",
-            _ => "far to the left",
-        });
+        eprintln!(
+            "{case}: the can starts {}",
+            match case {
+                "near" => "near the right hand",
+                _ => "far to the left",
+            }
+        );
         let setup = setup(&scene_path, Some(args.out.join("cache")))?;
         let plan_args = PlanArgs {
             scene: scene_path.clone(),
@@ -123,7 +130,9 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         let pictures = crate::view::write_view(&setup.scene, &plan, &view_dir)?;
         eprintln!(
             "  pictures: {} (animated glTF) and {} key-pose PNGs",
-            pictures.first().map_or(String::new(), |p| p.display().to_string()),
+            pictures
+                .first()
+                .map_or(String::new(), |p| p.display().to_string()),
             pictures.len().saturating_sub(1)
         );
         written.extend(pictures);

@@ -17,8 +17,11 @@ fn demo_writes_its_outputs_and_says_where() {
     for name in [
         "can.env-clusters.ply",
         "pallet.env-clusters.ply",
-        "placements.json",
-        "grasps.json",
+        "plan-near.json",
+        "plan-far-left.json",
+        "view-near/plan.glb",
+        "view-far-left/plan.glb",
+        "view-far-left/keypose-00-pre-grasp.png",
     ] {
         let path = dir.join(name);
         assert!(
@@ -27,9 +30,19 @@ fn demo_writes_its_outputs_and_says_where() {
         );
         assert!(std::fs::metadata(&path).expect(name).len() > 0);
     }
-    let placements: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("placements.json")).expect("read"))
+    let near: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("plan-near.json")).expect("read"))
             .expect("json");
-    assert_eq!(placements["placements"][0]["contact"], "face-face");
+    assert_eq!(near["strategy"], "right-right");
+    let far: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("plan-far-left.json")).expect("read"))
+            .expect("json");
+    assert_eq!(
+        far["grasps"].as_array().expect("grasps").len(),
+        2,
+        "a handover"
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("validated:").count(), 2, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,6 +4,7 @@ mod bad_input;
 mod clusters;
 mod demo;
 mod placements;
+mod plan;
 mod precompute;
 mod support;
 mod view;
