@@ -9,19 +9,17 @@
 //!   pallet scene of the robot benches, checked by `pickplace_robot`'s collision world (full
 //!   robot, 1 cm margin), the other joints at the SRDF `home` state.
 
-use std::cell::RefCell;
 use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use pickplace::checker::ArmChecker;
 use pickplace_geometry::math::{Isometry3, Vector3};
 use pickplace_prm::{
     JointSpace, PrmPlanner, QueryOptions, Roadmap, RoadmapOptions, RrtOptions, ShortcutOptions,
     TimingOptions, ValidityChecker, rrt_connect, shortcut, time_parameterize,
 };
-use pickplace_robot::collision::{
-    AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionShape, CollisionWorld,
-};
+use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
 use pickplace_robot::{LoadOptions, RobotModel, Semantics};
 
 /// A planning problem: a joint space, a validity checker and one hard query.
@@ -119,38 +117,6 @@ fn repo() -> PathBuf {
         .unwrap_or_default()
 }
 
-/// NX-HIRO in the pallet scene; only the group's joints move, the others stay at `home`.
-struct RobotChecker {
-    model: RobotModel,
-    world: CollisionWorld,
-    variables: Vec<usize>,
-    home: Vec<f64>,
-    options: CheckOptions,
-}
-
-thread_local! {
-    /// Per-thread collision scratch and full configuration (the checker is shared by threads).
-    static SCRATCH: RefCell<(CollisionScratch, Vec<f64>)> = RefCell::new(Default::default());
-}
-
-impl ValidityChecker for RobotChecker {
-    fn is_state_valid(&self, q: &[f64]) -> bool {
-        SCRATCH.with(|cell| {
-            let mut guard = cell.borrow_mut();
-            let (scratch, full) = &mut *guard;
-            full.clear();
-            full.extend_from_slice(&self.home);
-            for (&v, &x) in self.variables.iter().zip(q) {
-                full[v] = x;
-            }
-            !self
-                .world
-                .in_collision(&self.model, full, scratch, &self.options)
-                .unwrap_or(true)
-        })
-    }
-}
-
 /// The problem: NX-HIRO's right arm with the waist in the pallet scene. The roadmap is
 /// prefiltered by self-collisions (no scene), the queries check the full scene lazily. Start and
 /// goal are the first pair of seeded collision-free configurations whose direct motion collides
@@ -189,13 +155,11 @@ fn nxhiro_problem() -> Problem {
     let mut world =
         CollisionWorld::new(&model, AllowedCollisionMatrix::from_srdf(semantics.srdf()))
             .expect("valid robot shapes");
-    let self_collisions = RobotChecker {
-        model: model.clone(),
-        world: world.clone(),
-        variables: variables.clone(),
-        home: home.clone(),
-        options: CheckOptions { margin: 0.01 },
-    };
+    // The planner's own checker (the façade's), over data that lives as long as the bench.
+    let model: &'static RobotModel = Box::leak(Box::new(model));
+    let variables: &'static [usize] = Box::leak(variables.into_boxed_slice());
+    let self_world: &'static CollisionWorld = Box::leak(Box::new(world.clone()));
+    let self_collisions = ArmChecker::new(model, self_world, variables, home.clone(), 0.01);
     world.add_environment(
         "table",
         CollisionShape::cuboid(Vector3::new(0.3, 0.5, 0.015)).expect("valid box"),
@@ -207,13 +171,8 @@ fn nxhiro_problem() -> Problem {
             .expect("shipped pallet loads"),
         &Isometry3::translation(0.45, 0.0, TABLE_TOP_Z),
     );
-    let checker = RobotChecker {
-        model,
-        world,
-        variables,
-        home,
-        options: CheckOptions { margin: 0.01 },
-    };
+    let world: &'static CollisionWorld = Box::leak(Box::new(world));
+    let checker = ArmChecker::new(model, world, variables, home, 0.01);
     let resolution = 0.05;
     // Seeded collision-free configurations (splitmix64).
     let mut state = 5u64;

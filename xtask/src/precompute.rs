@@ -2,7 +2,8 @@
 //! h_max) in parallel and writes the cluster databases into the cache folder where the planner
 //! and `pickplace precompute` look for them: `$PICKPLACE_CACHE`, else `<repo>/target/pickplace-cache`.
 //! A database already valid for its mesh and parameters is kept unless `--force` is given.
-//! Then one PRM roadmap per arm group of NX-HIRO (see `roadmaps`).
+//! Then every shipped scene is set up once, which caches the PRM roadmap of each arm (see
+//! `roadmaps`).
 
 use anyhow::{Context, Result};
 use pickplace_geometry::cluster::ClusterParams;

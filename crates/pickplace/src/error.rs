@@ -10,7 +10,7 @@ use std::path::PathBuf;
 pub enum Error {
     /// The scene file is unreadable or invalid.
     #[error(transparent)]
-    Scene(#[from] SceneError),
+    Scene(#[from] Box<SceneError>),
     /// A mesh (object or environment) could not be read or clustered.
     #[error("{what}: {source}")]
     Mesh {
@@ -18,7 +18,7 @@ pub enum Error {
         what: String,
         /// The cause (names the file).
         #[source]
-        source: pickplace_geometry::Error,
+        source: Box<pickplace_geometry::Error>,
     },
     /// The robot (URDF, SRDF) could not be read or is not what the planner needs.
     #[error("{}: {source}", path.display())]
@@ -27,14 +27,14 @@ pub enum Error {
         path: PathBuf,
         /// The cause.
         #[source]
-        source: pickplace_robot::Error,
+        source: Box<pickplace_robot::Error>,
     },
     /// The gripper file could not be read.
     #[error("{source}")]
     Gripper {
         /// The cause (names the file).
         #[source]
-        source: pickplace_grasp::Error,
+        source: Box<pickplace_grasp::Error>,
     },
     /// A value of the scene does not fit the robot or the meshes.
     #[error("{}: {field}: {reason}", path.display())]
@@ -53,7 +53,7 @@ pub enum Error {
         path: PathBuf,
         /// Which cluster is nearest, and how far.
         #[source]
-        source: pickplace_placement::TargetError,
+        source: Box<pickplace_placement::TargetError>,
     },
     /// A cached file (cluster database, roadmap) could not be written.
     #[error("{}: cannot write the cache: {source}", path.display())]
@@ -89,5 +89,11 @@ pub(crate) fn internal<E: std::fmt::Display>(stage: &'static str) -> impl FnOnce
     move |e| Error::Internal {
         stage,
         reason: e.to_string(),
+    }
+}
+
+impl From<SceneError> for Error {
+    fn from(e: SceneError) -> Self {
+        Error::Scene(Box::new(e))
     }
 }

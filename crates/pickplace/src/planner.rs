@@ -30,12 +30,13 @@ use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuater
 use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner};
 use pickplace_placement::{ContactKind, Placement, PlacementOptions};
 use pickplace_prm::{
-    Path as PrmPath, PrmPlanner, QueryOptions, ShortcutOptions, TimingOptions, shortcut,
-    time_parameterize,
+    Path as PrmPath, PrmPlanner, QueryOptions, RrtOptions, ShortcutOptions, TimingOptions,
+    rrt_connect, shortcut, time_parameterize,
 };
 use pickplace_robot::IkOptions;
 use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, CollisionWorld};
 use pickplace_robot::srdf::DisableReason;
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -45,6 +46,13 @@ const IK_SOLUTIONS: usize = 4;
 /// Within this joint distance (rad, every joint) of a motion's ends the PRM applies no
 /// clearance margin: the ends are grasp and release poses that may be close to the object.
 const END_EXEMPT_RADIUS: Real = 0.1;
+
+/// Candidates evaluated together on the thread pool (results are used in rank order).
+const PARALLEL_CHUNK: usize = 16;
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<CollisionScratch> = Default::default();
+}
 
 /// Picks by the first arm kept for a handover search.
 const HANDOVER_PICKS: usize = 12;
@@ -184,8 +192,6 @@ struct Ctx<'a> {
     placements: Vec<Placement>,
     /// Environment bodies the object touches at the start.
     start_supports: Vec<String>,
-    /// Per arm, the start configuration with that arm's fingers open.
-    scratch: std::cell::RefCell<CollisionScratch>,
     timings: BTreeMap<String, Real>,
 }
 
@@ -207,7 +213,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     )
     .map_err(|source| Error::Target {
         path: setup.scene_path.clone(),
-        source,
+        source: Box::new(source),
     })?;
     timings.insert("placement".to_owned(), t.elapsed().as_secs_f64());
     let t = Instant::now();
@@ -239,7 +245,6 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         start_supports: supports(setup, &setup.object_start),
         grasps,
         placements: placement_set.placements.clone(),
-        scratch: Default::default(),
         timings,
     };
     let mut reasons = Vec::new();
@@ -347,7 +352,7 @@ impl Ctx<'_> {
 
     fn ik_options(&self, salt: u64) -> IkOptions {
         IkOptions {
-            max_restarts: 12,
+            max_restarts: 6,
             seed: self.options.seed ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15),
             ..IkOptions::default()
         }
@@ -468,13 +473,22 @@ impl Ctx<'_> {
 
     /// Why `q` collides in `world` (`None` when free).
     fn collision(&self, world: &CollisionWorld, q: &[Real], margin: Real) -> Option<String> {
-        let mut scratch = self.scratch.borrow_mut();
+        SCRATCH.with(|cell| self.collision_with(world, q, margin, &mut cell.borrow_mut()))
+    }
+
+    fn collision_with(
+        &self,
+        world: &CollisionWorld,
+        q: &[Real],
+        margin: Real,
+        scratch: &mut CollisionScratch,
+    ) -> Option<String> {
         let opts = CheckOptions { margin };
-        match world.in_collision(&self.setup.model, q, &mut scratch, &opts) {
+        match world.in_collision(&self.setup.model, q, scratch, &opts) {
             Ok(false) => None,
             Ok(true) => {
                 let pairs = world
-                    .colliding_pairs(&self.setup.model, q, &mut scratch, &opts)
+                    .colliding_pairs(&self.setup.model, q, scratch, &opts)
                     .unwrap_or_default();
                 Some(match pairs.first() {
                     Some(&(a, b)) => format!(
@@ -708,12 +722,27 @@ impl Ctx<'_> {
             &checker,
             QueryOptions {
                 seed,
+                growth_rounds: 1,
                 ..QueryOptions::default()
             },
         );
+        // The roadmap first (paper §III-C); when its start or goal cannot join it (a tight
+        // spot near the object), RRT-Connect from both ends, bounded.
         let path = match planner.query(&qa, &qb) {
             Ok(p) => p,
-            Err(e) => return Err(format!("no path: {e}")),
+            Err(e) => rrt_connect(
+                &a.space,
+                &checker,
+                &qa,
+                &qb,
+                &RrtOptions {
+                    max_iterations: 3000,
+                    step: 0.3,
+                    resolution: a.roadmap.options().resolution,
+                    seed,
+                },
+            )
+            .map_err(|r| format!("no path: {e}; RRT-Connect: {r}"))?,
         };
         let path = shortcut(
             &a.space,
@@ -742,11 +771,8 @@ impl Ctx<'_> {
         let n_grasps = self.grasps.len().min(self.options.max_grasps);
         for pi in 0..self.placements.len().min(self.options.max_placements) {
             let mut any = false;
-            for gi in 0..n_grasps {
-                if pick_cache[gi].is_none() {
-                    pick_cache[gi] = Some(self.pick(arm, gi, &start));
-                }
-                let pick = match pick_cache[gi].as_ref().expect("filled above") {
+            for (gi, cached) in pick_cache.iter_mut().enumerate().take(n_grasps) {
+                let pick = match cached.get_or_insert_with(|| self.pick(arm, gi, &start)) {
                     Ok(p) => p.clone(),
                     Err(r) => {
                         if pi == 0 {
@@ -885,17 +911,28 @@ impl Ctx<'_> {
         // Picks by arm A (independent of the placement): a handover needs two grasps that
         // leave room for each other, so the search goes down the whole ranked list until it
         // has [`HANDOVER_PICKS`] picks, not only the best grasps.
+        // Chunks of grasps are tried in parallel; results are taken in rank order, so the
+        // outcome does not depend on the thread count.
         let mut picks = Vec::new();
-        for gi in 0..self.grasps.len() {
-            if picks.len() >= HANDOVER_PICKS {
-                break;
-            }
-            match self.pick(a, gi, &start) {
-                Ok(p) => {
-                    stage(report, "pick").accept();
-                    picks.push((gi, p));
+        let mut next = 0;
+        'scan: while next < self.grasps.len() {
+            let end = (next + PARALLEL_CHUNK).min(self.grasps.len());
+            let results: Vec<_> = (next..end)
+                .into_par_iter()
+                .map(|gi| (gi, self.pick(a, gi, &start)))
+                .collect();
+            next = end;
+            for (gi, result) in results {
+                if picks.len() >= HANDOVER_PICKS {
+                    break 'scan;
                 }
-                Err(r) => stage(report, "pick").reject(r),
+                match result {
+                    Ok(p) => {
+                        stage(report, "pick").accept();
+                        picks.push((gi, p));
+                    }
+                    Err(r) => stage(report, "pick").reject(r),
+                }
             }
         }
         if picks.is_empty() {
@@ -910,18 +947,28 @@ impl Ctx<'_> {
             // The handover: object poses in front of the torso (where the picking hand
             // holds it at a searched tool pose), scored by both arms' reach and clearance.
             'picks: for (g1, pick) in &picks {
+                // Second grasps whose hand clears the first, best first, placed in parallel
+                // chunks (each computed once per placement).
+                let clear: Vec<usize> = (0..self.grasps.len())
+                    .filter(|&g2| {
+                        !hands_overlap(&self.setup.gripper, &self.grasps[*g1], &self.grasps[g2])
+                    })
+                    .collect();
                 let mut mine = Vec::new();
-                for g2 in 0..self.grasps.len() {
-                    if mine.len() >= self.options.max_grasps {
-                        break;
-                    }
-                    if hands_overlap(&self.setup.gripper, &self.grasps[*g1], &self.grasps[g2]) {
-                        continue;
-                    }
-                    let entry =
-                        places
-                            .entry(g2)
-                            .or_insert_with(|| match self.place(b, pi, g2, &start) {
+                'grasps: for chunk in clear.chunks(PARALLEL_CHUNK) {
+                    let todo: Vec<usize> = chunk
+                        .iter()
+                        .copied()
+                        .filter(|g| !places.contains_key(g))
+                        .collect();
+                    let results: Vec<_> = todo
+                        .par_iter()
+                        .map(|&g2| (g2, self.place(b, pi, g2, &start)))
+                        .collect();
+                    for (g2, result) in results {
+                        places.insert(
+                            g2,
+                            match result {
                                 Ok(p) => {
                                     stage(report, "place").accept();
                                     Some(p)
@@ -930,9 +977,16 @@ impl Ctx<'_> {
                                     stage(report, "place").reject(r);
                                     None
                                 }
-                            });
-                    if let Some(p) = entry {
-                        mine.push((g2, p.clone()));
+                            },
+                        );
+                    }
+                    for g2 in chunk {
+                        if mine.len() >= self.options.max_grasps {
+                            break 'grasps;
+                        }
+                        if let Some(Some(p)) = places.get(g2) {
+                            mine.push((*g2, p.clone()));
+                        }
                     }
                 }
                 if mine.is_empty() {
@@ -940,29 +994,43 @@ impl Ctx<'_> {
                         .reject("no second grasp clears the first hand and places");
                     continue;
                 }
-                for (hi, h) in handovers.iter().enumerate() {
-                    // The object where the picking hand holds it at this tool pose.
-                    let world_from_object = h * self.grasps[*g1].object_from_tcp.inverse();
-                    let mut regrasp = std::mem::take(stage(report, "regrasp"));
-                    let result = self.handover_at(
-                        strategy,
-                        hi,
-                        &world_from_object,
-                        *g1,
-                        pick,
-                        &mine,
-                        &mut regrasp,
-                    );
-                    *stage(report, "regrasp") = regrasp;
-                    match result {
-                        Ok(found) => {
-                            stage(report, "handover").accept();
-                            feasible.push(found);
-                            if feasible.len() >= self.options.handover_feasible {
-                                break 'picks;
-                            }
+                let indexed: Vec<(usize, &Isometry3)> = handovers.iter().enumerate().collect();
+                for chunk in indexed.chunks(PARALLEL_CHUNK) {
+                    let results: Vec<_> = chunk
+                        .par_iter()
+                        .map(|&(hi, h)| {
+                            // The object where the picking hand holds it at this tool pose.
+                            let world_from_object = h * self.grasps[*g1].object_from_tcp.inverse();
+                            let mut regrasp = StageCount::default();
+                            let result = self.handover_at(
+                                strategy,
+                                hi,
+                                &world_from_object,
+                                *g1,
+                                pick,
+                                &mine,
+                                &mut regrasp,
+                            );
+                            (result, regrasp)
+                        })
+                        .collect();
+                    for (result, regrasp) in results {
+                        let total = stage(report, "regrasp");
+                        total.tried += regrasp.tried;
+                        total.accepted += regrasp.accepted;
+                        for (reason, n) in regrasp.rejected {
+                            *total.rejected.entry(reason).or_default() += n;
                         }
-                        Err(r) => stage(report, "handover").reject(r),
+                        match result {
+                            Ok(found) => {
+                                stage(report, "handover").accept();
+                                feasible.push(found);
+                                if feasible.len() >= self.options.handover_feasible {
+                                    break 'picks;
+                                }
+                            }
+                            Err(r) => stage(report, "handover").reject(r),
+                        }
                     }
                 }
             }
@@ -1081,12 +1149,13 @@ impl Ctx<'_> {
                 };
             // Score: clearance of the handover configuration (both arms at the object).
             let clearance = {
-                let mut scratch = self.scratch.borrow_mut();
-                holding_a
-                    .min_distance(&self.setup.model, &approach[0], &mut scratch)
-                    .ok()
-                    .flatten()
-                    .map_or(1.0, |d| d.distance)
+                SCRATCH.with(|cell| {
+                    holding_a
+                        .min_distance(&self.setup.model, &approach[0], &mut cell.borrow_mut())
+                        .ok()
+                        .flatten()
+                        .map_or(1.0, |d| d.distance)
+                })
             };
             let reach_margin = (arm_a.reach
                 - (pose_a.translation.vector - arm_a.shoulder.coords).norm())

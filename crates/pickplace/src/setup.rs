@@ -124,7 +124,7 @@ pub struct Setup {
 fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
     move |source| Error::Robot {
         path: path.to_path_buf(),
-        source,
+        source: Box::new(source),
     }
 }
 
@@ -157,8 +157,10 @@ impl Setup {
             .map_err(robot_err(urdf_path))?;
         let srdf_path = &scene.robot.srdf;
         let semantics = Semantics::from_file(&model, srdf_path).map_err(robot_err(srdf_path))?;
-        let gripper = GripperParams::load(&scene.robot.gripper)
-            .map_err(|source| Error::Gripper { source })?;
+        let gripper =
+            GripperParams::load(&scene.robot.gripper).map_err(|source| Error::Gripper {
+                source: Box::new(source),
+            })?;
         let world_from_root = scene
             .robot
             .base_pose
@@ -235,8 +237,12 @@ impl Setup {
                 .map_err(|r| invalid(&format!("environment[{i}].pose"), r.into()))?;
             let shape = CollisionShape::mesh(&mesh).map_err(robot_err(&env.mesh))?;
             world.add_environment(&env.name, shape, &world_from_mesh);
-            let collider = ObjectCollider::new(&mesh.transformed(&world_from_mesh))
-                .map_err(|source| Error::Gripper { source })?;
+            let collider =
+                ObjectCollider::new(&mesh.transformed(&world_from_mesh)).map_err(|source| {
+                    Error::Gripper {
+                        source: Box::new(source),
+                    }
+                })?;
             environment.push(EnvironmentPart {
                 name: env.name.clone(),
                 mesh,
@@ -386,7 +392,7 @@ fn load_mesh(path: &Path, scale: Real, what: &str) -> Result<TriMesh> {
     )
     .map_err(|source| Error::Mesh {
         what: what.to_owned(),
-        source,
+        source: Box::new(source),
     })
 }
 
@@ -401,7 +407,7 @@ fn clusters(
     let t = Instant::now();
     let mesh_err = |source| Error::Mesh {
         what: what.to_owned(),
-        source,
+        source: Box::new(source),
     };
     let (db, status) = match cache {
         Some(dir) => {
@@ -451,9 +457,9 @@ fn arm_setup(
         .find(|e| e.parent_group.as_deref() == Some(group) || e.parent_link == tcp_link)
         .ok_or_else(|| Error::Robot {
             path: srdf.clone(),
-            source: pickplace_robot::Error::UnknownGroup {
+            source: Box::new(pickplace_robot::Error::UnknownGroup {
                 name: format!("end effector of {group}"),
-            },
+            }),
         })?;
     let hand = semantics
         .group(&end_effector.group)
