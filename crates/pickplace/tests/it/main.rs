@@ -1,1 +1,97 @@
-//! Integration tests of the pickplace façade.
+//! Integration tests of the pickplace façade: set up the shipped scenes, plan, validate.
+
+use pickplace::planner::{Outcome, PlanOptions, handover_candidates};
+use pickplace::{Arm, Plan, Setup, SetupOptions, Strategy};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn setup(scene: &str) -> Setup {
+    let options = SetupOptions {
+        cache_dir: Some(Path::new(env!("CARGO_TARGET_TMPDIR")).join("facade-cache")),
+    };
+    Setup::load(&root().join("scenes").join(scene), &options).expect("shipped scene sets up")
+}
+
+fn plan_with_threads(setup: &Setup, threads: usize) -> Plan {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    let options = PlanOptions {
+        timings: false,
+        ..PlanOptions::for_setup(setup)
+    };
+    match pool
+        .install(|| pickplace::plan(setup, &options))
+        .expect("plans")
+    {
+        Outcome::Planned(plan) => *plan,
+        Outcome::NoPlan(f) => panic!("no plan: {:?}", f.reasons),
+    }
+}
+
+#[test]
+fn the_handover_plan_does_not_depend_on_the_thread_count() {
+    let setup = setup("fig9-far-left.toml");
+    let one = plan_with_threads(&setup, 1);
+    let two = plan_with_threads(&setup, 2);
+    assert!(one.strategy.has_handover());
+    assert_eq!(one.to_json(), two.to_json());
+    // And the plan passes the independent check.
+    let report = pickplace::validate::validate(&setup, &one, Path::new("plan.json")).expect("fits");
+    assert!(report.problems.is_empty(), "{:?}", report.problems);
+    assert!(report.stability_margin.expect("rests on the pallet") > 0.0);
+}
+
+#[test]
+fn a_plan_survives_its_json_round_trip() {
+    let setup = setup("fig9-near.toml");
+    let plan = plan_with_threads(&setup, 1);
+    let back = Plan::from_json(&plan.to_json()).expect("reads back");
+    assert_eq!(back, plan);
+    assert!(Plan::from_json(&plan.to_json().replace("pickplace.plan/1", "other/9")).is_err());
+}
+
+#[test]
+fn the_validator_catches_a_plan_that_skips_the_grasp() {
+    let setup = setup("fig9-near.toml");
+    let mut plan = plan_with_threads(&setup, 1);
+    // Move the grasp event to the start: the hand is far from the object then.
+    plan.events[0].time = 0.0;
+    let report =
+        pickplace::validate::validate(&setup, &plan, Path::new("plan.json")).expect("fits");
+    assert!(
+        report
+            .problems
+            .iter()
+            .any(|p| p.contains("from where the hand holds it")),
+        "{:?}",
+        report.problems
+    );
+}
+
+#[test]
+fn handover_poses_are_in_front_of_the_torso_between_the_shoulders() {
+    let setup = setup("fig9-near.toml");
+    let [r, l] = [setup.arms[0].shoulder, setup.arms[1].shoulder];
+    let poses = handover_candidates(&setup, Arm::Left, 96);
+    assert_eq!(poses.len(), 96);
+    for p in &poses {
+        let t = p.translation.vector;
+        assert!(t.x > r.x + 0.25 && t.x < r.x + 0.45, "{t:?}");
+        assert!(t.y > r.y && t.y < l.y, "{t:?}");
+        assert!(t.z < r.z, "{t:?}");
+    }
+    // The strategy order of the far-left scene starts with the left hand picking.
+    let far = self::setup("fig9-far-left.toml");
+    let order = Strategy::order(
+        far.scene.planner.strategy,
+        [far.arms[0].shoulder, far.arms[1].shoulder],
+        &(far.object_start * far.cog),
+        &far.scene.target_point(),
+    );
+    assert_eq!(order[0].pick_arm(), Arm::Left);
+}
