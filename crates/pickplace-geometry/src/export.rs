@@ -79,7 +79,8 @@ pub fn write_clusters_ply(path: &Path, mesh: &TriMesh, clustering: &Clustering) 
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same directory, flushed to
 /// disk, then renamed over `path`. On failure the temporary file is removed and `path` is
-/// untouched.
+/// untouched. The temporary name is unique per process and call, so that threads or processes
+/// writing the same file (a shared cache) never rename each other's temporary file.
 ///
 /// # Errors
 /// [`Error::Io`] naming `path`.
@@ -92,7 +93,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let call = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = path.with_file_name(format!(".{name}.{}.{call}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
