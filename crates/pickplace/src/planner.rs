@@ -98,6 +98,10 @@ pub struct PlanOptions {
     pub contact_zone: Real,
     /// Record stage timings in the plan's stats (default: true).
     pub timings: bool,
+    /// Wall-clock budget of the whole plan (s): once spent, no further placement or strategy
+    /// is started and the failure says so (default: the scene's `planner.time_budget`, else 10).
+    /// A budget makes the outcome depend on the machine's speed only when it runs out.
+    pub time_budget: Real,
     /// Acceleration limit of every joint (rad/s² or m/s²): URDFs carry none (default: 3.0).
     pub max_acceleration: Real,
     /// Trajectory sampling period (s) (default: 0.04).
@@ -110,6 +114,7 @@ impl PlanOptions {
         Self {
             seed: setup.scene.planner.seed,
             strategy: setup.scene.planner.strategy,
+            time_budget: setup.scene.planner.time_budget,
             ..Self::default()
         }
     }
@@ -132,6 +137,7 @@ impl Default for PlanOptions {
             handover_feasible: 3,
             contact_zone: 0.005,
             timings: true,
+            time_budget: 10.0,
             max_acceleration: 3.0,
             sample_period: 0.04,
         }
@@ -186,6 +192,8 @@ struct Place {
 }
 
 struct Ctx<'a> {
+    /// When planning started (for the time budget).
+    started: Instant,
     setup: &'a Setup,
     options: &'a PlanOptions,
     grasps: Vec<Grasp>,
@@ -240,6 +248,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         ..Stats::default()
     };
     let mut ctx = Ctx {
+        started: t_all,
         setup,
         options,
         start_supports: supports(setup, &setup.object_start),
@@ -273,6 +282,13 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     let start_point = setup.object_start * setup.cog;
     let order = Strategy::order(options.strategy, shoulders, &start_point, &target);
     for strategy in order {
+        if ctx.out_of_time() {
+            reasons.push(format!(
+                "{strategy}: not tried, the time budget of {} s is spent",
+                options.time_budget
+            ));
+            continue;
+        }
         let t = Instant::now();
         let mut report = StrategyReport {
             strategy,
@@ -341,6 +357,10 @@ struct Found {
 }
 
 impl Ctx<'_> {
+    fn out_of_time(&self) -> bool {
+        self.started.elapsed().as_secs_f64() > self.options.time_budget
+    }
+
     fn finish_stats(&self, stats: &mut Stats, t_all: Instant) {
         if self.options.timings {
             stats.timings = self.timings.clone();
@@ -770,6 +790,10 @@ impl Ctx<'_> {
             vec![None; self.grasps.len()];
         let n_grasps = self.grasps.len().min(self.options.max_grasps);
         for pi in 0..self.placements.len().min(self.options.max_placements) {
+            if self.out_of_time() {
+                stage(report, "placement").reject("time budget spent");
+                break;
+            }
             let mut any = false;
             for (gi, cached) in pick_cache.iter_mut().enumerate().take(n_grasps) {
                 let pick = match cached.get_or_insert_with(|| self.pick(arm, gi, &start)) {
@@ -940,6 +964,10 @@ impl Ctx<'_> {
         }
         let handovers = handover_candidates(self.setup, a, self.options.handover_poses);
         for pi in 0..self.placements.len().min(self.options.max_placements) {
+            if self.out_of_time() {
+                stage(report, "placement").reject("time budget spent");
+                break;
+            }
             // Places by arm B, seeded from its start configuration, computed once per grasp:
             // for each pick grasp, the grasps whose hand clears the picking hand, best first.
             let mut places: BTreeMap<usize, Option<Place>> = BTreeMap::new();

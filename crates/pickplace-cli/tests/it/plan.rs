@@ -282,3 +282,16 @@ fn validate_finds_a_tampered_plan() {
     assert_eq!(v.status.code(), Some(2), "{}", stderr(&v));
     assert!(stderr(&v).contains("joint_names"), "{}", stderr(&v));
 }
+
+#[test]
+fn a_spent_time_budget_is_a_reason_not_a_hang() {
+    let dir = Scratch::new("plan-budget");
+    let text = std::fs::read_to_string(scene("fig9-far-left.toml"))
+        .expect("scene")
+        .replace("../", &format!("{}/", root().display()))
+        .replace("seed = 1", "seed = 1\ntime_budget = 1e-9");
+    let path = dir.file("budget.toml", text.as_bytes());
+    let o = run(crate::args!["plan", path]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("time budget"), "{}", stderr(&o));
+}
