@@ -49,7 +49,10 @@ pub fn parse_args(args: &[String]) -> anyhow::Result<FuzzArgs> {
         } else if TARGETS.contains(&arg.as_str()) {
             targets.push(arg.clone());
         } else {
-            bail!("unknown fuzz target {arg:?}; targets: {}", TARGETS.join(", "));
+            bail!(
+                "unknown fuzz target {arg:?}; targets: {}",
+                TARGETS.join(", ")
+            );
         }
     }
     if seconds == 0 {
@@ -313,17 +316,37 @@ pub fn write_seeds(root: &Path) -> anyhow::Result<()> {
 
     // Meshes: the shipped box as binary and ASCII STL, OBJ, and PLY in three encodings.
     let stl = seeds.join("mesh_stl");
-    write_seed(&stl, "box_binary.stl", &std::fs::read(root.join("meshes/box.stl"))?)?;
+    write_seed(
+        &stl,
+        "box_binary.stl",
+        &std::fs::read(root.join("meshes/box.stl"))?,
+    )?;
     write_seed(&stl, "box_ascii.stl", ascii_stl(&the_box).as_bytes())?;
     write_seed(&seeds.join("mesh_obj"), "box.obj", obj(&the_box).as_bytes())?;
     let ply = seeds.join("mesh_ply");
-    write_seed(&ply, "box_ascii.ply", &ply_bytes(&the_box, PlyEncoding::Ascii))?;
-    write_seed(&ply, "box_le.ply", &ply_bytes(&the_box, PlyEncoding::LittleEndian))?;
-    write_seed(&ply, "box_be.ply", &ply_bytes(&the_box, PlyEncoding::BigEndian))?;
+    write_seed(
+        &ply,
+        "box_ascii.ply",
+        &ply_bytes(&the_box, PlyEncoding::Ascii),
+    )?;
+    write_seed(
+        &ply,
+        "box_le.ply",
+        &ply_bytes(&the_box, PlyEncoding::LittleEndian),
+    )?;
+    write_seed(
+        &ply,
+        "box_be.ply",
+        &ply_bytes(&the_box, PlyEncoding::BigEndian),
+    )?;
 
     // Cluster databases of the can: mode byte (0 whole file, 1 payload only), params byte.
     let hash = mesh_hash(&can);
-    write_seed(&seeds, "cluster_db.hash", format!("0x{hash:016x}\n").as_bytes())?;
+    write_seed(
+        &seeds,
+        "cluster_db.hash",
+        format!("0x{hash:016x}\n").as_bytes(),
+    )?;
     let db_dir = seeds.join("cluster_db");
     for (which, params) in [ClusterParams::environment(), ClusterParams::finger()]
         .into_iter()
@@ -333,16 +356,36 @@ pub fn write_seeds(root: &Path) -> anyhow::Result<()> {
         let header_len = u32::from_le_bytes([file[12], file[13], file[14], file[15]]) as usize;
         let payload = &file[16 + header_len..];
         let name = params.mode.name();
-        write_seed(&db_dir, &format!("can_{name}_file"), &[&[0, which as u8], &file[..]].concat())?;
-        write_seed(&db_dir, &format!("can_{name}_payload"), &[&[1, which as u8], payload].concat())?;
+        write_seed(
+            &db_dir,
+            &format!("can_{name}_file"),
+            &[&[0, which as u8], &file[..]].concat(),
+        )?;
+        write_seed(
+            &db_dir,
+            &format!("can_{name}_payload"),
+            &[&[1, which as u8], payload].concat(),
+        )?;
     }
 
     // Roadmaps: a 2-D and a 3-D lazy roadmap, whole files (mode 0) and with the body
     // checksum recomputed by the target (mode 1).
     let prm_dir = seeds.join("prm_roadmap");
     for (name, lower, upper, weights, nodes) in [
-        ("planar", vec![-1.0, -1.0], vec![1.0, 1.0], vec![1.0, 1.0], 24),
-        ("arm3", vec![-3.0, -2.0, -1.5], vec![3.0, 2.0, 1.5], vec![1.0, 0.5, 0.25], 40),
+        (
+            "planar",
+            vec![-1.0, -1.0],
+            vec![1.0, 1.0],
+            vec![1.0, 1.0],
+            24,
+        ),
+        (
+            "arm3",
+            vec![-3.0, -2.0, -1.5],
+            vec![3.0, 2.0, 1.5],
+            vec![1.0, 0.5, 0.25],
+            40,
+        ),
     ] {
         let space = pickplace_prm::JointSpace::new(lower, upper, weights)?;
         let options = pickplace_prm::RoadmapOptions {
@@ -354,7 +397,11 @@ pub fn write_seeds(root: &Path) -> anyhow::Result<()> {
         let roadmap = pickplace_prm::Roadmap::build_lazy(&space, &options)?;
         let bytes = pickplace_prm::codec::encode(&roadmap)?;
         for mode in [0u8, 1] {
-            write_seed(&prm_dir, &format!("{name}_{mode}"), &[&[mode], &bytes[..]].concat())?;
+            write_seed(
+                &prm_dir,
+                &format!("{name}_{mode}"),
+                &[&[mode], &bytes[..]].concat(),
+            )?;
         }
     }
     eprintln!("seeds written under {}", seeds.display());
@@ -365,7 +412,11 @@ fn ascii_stl(mesh: &pickplace_geometry::mesh::TriMesh) -> String {
     let mut out = String::from("solid box\n");
     for t in 0..mesh.triangle_count() {
         let n = mesh.triangle_normal(t);
-        let _ = writeln!(out, "  facet normal {} {} {}\n    outer loop", n.x, n.y, n.z);
+        let _ = writeln!(
+            out,
+            "  facet normal {} {} {}\n    outer loop",
+            n.x, n.y, n.z
+        );
         for p in mesh.triangle_points(t) {
             let _ = writeln!(out, "      vertex {} {} {}", p.x, p.y, p.z);
         }

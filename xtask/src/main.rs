@@ -1,6 +1,7 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
 mod acm;
+mod bench;
 mod fuzz;
 mod gen_meshes;
 mod precompute;
@@ -13,6 +14,7 @@ fn main() -> anyhow::Result<()> {
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
         Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
+        Some("bench") => bench::run(&repo_root(), &rest_args()),
         Some("fuzz") => fuzz::run(&repo_root(), &rest_args()),
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
         Some("precompute") => {
@@ -27,6 +29,8 @@ fn main() -> anyhow::Result<()> {
                  precompute   cluster every mesh in meshes/ (env and finger) into the cache \
                  and a PRM roadmap per arm group of NX-HIRO into the cache \
                  ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
+                 bench        [--quick] [--no-run] [-- FILTER…]: run the criterion benches and \
+                 rewrite the generated part of docs/benchmarks.md\n  \
                  fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
                  (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
                  fuzz-seeds   write the generated seed corpora under fuzz/seeds/"
