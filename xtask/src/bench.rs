@@ -7,6 +7,8 @@
 //! hand-written sections of each area) is kept byte for byte. Only results written by this run
 //! are used (their files are newer than its start), so a bench that did not run shows as
 //! "not run" rather than as a stale figure; `--no-run` regenerates from whatever results exist.
+//! Criterion writes into `target/criterion-xtask` (`CRITERION_HOME`), not the shared
+//! `target/criterion`, so that benches run by someone else at the same time are not mixed in.
 
 use anyhow::{Context, bail};
 use std::collections::BTreeMap;
@@ -741,10 +743,14 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let load_start = load_average();
     // Criterion's files carry the time they were written; a second of slack for coarse clocks.
     let started = SystemTime::now() - std::time::Duration::from_secs(1);
+    // A criterion directory of its own: the shared target/criterion receives the results of
+    // whoever else benches at the same time, which would pass for this run's.
+    let criterion = target_dir(root).join("criterion-xtask");
     if !args.no_run {
-        eprintln!("== {command} ==");
+        eprintln!("== {command} (CRITERION_HOME={}) ==", criterion.display());
         let status = Command::new("cargo")
             .args(&bench_args)
+            .env("CRITERION_HOME", &criterion)
             .current_dir(root)
             .status()
             .context("running cargo bench")?;
@@ -752,7 +758,6 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
             bail!("{command} failed ({status}); docs/benchmarks.md left unchanged");
         }
     }
-    let criterion = target_dir(root).join("criterion");
     let results = collect(&criterion, (!args.no_run).then_some(started))?;
     let info = describe_machine(
         if args.no_run {
