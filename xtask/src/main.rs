@@ -1,6 +1,8 @@
 //! cargo xtask: project automation (matklad's cargo-xtask pattern).
 
 mod acm;
+mod bench;
+mod fuzz;
 mod gen_meshes;
 mod precompute;
 mod roadmaps;
@@ -12,6 +14,9 @@ fn main() -> anyhow::Result<()> {
     match task.as_deref() {
         Some("gen-meshes") => gen_meshes::run(&repo_root().join("meshes")),
         Some("acm") => acm::run(&repo_root().join("robots/nx-hiro")),
+        Some("bench") => bench::run(&repo_root(), &rest_args()),
+        Some("fuzz") => fuzz::run(&repo_root(), &rest_args()),
+        Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -23,11 +28,21 @@ fn main() -> anyhow::Result<()> {
                  acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
                  precompute   cluster every mesh in meshes/ (env and finger) into the cache \
                  and a PRM roadmap per arm group of NX-HIRO into the cache \
-                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds"
+                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
+                 bench        [--quick] [--no-run] [-- FILTER…]: run the criterion benches and \
+                 rewrite the generated part of docs/benchmarks.md\n  \
+                 fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
+                 (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
+                 fuzz-seeds   write the generated seed corpora under fuzz/seeds/"
             );
             std::process::exit(2);
         }
     }
+}
+
+/// The arguments after the task name.
+fn rest_args() -> Vec<String> {
+    std::env::args().skip(2).collect()
 }
 
 /// The repository root, found from this crate's manifest directory.

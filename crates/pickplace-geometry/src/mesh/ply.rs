@@ -45,10 +45,47 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
     })
 }
 
+/// Refuses a header that declares more elements than bytes follow it.
+///
+/// Every element takes at least one byte of the body (binary: its first property; ASCII: its
+/// line), so a larger count can only be a damaged or hostile file. `ply-rs-bw` would otherwise
+/// read an element without properties `count` times from no data at all, and a count of
+/// billions exhausts the memory (found by the `mesh_ply` fuzz target; see
+/// `tests/fuzz-regressions/`). A header that cannot be split off is left to `ply-rs-bw` to
+/// report.
+fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind> {
+    let mut offset = 0;
+    let mut declared: u128 = 0;
+    for line in bytes.split_inclusive(|&b| b == b'\n') {
+        offset += line.len();
+        let text = String::from_utf8_lossy(line);
+        let mut words = text.split_ascii_whitespace();
+        match words.next() {
+            Some("end_header") => {
+                let body = bytes.len() - offset;
+                if declared > body as u128 {
+                    return Err(malformed(format!(
+                        "the header declares {declared} elements but only {body} bytes follow it"
+                    )));
+                }
+                return Ok(());
+            }
+            Some("element") => {
+                if let Some(count) = words.nth(1).and_then(|c| c.parse::<u64>().ok()) {
+                    declared += u128::from(count);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
     if bytes.iter().all(u8::is_ascii_whitespace) {
         return Err(MeshErrorKind::Empty);
     }
+    check_declared_counts(bytes)?;
     let parser = Parser::<DefaultElement>::new();
     let mut reader = bytes;
     let ply = parser
@@ -122,6 +159,27 @@ mod tests {
     use super::*;
 
     const SQUARE: &str = "ply\nformat ascii 1.0\ncomment unit square\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0 2\n1 1 0 3\n0 1 0 4\n4 0 1 2 3\n";
+
+    #[test]
+    fn element_counts_beyond_the_body_are_refused() {
+        // An element without properties reads no bytes: without the check, ply-rs-bw would
+        // build a billion empty elements.
+        let hostile = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float z\nelement face 1211111111\nend_header\n\0\0\0\0";
+        let e = parse(hostile).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("declares 1211111112 elements but only 4 bytes"),
+            "{e}"
+        );
+        // Exactly one byte per element is still accepted by the check (the parser decides).
+        let tight = b"ply\nformat binary_little_endian 1.0\nelement v 2\nproperty uchar a\nend_header\n\x01\x02";
+        assert!(check_declared_counts(tight).is_ok());
+        assert!(check_declared_counts(&tight[..tight.len() - 1]).is_err());
+        // No end_header: left to ply-rs-bw.
+        assert!(check_declared_counts(b"ply\nelement vertex 99\n").is_ok());
+        // The shipped square passes.
+        assert!(check_declared_counts(SQUARE.as_bytes()).is_ok());
+    }
 
     #[test]
     fn ascii_quad_is_fanned() {

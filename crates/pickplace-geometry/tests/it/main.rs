@@ -2,6 +2,7 @@
 
 mod cluster;
 mod db;
+mod fuzz_regressions;
 mod loaders;
 mod mesh;
 mod polygon;
