@@ -387,15 +387,15 @@ pub fn write_seeds(root: &Path) -> anyhow::Result<()> {
             40,
         ),
     ] {
-        let space = pickplace_prm::JointSpace::new(lower, upper, weights)?;
-        let options = pickplace_prm::RoadmapOptions {
+        let space = pickplace::prm::JointSpace::new(lower, upper, weights)?;
+        let options = pickplace::prm::RoadmapOptions {
             node_count: nodes,
             neighbors: 4,
             seed: 3,
-            ..pickplace_prm::RoadmapOptions::default()
+            ..pickplace::prm::RoadmapOptions::default()
         };
-        let roadmap = pickplace_prm::Roadmap::build_lazy(&space, &options)?;
-        let bytes = pickplace_prm::codec::encode(&roadmap)?;
+        let roadmap = pickplace::prm::Roadmap::build_lazy(&space, &options)?;
+        let bytes = pickplace::prm::codec::encode(&roadmap)?;
         for mode in [0u8, 1] {
             write_seed(
                 &prm_dir,
