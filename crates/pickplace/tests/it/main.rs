@@ -1,1 +1,3 @@
 //! Integration tests of the pickplace façade.
+
+mod fuzz_regressions;
