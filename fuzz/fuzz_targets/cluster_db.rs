@@ -30,7 +30,12 @@ fuzz_target!(|data: &[u8]| {
     let bytes = if mode % 2 == 0 {
         rest.to_vec()
     } else {
-        let header = (SEED_MESH_HASH, params.clone(), rest.len() as u64, hash_bytes(rest));
+        let header = (
+            SEED_MESH_HASH,
+            params.clone(),
+            rest.len() as u64,
+            hash_bytes(rest),
+        );
         let header = bincode::serde::encode_to_vec(&header, bincode::config::standard())
             .expect("a header encodes");
         let mut bytes = MAGIC.to_vec();
@@ -43,6 +48,9 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(db) = decode(&bytes, SEED_MESH_HASH, &params) {
         // A decoded database re-encodes, and decodes again to the same content.
         let again = pickplace_geometry::codec::encode(&db);
-        assert!(decode(&again, SEED_MESH_HASH, &params).is_ok(), "re-encoded database rejected");
+        assert!(
+            decode(&again, SEED_MESH_HASH, &params).is_ok(),
+            "re-encoded database rejected"
+        );
     }
 });

@@ -29,14 +29,20 @@ fuzz_target!(|data: &[u8]| {
     let Ok(mut header) = read_header(rest) else {
         return;
     };
-    let Ok(space) = JointSpace::new(header.lower.clone(), header.upper.clone(), header.weights.clone())
-    else {
+    let Ok(space) = JointSpace::new(
+        header.lower.clone(),
+        header.upper.clone(),
+        header.weights.clone(),
+    ) else {
         return;
     };
     let bytes = if mode % 2 == 0 {
         rest.to_vec()
     } else {
-        let Some(header_len) = rest.get(12..16).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize) else {
+        let Some(header_len) = rest
+            .get(12..16)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+        else {
             return;
         };
         let Some(body) = rest.get(16 + header_len..) else {
@@ -56,7 +62,10 @@ fuzz_target!(|data: &[u8]| {
     if let Ok(roadmap) = decode(&bytes, &space) {
         let _ = roadmap.component_count();
         if let Ok(again) = pickplace_prm::codec::encode(&roadmap) {
-            assert!(decode(&again, &space).is_ok(), "re-encoded roadmap rejected");
+            assert!(
+                decode(&again, &space).is_ok(),
+                "re-encoded roadmap rejected"
+            );
         }
     }
 });

@@ -17,7 +17,10 @@ fuzz_target!(|data: &[u8]| {
         for pose in poses {
             let iso = pose.to_isometry().expect("a parsed scene's pose converts");
             let norm = iso.rotation.quaternion().norm();
-            assert!((norm - 1.0).abs() < 1e-9, "rotation of norm {norm} from {pose:?}");
+            assert!(
+                (norm - 1.0).abs() < 1e-9,
+                "rotation of norm {norm} from {pose:?}"
+            );
             assert!(iso.translation.vector.iter().all(|v| v.is_finite()));
         }
     }

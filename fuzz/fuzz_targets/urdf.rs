@@ -9,7 +9,9 @@ use std::path::Path;
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let options = LoadOptions::default();
-    if let Ok(model) = RobotModel::from_urdf_str(&text, Path::new("/nonexistent-fuzz-dir"), &options) {
+    if let Ok(model) =
+        RobotModel::from_urdf_str(&text, Path::new("/nonexistent-fuzz-dir"), &options)
+    {
         // Forward kinematics of the zero configuration must not panic on any accepted model.
         let q = vec![0.0; model.variable_count()];
         let mut poses = vec![pickplace_geometry::math::Isometry3::identity(); model.links().len()];

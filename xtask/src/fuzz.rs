@@ -69,7 +69,8 @@ pub fn parse_args(args: &[String]) -> anyhow::Result<FuzzArgs> {
 pub struct RunStats {
     /// Inputs executed (`stat::number_of_executed_units`, else the last `#N` status line).
     pub executions: u64,
-    /// Wall-clock seconds of the run as measured by this task.
+    /// Seconds of fuzzing: libFuzzer's `Done N runs in S second(s)`, else the wall-clock time
+    /// of the whole `cargo fuzz run` (build included) as measured by this task.
     pub seconds: f64,
     /// Inputs in the corpus at the end (the last status line's `corp:` count).
     pub corpus: Option<u64>,
@@ -106,7 +107,7 @@ fn number_after(line: &str, key: &str) -> Option<u64> {
 }
 
 /// Reads libFuzzer's stderr (run with `-print_final_stats=1`). `seconds` is the run's
-/// wall-clock time.
+/// wall-clock time, used when libFuzzer did not print its own (a crash stops it early).
 pub fn parse_libfuzzer_log(log: &str, seconds: f64) -> RunStats {
     let mut stats = RunStats {
         seconds,
@@ -125,6 +126,11 @@ pub fn parse_libfuzzer_log(log: &str, seconds: f64) -> RunStats {
                 stats.coverage = number_after(rest, "cov:").or(stats.coverage);
                 stats.corpus = number_after(rest, "corp:").or(stats.corpus);
                 stats.peak_rss_mb = number_after(rest, "rss:").or(stats.peak_rss_mb);
+            }
+        } else if let Some(rest) = line.strip_prefix("Done ") {
+            // "Done 60000 runs in 61 second(s)": libFuzzer's own time, without the build.
+            if let Some(s) = number_after(rest, "runs in") {
+                stats.seconds = s as f64;
             }
         } else if let Some(rest) = line.strip_prefix("stat::number_of_executed_units:") {
             final_executions = rest.trim().parse().ok();
@@ -531,20 +537,25 @@ Base64: cGx5Cg==
 
     #[test]
     fn clean_run_takes_the_final_stats() {
-        let s = parse_libfuzzer_log(CLEAN_RUN, 60.0);
+        let s = parse_libfuzzer_log(CLEAN_RUN, 75.0);
+        assert_eq!(s.seconds, 61.0, "libFuzzer's own time, not the build");
         assert_eq!(s.executions, 60_123);
         assert_eq!(s.corpus, Some(62));
         assert_eq!(s.coverage, Some(641));
         assert_eq!(s.peak_rss_mb, Some(61));
         assert!(s.artifacts.is_empty());
         assert_eq!(s.failure, None);
-        assert!((s.execs_per_second() - 1002.05).abs() < 0.01);
+        assert!((s.execs_per_second() - 985.62).abs() < 0.01);
     }
 
     #[test]
     fn crash_run_reports_the_artifact_and_the_panic() {
         let s = parse_libfuzzer_log(CRASH_RUN, 3.0);
         assert_eq!(s.executions, 8192, "last status line without final stats");
+        assert_eq!(
+            s.seconds, 3.0,
+            "wall-clock time when libFuzzer stopped early"
+        );
         assert_eq!(
             s.artifacts,
             vec!["/repo/fuzz/artifacts/mesh_ply/crash-deadbeef".to_string()]

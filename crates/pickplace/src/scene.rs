@@ -49,10 +49,16 @@ impl PoseSpec {
         if q.norm() < 1e-9 {
             return Err("orientation quaternion is zero");
         }
+        // Scaled by its largest component before normalising: the norm of a quaternion with
+        // components above ~1e154 overflows, and dividing by it gave the zero quaternion.
+        let largest = self
+            .orientation
+            .iter()
+            .fold(0.0, |m: Real, v| m.max(v.abs()));
         let [px, py, pz] = self.position;
         Ok(Isometry3::from_parts(
             Translation3::new(px, py, pz),
-            UnitQuaternion::from_quaternion(q),
+            UnitQuaternion::from_quaternion(q / largest),
         ))
     }
 
