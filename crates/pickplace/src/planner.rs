@@ -173,6 +173,26 @@ struct Segment {
     event: Option<(EventKind, Arm, Isometry3)>,
 }
 
+impl Segment {
+    /// A motion that ends at the key pose `name` of `arm`.
+    fn reach(name: &'static str, arm: Arm, path: Vec<Vec<Real>>) -> Self {
+        Self {
+            path,
+            key: Some((name, arm)),
+            event: None,
+        }
+    }
+
+    /// A motion with no key pose or event at its end (opening the hands at the start).
+    fn plain(path: Vec<Vec<Real>>) -> Self {
+        Self {
+            path,
+            key: None,
+            event: None,
+        }
+    }
+}
+
 /// The result of picking with one arm and one grasp.
 #[derive(Debug, Clone)]
 struct Pick {
@@ -855,27 +875,15 @@ impl Ctx<'_> {
         let mut segments = Vec::new();
         let open_start = self.with_fingers(arm, start, self.open_half());
         if open_start != start {
-            segments.push(Segment {
-                path: vec![start.to_vec(), open_start.clone()],
-                key: None,
-                event: None,
-            });
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
         let free = self.world_with_object_at(&self.setup.object_start);
         let pre_grasp = &pick.approach[0];
         let to_pre = self
             .motion(arm, &free, &open_start, pre_grasp, salt ^ 1)
             .map_err(|r| format!("to pre-grasp: {r}"))?;
-        segments.push(Segment {
-            path: to_pre,
-            key: Some(("pre-grasp", arm)),
-            event: None,
-        });
-        segments.push(Segment {
-            path: pick.approach.clone(),
-            key: Some(("grasp", arm)),
-            event: None,
-        });
+        segments.push(Segment::reach("pre-grasp", arm, to_pre));
+        segments.push(Segment::reach("grasp", arm, pick.approach.clone()));
         let q_grasp = pick.approach.last().expect("non-empty");
         let closed = self.with_fingers(arm, q_grasp, g.width / 2.0);
         segments.push(Segment {
@@ -883,11 +891,7 @@ impl Ctx<'_> {
             key: None,
             event: Some((EventKind::Grasp, arm, g.object_from_tcp.inverse())),
         });
-        segments.push(Segment {
-            path: pick.lift.clone(),
-            key: Some(("lift", arm)),
-            event: None,
-        });
+        segments.push(Segment::reach("lift", arm, pick.lift.clone()));
         let holding = self
             .world_holding(arm, &g.object_from_tcp, &[])
             .map_err(|e| e.to_string())?;
@@ -895,16 +899,8 @@ impl Ctx<'_> {
         let carry = self
             .motion(arm, &holding, lifted, &place.lower[0], salt ^ 2)
             .map_err(|r| format!("to pre-place: {r}"))?;
-        segments.push(Segment {
-            path: carry,
-            key: Some(("pre-place", arm)),
-            event: None,
-        });
-        segments.push(Segment {
-            path: place.lower.clone(),
-            key: Some(("place", arm)),
-            event: None,
-        });
+        segments.push(Segment::reach("pre-place", arm, carry));
+        segments.push(Segment::reach("place", arm, place.lower.clone()));
         let q_place = place.lower.last().expect("non-empty");
         let opened = self.with_fingers(arm, q_place, self.open_half());
         segments.push(Segment {
@@ -912,11 +908,7 @@ impl Ctx<'_> {
             key: Some(("release", arm)),
             event: Some((EventKind::Release, arm, g.object_from_tcp.inverse())),
         });
-        segments.push(Segment {
-            path: place.retreat.clone(),
-            key: Some(("retreat", arm)),
-            event: None,
-        });
+        segments.push(Segment::reach("retreat", arm, place.retreat.clone()));
         let left = self.world_with_object_at(&p.world_from_object);
         let retreated = place.retreat.last().expect("non-empty");
         if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
@@ -1223,11 +1215,7 @@ impl Ctx<'_> {
             self.open_half(),
         );
         if open_start != start {
-            segments.push(Segment {
-                path: vec![start.to_vec(), open_start.clone()],
-                key: None,
-                event: None,
-            });
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
         let free = self.world_with_object_at(&self.setup.object_start);
         let to_pre = self
@@ -1240,21 +1228,13 @@ impl Ctx<'_> {
             )
             .map_err(|r| format!("to pre-grasp: {r}"))?;
         let here = |seg: &Vec<Vec<Real>>| seg.last().expect("non-empty").clone();
-        segments.push(Segment {
-            path: to_pre.clone(),
-            key: Some(("pre-grasp", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("pre-grasp", a, to_pre.clone()));
         let approach: Vec<Vec<Real>> = pick
             .approach
             .iter()
             .map(|q| self.other_from(b, q, &open_start))
             .collect();
-        segments.push(Segment {
-            path: approach.clone(),
-            key: Some(("grasp", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("grasp", a, approach.clone()));
         let q = here(&approach);
         let closed = self.with_fingers(a, &q, g1.width / 2.0);
         segments.push(Segment {
@@ -1267,50 +1247,28 @@ impl Ctx<'_> {
             .iter()
             .map(|q| self.other_from(b, q, &open_start))
             .collect();
-        segments.push(Segment {
-            path: lift.clone(),
-            key: Some(("lift", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("lift", a, lift.clone()));
         // A carries the object to the handover pose.
         let holding_a = self
             .world_holding(a, &g1.object_from_tcp, &[])
             .map_err(|e| e.to_string())?;
-        let mut q_handover = here(&lift);
-        for &v in &self.setup.arm(a).variables {
-            q_handover[v] = h.q_a[v];
-        }
+        let q_handover = self.arm_from(a, &here(&lift), &h.q_a);
         let carry = self
             .motion(a, &holding_a, &here(&lift), &q_handover, salt ^ 2)
             .map_err(|r| format!("to handover: {r}"))?;
-        segments.push(Segment {
-            path: carry,
-            key: Some(("handover", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("handover", a, carry));
         // B comes to the pre-regrasp pose, then approaches.
-        let mut q_pre_b = q_handover.clone();
-        for &v in &self.setup.arm(b).variables {
-            q_pre_b[v] = h.approach[0][v];
-        }
+        let q_pre_b = self.arm_from(b, &q_handover, &h.approach[0]);
         let to_b = self
             .motion(b, &holding_a, &q_handover, &q_pre_b, salt ^ 3)
             .map_err(|r| format!("to pre-regrasp: {r}"))?;
-        segments.push(Segment {
-            path: to_b,
-            key: Some(("pre-regrasp", b)),
-            event: None,
-        });
+        segments.push(Segment::reach("pre-regrasp", b, to_b));
         let b_approach: Vec<Vec<Real>> = h
             .approach
             .iter()
             .map(|qb| self.arm_from(b, &q_pre_b, qb))
             .collect();
-        segments.push(Segment {
-            path: b_approach.clone(),
-            key: Some(("regrasp", b)),
-            event: None,
-        });
+        segments.push(Segment::reach("regrasp", b, b_approach.clone()));
         let q = here(&b_approach);
         let b_closed = self.with_fingers(b, &q, g2.width / 2.0);
         segments.push(Segment {
@@ -1329,27 +1287,16 @@ impl Ctx<'_> {
             .iter()
             .map(|qa| self.arm_from(a, &a_open, qa))
             .collect();
-        segments.push(Segment {
-            path: a_retreat.clone(),
-            key: Some(("retreat-first", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
         let holding_b = self
             .world_holding(b, &g2.object_from_tcp, &[])
             .map_err(|e| e.to_string())?;
         // A goes back to its start while B holds.
-        let mut a_home = here(&a_retreat);
-        for &v in &self.setup.arm(a).variables {
-            a_home[v] = start[v];
-        }
+        let a_home = self.arm_from(a, &here(&a_retreat), start);
         let back_a = self
             .motion(a, &holding_b, &here(&a_retreat), &a_home, salt ^ 4)
             .map_err(|r| format!("first arm back to start: {r}"))?;
-        segments.push(Segment {
-            path: back_a,
-            key: Some(("home-first", a)),
-            event: None,
-        });
+        segments.push(Segment::reach("home-first", a, back_a));
         // B carries the object to the pre-place pose.
         let lower: Vec<Vec<Real>> = place
             .lower
@@ -1359,16 +1306,8 @@ impl Ctx<'_> {
         let to_place = self
             .motion(b, &holding_b, &a_home, &lower[0], salt ^ 5)
             .map_err(|r| format!("to pre-place: {r}"))?;
-        segments.push(Segment {
-            path: to_place,
-            key: Some(("pre-place", b)),
-            event: None,
-        });
-        segments.push(Segment {
-            path: lower.clone(),
-            key: Some(("place", b)),
-            event: None,
-        });
+        segments.push(Segment::reach("pre-place", b, to_place));
+        segments.push(Segment::reach("place", b, lower.clone()));
         let q = here(&lower);
         let opened = self.with_fingers(b, &q, self.open_half());
         segments.push(Segment {
@@ -1381,11 +1320,7 @@ impl Ctx<'_> {
             .iter()
             .map(|qb| self.arm_from(b, &opened, qb))
             .collect();
-        segments.push(Segment {
-            path: retreat.clone(),
-            key: Some(("retreat", b)),
-            event: None,
-        });
+        segments.push(Segment::reach("retreat", b, retreat.clone()));
         let left = self.world_with_object_at(&self.placements[pi].world_from_object);
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat), start, salt ^ 6)? {
             segments.push(back);
@@ -1404,21 +1339,14 @@ impl Ctx<'_> {
         start: &[Real],
         salt: u64,
     ) -> std::result::Result<Option<Segment>, String> {
-        let mut home = from.to_vec();
-        for &v in &self.setup.arm(arm).variables {
-            home[v] = start[v];
-        }
+        let home = self.arm_from(arm, from, start);
         if self.collision(world, &home, 0.0).is_some() {
             return Ok(None);
         }
         let back = self
             .motion(arm, world, from, &home, salt)
             .map_err(|r| format!("back to start: {r}"))?;
-        Ok(Some(Segment {
-            path: back,
-            key: Some(("home", arm)),
-            event: None,
-        }))
+        Ok(Some(Segment::reach("home", arm, back)))
     }
 
     /// `q` with arm `other`'s joints and fingers taken from `from`.
