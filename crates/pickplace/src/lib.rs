@@ -4,6 +4,7 @@
 #![warn(missing_docs)]
 
 pub mod checker;
+pub mod contact;
 pub mod error;
 pub mod plan;
 pub mod planner;
@@ -12,6 +13,9 @@ pub mod scene;
 pub mod setup;
 pub mod strategy;
 pub mod validate;
+
+#[cfg(test)]
+mod testing;
 
 pub use error::{Error, Result};
 pub use pickplace_geometry as geometry;

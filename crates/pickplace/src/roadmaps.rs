@@ -98,6 +98,7 @@ pub fn load_or_build(
     let checker = ArmChecker::new(model, self_world, variables, home.to_vec(), 0.01);
     let roadmap = Roadmap::build_prefiltered(space, &checker, &roadmap_options())
         .map_err(crate::error::internal("roadmap construction"))?;
+    checker.check_error()?;
     if let Some(path) = cache {
         let bytes = codec::encode(&roadmap).map_err(crate::error::internal("roadmap encoding"))?;
         if let Some(dir) = path.parent() {

@@ -12,14 +12,13 @@
 //! stable there (paper Fig. 7: the CoG's vertical passes through the hull of the contact
 //! points).
 
+use crate::contact::{OBJECT_NAME, supports};
 use crate::error::{Error, Result};
 use crate::plan::{EventKind, Plan};
-use crate::planner::OBJECT_NAME;
 use crate::setup::Setup;
 use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
 use pickplace_geometry::polygon::{convex_hull, signed_margin};
-use pickplace_placement::collide::CollisionMesh;
 use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, CollisionWorld};
 use pickplace_robot::srdf::DisableReason;
 use serde::Serialize;
@@ -277,25 +276,6 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         stability_margin,
         problems: v.problems,
     })
-}
-
-/// Environment bodies within 1 mm of the object at `world_from_object`.
-pub(crate) fn supports(setup: &Setup, world_from_object: &Isometry3) -> Vec<String> {
-    let object = &setup.placement_object.collision;
-    let mut names = Vec::new();
-    for e in &setup.environment {
-        let env = match CollisionMesh::from_meshes(&[(&e.mesh, e.world_from_mesh)]) {
-            Ok(m) => m,
-            Err(_) => continue,
-        };
-        if !env
-            .touching_points(object, world_from_object, 1e-3)
-            .is_empty()
-        {
-            names.push(e.name.clone());
-        }
-    }
-    names
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]

@@ -1,0 +1,329 @@
+//! The handover (paper §III-B.3, RIGHT-LEFT and LEFT-RIGHT): where the picking hand holds the
+//! object in front of the torso, and which second grasp the placing hand takes there.
+//!
+//! The paper's planner hands the object over at one fixed pose. Here the pose is searched
+//! ([`handover_candidates`]) and each feasible one is scored by both arms' reach margin and
+//! the robot's clearance, so that the handover works for any object and grasp pair.
+
+use super::Ctx;
+use super::keypose::{Pick, Place};
+use super::reason::{Attempt, Rejection, Role, Step, split};
+use super::world::with_scratch;
+use crate::plan::StageCount;
+use crate::setup::Setup;
+use crate::strategy::{Arm, Strategy};
+use pickplace_geometry::math::{
+    Isometry3, Matrix3, Point3, Real, Translation3, UnitQuaternion, Vector3,
+};
+use pickplace_grasp::{Grasp, GripperParams};
+
+/// Clearance kept between the two hands at a handover (m).
+const HAND_CLEARANCE: Real = 0.004;
+
+/// A feasible handover.
+#[derive(Debug, Clone)]
+pub(super) struct Handover {
+    /// The picking arm's grasp (index into the ranked grasps).
+    pub g1: usize,
+    /// The placing arm's grasp.
+    pub g2: usize,
+    /// Arm A's configuration at the handover (full).
+    pub q_a: Vec<Real>,
+    /// Arm B: pre-regrasp → regrasp (full configurations).
+    pub approach: Vec<Vec<Real>>,
+    /// Arm A: handover → retreat, fingers open (full configurations).
+    pub retreat: Vec<Vec<Real>>,
+}
+
+impl Ctx<'_> {
+    /// Tests a handover at object pose `world_from_object` (the `hi`-th candidate) with pick
+    /// grasp `g1` of arm A; looks for a grasp of arm B among `places` (the grasps that place
+    /// the object) that regrasps there. Returns the score (clearance and reach margin, higher
+    /// is better) and the handover; each second grasp tried is counted in `regrasp`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn handover_at(
+        &self,
+        strategy: Strategy,
+        hi: usize,
+        world_from_object: &Isometry3,
+        g1: usize,
+        pick: &Pick,
+        places: &[(usize, Place)],
+        regrasp: &mut StageCount,
+    ) -> Attempt<(Real, Handover)> {
+        let (a, b) = (strategy.pick_arm(), strategy.place_arm());
+        let grasp1 = &self.grasps[g1];
+        let pose_a = world_from_object * grasp1.object_from_tcp;
+        let arm_a = self.setup.arm(a);
+        if (pose_a.translation.vector - arm_a.shoulder.coords).norm() > arm_a.reach {
+            return Err(Rejection::ArmOutOfReach(Role::Picking).into());
+        }
+        let lifted = pick.lift.last().expect("non-empty");
+        let salt = (hi as u64) << 24 | (g1 as u64) << 8 | 0x40;
+        let holding_a = self.world_holding(a, &grasp1.object_from_tcp, &[])?;
+        let q_a = self
+            .free_ik(a, &pose_a, lifted, salt, &holding_a)
+            .map_err(|f| f.at(Step::PickingArm))?;
+        let arm_b = self.setup.arm(b);
+        for (g2, _) in places {
+            let grasp2 = &self.grasps[*g2];
+            let pose_b = world_from_object * grasp2.object_from_tcp;
+            if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
+                regrasp.reject(Rejection::ArmOutOfReach(Role::Placing).to_string());
+                continue;
+            }
+            // The two hands must not overlap: the second grasp's gripper against the first.
+            if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
+                regrasp.reject(Rejection::HandsOverlap.to_string());
+                continue;
+            }
+            let seed = self.with_fingers(b, &q_a, self.open_half());
+            let q_b = match split(self.free_ik(
+                b,
+                &pose_b,
+                &seed,
+                salt ^ (*g2 as u64) << 40,
+                &holding_a,
+            ))? {
+                Ok(q) => q,
+                Err(r) => {
+                    regrasp.reject(r.at(Step::Regrasp).to_string());
+                    continue;
+                }
+            };
+            let pre_pose =
+                pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+            let approach =
+                match split(self.cartesian(b, &q_b, &pre_pose, &|_, _| &holding_a, salt ^ 0x55))? {
+                    Ok(mut p) => {
+                        p.reverse();
+                        p
+                    }
+                    Err(r) => {
+                        regrasp.reject(r.at(Step::RegraspApproach).to_string());
+                        continue;
+                    }
+                };
+            // Both hold: B closes, then A opens and retreats with B holding.
+            let both = self.with_fingers(b, &q_b, grasp2.width / 2.0);
+            let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
+            let a_open = self.with_fingers(a, &both, self.open_half());
+            if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
+                regrasp.reject(
+                    Rejection::Collision(c)
+                        .at(Step::FirstHandRelease)
+                        .to_string(),
+                );
+                continue;
+            }
+            let retreat_pose =
+                pose_a * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+            let retreat = match split(self.cartesian(
+                a,
+                &a_open,
+                &retreat_pose,
+                &|_, _| &holding_b,
+                salt ^ 0x66,
+            ))? {
+                Ok(p) => p,
+                Err(r) => {
+                    regrasp.reject(r.at(Step::FirstHandRetreat).to_string());
+                    continue;
+                }
+            };
+            // Score: clearance of the handover configuration (both arms at the object).
+            let clearance = with_scratch(|scratch| {
+                holding_a.min_distance(&self.setup.model, &approach[0], scratch)
+            })
+            .map_err(crate::error::internal("clearance"))?
+            .map_or(1.0, |d| d.distance);
+            let reach_margin = (arm_a.reach
+                - (pose_a.translation.vector - arm_a.shoulder.coords).norm())
+            .min(arm_b.reach - (pose_b.translation.vector - arm_b.shoulder.coords).norm());
+            regrasp.accept();
+            return Ok((
+                clearance.min(0.1) + reach_margin,
+                Handover {
+                    g1,
+                    g2: *g2,
+                    q_a,
+                    approach,
+                    retreat,
+                },
+            ));
+        }
+        Err(Rejection::NoRegrasp.into())
+    }
+}
+
+/// Whether the gripper of `second` (open) would overlap the gripper of `first` (closed on
+/// the object) when both hold the object: any of their palm and finger boxes intersect
+/// (separating-axis test on oriented boxes, object frame), with [`HAND_CLEARANCE`].
+pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Grasp) -> bool {
+    let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
+        let [f1, f2] = gripper.fingers(opening);
+        [gripper.palm_box(), f1, f2]
+            .into_iter()
+            .map(|b| Obb {
+                center: grasp.object_from_tcp * b.center,
+                axes: grasp.object_from_tcp.rotation.to_rotation_matrix().matrix() * b.tcp_from_box,
+                half: b.half_extents.add_scalar(HAND_CLEARANCE / 2.0),
+            })
+            .collect()
+    };
+    let a = boxes(first, first.width);
+    let b = boxes(second, gripper.opening_max);
+    a.iter().any(|x| b.iter().any(|y| x.intersects(y)))
+}
+
+/// An oriented box: centre, axes as matrix columns, half extents.
+struct Obb {
+    center: Point3,
+    axes: Matrix3,
+    half: Vector3,
+}
+
+impl Obb {
+    /// Separating-axis test over the 15 candidate axes.
+    fn intersects(&self, other: &Obb) -> bool {
+        let d = other.center - self.center;
+        let mut axes: Vec<Vector3> = Vec::with_capacity(15);
+        for i in 0..3 {
+            axes.push(self.axes.column(i).into_owned());
+            axes.push(other.axes.column(i).into_owned());
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                let c = self.axes.column(i).cross(&other.axes.column(j));
+                if c.norm_squared() > 1e-12 {
+                    axes.push(c.normalize());
+                }
+            }
+        }
+        let radius = |b: &Obb, axis: &Vector3| -> Real {
+            (0..3)
+                .map(|i| b.half[i] * b.axes.column(i).dot(axis).abs())
+                .sum()
+        };
+        axes.iter()
+            .all(|axis| d.dot(axis).abs() <= radius(self, axis) + radius(other, axis))
+    }
+}
+
+/// Poses of the picking hand (`world_from_tcp`) tried for a handover, best guess first; the
+/// object's handover pose is where this hand holds it. The original planner used one
+/// hard-coded pose; here the pose is searched: tool positions in front of the torso between
+/// the shoulders (0.30–0.42 m ahead, 0.15–0.25 m below the shoulders), approach directions
+/// forward, forward and inward, forward and down, and down, each rolled in 90° steps. Each
+/// feasible one is scored by both arms' reach margin and the robot's clearance.
+pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Isometry3> {
+    let [r, l] = [setup.arms[0].shoulder, setup.arms[1].shoulder];
+    let mid = Point3::from((r.coords + l.coords) / 2.0);
+    let forward = setup.world_from_root.rotation * Vector3::x();
+    let left = setup.world_from_root.rotation * Vector3::y();
+    let up = Vector3::z();
+    // The picking hand reaches across towards the other arm.
+    let inward = match picking {
+        Arm::Left => -left,
+        Arm::Right => left,
+    };
+    let directions = [
+        forward,
+        (forward + inward).normalize(),
+        (forward - up).normalize(),
+        -up,
+    ];
+    let mut out = Vec::new();
+    for &ahead in &[0.36, 0.30, 0.42] {
+        for &height in &[-0.15, -0.25] {
+            for approach in &directions {
+                for roll in 0..4 {
+                    let p = mid + forward * ahead + up * height;
+                    // A frame with z along the approach; x from a reference not parallel to it.
+                    let reference = if approach.cross(&up).norm() > 1e-6 {
+                        up
+                    } else {
+                        forward
+                    };
+                    let x0 = reference.cross(approach).normalize();
+                    let y0 = approach.cross(&x0);
+                    let angle = Real::from(roll) * std::f64::consts::FRAC_PI_2;
+                    let x = x0 * angle.cos() + y0 * angle.sin();
+                    let y = approach.cross(&x);
+                    let m = Matrix3::from_columns(&[x, y, *approach]);
+                    let rotation = UnitQuaternion::from_matrix(&m);
+                    out.push(Isometry3::from_parts(
+                        Translation3::from(p.coords),
+                        rotation,
+                    ));
+                }
+            }
+        }
+    }
+    out.truncate(count);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::ctx;
+    use super::*;
+
+    #[test]
+    fn candidates_are_right_handed_frames_approaching_along_z() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let poses = handover_candidates(setup, Arm::Right, 96);
+        assert_eq!(poses.len(), 96);
+        assert_eq!(handover_candidates(setup, Arm::Right, 5).len(), 5);
+        for p in &poses {
+            let m = p.rotation.to_rotation_matrix();
+            assert!((m.matrix().determinant() - 1.0).abs() < 1e-9);
+        }
+        // The first pose approaches straight ahead; the right hand reaches across to the left.
+        let forward = setup.world_from_root.rotation * Vector3::x();
+        let z = poses[0].rotation * Vector3::z();
+        assert!((z - forward).norm() < 1e-9);
+        let inward = poses[4].rotation * Vector3::z();
+        assert!(inward.dot(&(setup.world_from_root.rotation * Vector3::y())) > 0.5);
+    }
+
+    #[test]
+    fn a_grasp_overlaps_itself_and_clears_its_opposite() {
+        let ctx = ctx("fig9-near.toml");
+        let g = &ctx.setup.gripper;
+        let first = &ctx.grasps[0];
+        assert!(hands_overlap(g, first, first));
+        // A grasp approaching from the opposite side (its approach axis reversed) clears.
+        let approach = first.object_from_tcp.rotation * g.approach();
+        let opposite = ctx
+            .grasps
+            .iter()
+            .find(|other| (other.object_from_tcp.rotation * g.approach()).dot(&approach) < -0.9);
+        if let Some(o) = opposite {
+            assert!(!hands_overlap(g, first, o));
+        }
+    }
+
+    #[test]
+    fn boxes_separate_along_a_face_axis_and_touch_when_they_overlap() {
+        let unit = |x: Real| Obb {
+            center: Point3::new(x, 0.0, 0.0),
+            axes: Matrix3::identity(),
+            half: Vector3::new(0.5, 0.5, 0.5),
+        };
+        assert!(unit(0.0).intersects(&unit(0.9)));
+        assert!(!unit(0.0).intersects(&unit(1.1)));
+        // Rotated 45° about z, the corner reaches 0.707 along x.
+        let rotated = Obb {
+            axes: *UnitQuaternion::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_4)
+                .to_rotation_matrix()
+                .matrix(),
+            ..unit(1.15)
+        };
+        assert!(unit(0.0).intersects(&rotated));
+        assert!(!unit(0.0).intersects(&Obb {
+            center: Point3::new(1.25, 0.0, 0.0),
+            ..rotated
+        }));
+    }
+}

@@ -1,0 +1,436 @@
+//! Key poses (paper Fig. 8, §III-C): the grasp and place poses of a hand, checked cheapest
+//! test first (reach, the gripper against the environment, IK over several branches, the
+//! collision of the whole robot with the object attached), and the straight Cartesian
+//! motions between them and their pre-poses: approach and lift at the pick, lowering and
+//! retreat at the place.
+
+use super::Ctx;
+use super::reason::{Attempt, Rejection, Step};
+use crate::contact::supports;
+use crate::strategy::Arm;
+use pickplace_geometry::math::{Isometry3, Real, Translation3, Vector3};
+use pickplace_robot::IkOptions;
+use pickplace_robot::collision::CollisionWorld;
+
+/// IK solutions tried per key pose before it is rejected (see [`Ctx::free_ik`]).
+pub(super) const IK_SOLUTIONS: usize = 4;
+
+/// The result of picking with one arm and one grasp.
+#[derive(Debug, Clone)]
+pub(super) struct Pick {
+    /// pre-grasp → grasp (fingers open).
+    pub approach: Vec<Vec<Real>>,
+    /// grasp → lift (fingers closed, object attached).
+    pub lift: Vec<Vec<Real>>,
+}
+
+/// The result of placing with one arm and one grasp.
+#[derive(Debug, Clone)]
+pub(super) struct Place {
+    /// pre-place → place (fingers closed, object attached).
+    pub lower: Vec<Vec<Real>>,
+    /// place → retreat (fingers open, object left).
+    pub retreat: Vec<Vec<Real>>,
+}
+
+impl Ctx<'_> {
+    /// IK options of one solve: six restarts, seeded from the plan's seed and `salt`.
+    fn ik_options(&self, salt: u64) -> IkOptions {
+        IkOptions {
+            max_restarts: 6,
+            seed: self.options.seed ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15),
+            ..IkOptions::default()
+        }
+    }
+
+    /// IK of `arm` for `world_from_tcp`, seeded by `seed` (full configuration).
+    pub(super) fn ik(
+        &self,
+        arm: Arm,
+        world_from_tcp: &Isometry3,
+        seed: &[Real],
+        salt: u64,
+    ) -> Option<Vec<Real>> {
+        let a = self.setup.arm(arm);
+        let root_from_tcp = self.setup.world_from_root.inverse() * world_from_tcp;
+        let sol =
+            a.ik.solve(&root_from_tcp, seed, &self.ik_options(salt))
+                .ok()?;
+        sol.success.then_some(sol.positions)
+    }
+
+    /// A collision-free IK solution in `world`: the solution nearest the seed first, then
+    /// up to [`IK_SOLUTIONS`] others from seeded restarts (IK branches differ in elbow and
+    /// wrist, and one of them often clears an obstacle the first hits).
+    ///
+    /// Rejected with [`Rejection::NoIk`], or the last [`Rejection::Collision`] found.
+    pub(super) fn free_ik(
+        &self,
+        arm: Arm,
+        world_from_tcp: &Isometry3,
+        seed: &[Real],
+        salt: u64,
+        world: &CollisionWorld,
+    ) -> Attempt<Vec<Real>> {
+        let mut reason = Rejection::NoIk;
+        let a = self.setup.arm(arm);
+        let mut rng = pickplace_robot::rng::Rng::new(
+            self.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
+        );
+        let mut seed = seed.to_vec();
+        for k in 0..IK_SOLUTIONS {
+            if k > 0 {
+                for (c, &v) in a.variables.iter().enumerate() {
+                    seed[v] = rng.uniform(a.space.lower()[c], a.space.upper()[c]);
+                }
+            }
+            let Some(q) = self.ik(arm, world_from_tcp, &seed, salt.wrapping_add(k as u64)) else {
+                continue;
+            };
+            match self.collision(world, &q, 0.0)? {
+                None => return Ok(q),
+                Some(c) => reason = Rejection::Collision(c),
+            }
+        }
+        Err(reason.into())
+    }
+
+    /// `world_from_tcp` of the arm at `q`.
+    pub(super) fn tcp(&self, arm: Arm, q: &[Real]) -> Isometry3 {
+        self.setup.world_from_root * self.setup.arm(arm).ik.chain().pose(q)
+    }
+
+    /// `q` with the arm's fingers at half-opening `half`.
+    pub(super) fn with_fingers(&self, arm: Arm, q: &[Real], half: Real) -> Vec<Real> {
+        let mut q = q.to_vec();
+        for &v in &self.setup.arm(arm).finger_variables {
+            let l = self.setup.model.variable_joint(v).limits;
+            q[v] = half.clamp(l.lower, l.upper);
+        }
+        q
+    }
+
+    /// Half the gripper's largest opening: the finger value of an open hand.
+    pub(super) fn open_half(&self) -> Real {
+        self.setup.gripper.opening_max / 2.0
+    }
+
+    /// The gripper's approach direction in its tool frame.
+    pub(super) fn approach_axis(&self) -> Vector3 {
+        self.setup.gripper.approach()
+    }
+
+    /// `q` with arm `other`'s joints and fingers taken from `from`.
+    pub(super) fn other_from(&self, other: Arm, q: &[Real], from: &[Real]) -> Vec<Real> {
+        let mut out = q.to_vec();
+        let o = self.setup.arm(other);
+        for &v in o.variables.iter().chain(&o.finger_variables) {
+            out[v] = from[v];
+        }
+        out
+    }
+
+    /// `base` with `arm`'s joints (not its fingers) taken from `q`.
+    pub(super) fn arm_from(&self, arm: Arm, base: &[Real], q: &[Real]) -> Vec<Real> {
+        let mut out = base.to_vec();
+        for &v in &self.setup.arm(arm).variables {
+            out[v] = q[v];
+        }
+        out
+    }
+
+    /// A straight Cartesian motion of `arm` from configuration `from` (TCP at its pose) to
+    /// `to_pose`, IK every [`super::PlanOptions::cartesian_step`]; each state is checked in
+    /// the world `world_at(i, n)` returns.
+    pub(super) fn cartesian<'w>(
+        &self,
+        arm: Arm,
+        from: &[Real],
+        to_pose: &Isometry3,
+        world_at: &dyn Fn(usize, usize) -> &'w CollisionWorld,
+        salt: u64,
+    ) -> Attempt<Vec<Vec<Real>>> {
+        let from_pose = self.tcp(arm, from);
+        let distance = (to_pose.translation.vector - from_pose.translation.vector).norm();
+        let angle = from_pose.rotation.angle_to(&to_pose.rotation);
+        let n = ((distance / self.options.cartesian_step)
+            .max(angle / 0.05)
+            .ceil() as usize)
+            .max(1);
+        let mut path = vec![from.to_vec()];
+        let variables = &self.setup.arm(arm).variables;
+        for i in 1..=n {
+            let s = i as Real / n as Real;
+            let pose = Isometry3::from_parts(
+                Translation3::from(
+                    from_pose
+                        .translation
+                        .vector
+                        .lerp(&to_pose.translation.vector, s),
+                ),
+                from_pose.rotation.slerp(&to_pose.rotation, s),
+            );
+            let prev = path.last().expect("the path starts with `from`");
+            let q = self
+                .ik(arm, &pose, prev, salt.wrapping_add(i as u64))
+                .ok_or(Rejection::NoIkOnLine)?;
+            let jump = variables
+                .iter()
+                .map(|&v| (q[v] - prev[v]).abs())
+                .fold(0.0, Real::max);
+            if jump > self.options.max_joint_step {
+                return Err(Rejection::BranchJump.into());
+            }
+            if let Some(c) = self.collision(world_at(i, n), &q, 0.0)? {
+                return Err(Rejection::Collision(c).into());
+            }
+            path.push(q);
+        }
+        Ok(path)
+    }
+
+    /// The gripper (palm and fingers at `opening`) against the environment at
+    /// `world_from_tcp`: the first environment part it hits.
+    pub(super) fn hand_hits_environment(
+        &self,
+        world_from_tcp: &Isometry3,
+        opening: Real,
+    ) -> Option<Rejection> {
+        let g = &self.setup.gripper;
+        let [f1, f2] = g.fingers(opening);
+        let bodies = [g.palm_box(), f1, f2];
+        self.setup
+            .environment
+            .iter()
+            .find(|e| {
+                bodies
+                    .iter()
+                    .any(|b| e.collider.hits(world_from_tcp, b, 0.0))
+            })
+            .map(|e| Rejection::GripperHits(e.name.clone()))
+    }
+
+    /// The world while `arm` moves the held object within
+    /// [`super::PlanOptions::contact_zone`] of its support: the object may touch `supports`
+    /// in the first part of the straight motion, nothing after.
+    fn contact_worlds(
+        &self,
+        arm: Arm,
+        object_from_tcp: &Isometry3,
+        supports: &[String],
+    ) -> crate::Result<[CollisionWorld; 2]> {
+        Ok([
+            self.world_holding(arm, object_from_tcp, &[])?,
+            self.world_holding(arm, object_from_tcp, supports)?,
+        ])
+    }
+
+    /// Picks the object with `arm` and grasp `gi` from `start`: the approach from the
+    /// pre-grasp pose (fingers open) and the lift (fingers closed, object attached).
+    pub(super) fn pick(&self, arm: Arm, gi: usize, start: &[Real]) -> Attempt<Pick> {
+        let a = self.setup.arm(arm);
+        let g = &self.grasps[gi];
+        let grasp_pose = self.setup.object_start * g.object_from_tcp;
+        if (grasp_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
+            return Err(Rejection::OutOfReach.into());
+        }
+        if let Some(r) = self.hand_hits_environment(&grasp_pose, self.setup.gripper.opening_max) {
+            return Err(r.into());
+        }
+        let salt = (gi as u64) << 8 | arm.index() as u64;
+        let open = self.with_fingers(arm, start, self.open_half());
+        let free = self.world_with_object_at(&self.setup.object_start);
+        let q_grasp = self
+            .free_ik(arm, &grasp_pose, &open, salt, &free)
+            .map_err(|f| f.at(Step::Grasp))?;
+        let pre_pose =
+            grasp_pose * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let mut approach = self
+            .cartesian(arm, &q_grasp, &pre_pose, &|_, _| &free, salt ^ 0x11)
+            .map_err(|f| f.at(Step::Approach))?;
+        approach.reverse();
+        let closed = self.with_fingers(arm, &q_grasp, g.width / 2.0);
+        let [holding, holding_contact] =
+            self.contact_worlds(arm, &g.object_from_tcp, &self.start_supports)?;
+        let lift_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * grasp_pose;
+        let world_at = self.near_support(&holding, &holding_contact);
+        let lift = self
+            .cartesian(arm, &closed, &lift_pose, &world_at, salt ^ 0x22)
+            .map_err(|f| f.at(Step::Lift))?;
+        if let Some(c) = self.collision(&holding_contact, &closed, 0.0)? {
+            return Err(Rejection::Collision(c).at(Step::GraspClosed).into());
+        }
+        Ok(Pick { approach, lift })
+    }
+
+    /// Places the object with `arm`, grasp `gi`, at placement `pi`: the lowering from the
+    /// pre-place pose and the retreat after the release. `seed` is a full configuration
+    /// whose other joints are kept.
+    pub(super) fn place(&self, arm: Arm, pi: usize, gi: usize, seed: &[Real]) -> Attempt<Place> {
+        let a = self.setup.arm(arm);
+        let g = &self.grasps[gi];
+        let p = &self.placements[pi];
+        let place_pose = p.world_from_object * g.object_from_tcp;
+        if (place_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
+            return Err(Rejection::OutOfReach.into());
+        }
+        if let Some(r) = self.hand_hits_environment(&place_pose, g.width) {
+            return Err(r.into());
+        }
+        let salt = (pi as u64) << 20 | (gi as u64) << 8 | 0x80 | arm.index() as u64;
+        let closed_seed = self.with_fingers(arm, seed, g.width / 2.0);
+        let supports = supports(self.setup, &p.world_from_object);
+        let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, &supports)?;
+        let q_place = self
+            .free_ik(arm, &place_pose, &closed_seed, salt, &holding_contact)
+            .map_err(|f| f.at(Step::Place))?;
+        let pre_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * place_pose;
+        let world_at = self.near_support(&holding, &holding_contact);
+        let mut lower = self
+            .cartesian(arm, &q_place, &pre_pose, &world_at, salt ^ 0x33)
+            .map_err(|f| f.at(Step::Lower))?;
+        lower.reverse();
+        let opened = self.with_fingers(arm, &q_place, self.open_half());
+        let left = self.world_with_object_at(&p.world_from_object);
+        if let Some(c) = self.collision(&left, &opened, 0.0)? {
+            return Err(Rejection::Collision(c).at(Step::Release).into());
+        }
+        let retreat_pose =
+            place_pose * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let retreat = self
+            .cartesian(arm, &opened, &retreat_pose, &|_, _| &left, salt ^ 0x44)
+            .map_err(|f| f.at(Step::Retreat))?;
+        Ok(Place { lower, retreat })
+    }
+
+    /// For a vertical motion of [`super::PlanOptions::lift_height`] away from a support in
+    /// `n` steps: the world of step `i`, `contact` within the contact zone, `holding` above.
+    fn near_support<'w>(
+        &self,
+        holding: &'w CollisionWorld,
+        contact: &'w CollisionWorld,
+    ) -> impl Fn(usize, usize) -> &'w CollisionWorld + use<'w> {
+        let zone = self.options.contact_zone;
+        let height = self.options.lift_height;
+        move |i, n| {
+            if (i as Real / n as Real) * height <= zone {
+                contact
+            } else {
+                holding
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::reason::{Fail, Rejection, Step};
+    use super::super::tests::ctx;
+    use super::*;
+
+    /// The largest distance of the tool frame along `path` from the segment `a`–`b`.
+    fn off_line(ctx: &Ctx<'_>, arm: Arm, path: &[Vec<Real>]) -> Real {
+        let a = ctx.tcp(arm, &path[0]).translation.vector;
+        let b = ctx.tcp(arm, path.last().unwrap()).translation.vector;
+        let d = (b - a).normalize();
+        path.iter()
+            .map(|q| {
+                let p = ctx.tcp(arm, q).translation.vector - a;
+                (p - d * p.dot(&d)).norm()
+            })
+            .fold(0.0, Real::max)
+    }
+
+    #[test]
+    fn fingers_are_clamped_to_their_limits() {
+        let ctx = ctx("fig9-near.toml");
+        let setup = ctx.setup;
+        let wide = ctx.with_fingers(Arm::Right, &setup.start, 10.0);
+        for &v in &setup.arm(Arm::Right).finger_variables {
+            assert_eq!(wide[v], setup.model.variable_joint(v).limits.upper);
+        }
+        // The other arm's fingers and every arm joint are untouched.
+        for &v in &setup.arm(Arm::Left).finger_variables {
+            assert_eq!(wide[v], setup.start[v]);
+        }
+        for &v in &setup.arm(Arm::Right).variables {
+            assert_eq!(wide[v], setup.start[v]);
+        }
+    }
+
+    #[test]
+    fn ik_reaches_the_tool_pose_it_was_given() {
+        let ctx = ctx("fig9-near.toml");
+        let setup = ctx.setup;
+        let target = ctx.tcp(Arm::Right, &setup.start) * Translation3::new(0.02, 0.01, -0.03);
+        let q = ctx
+            .ik(Arm::Right, &target, &setup.start, 7)
+            .expect("a nearby pose is reachable");
+        let reached = ctx.tcp(Arm::Right, &q);
+        assert!((reached.translation.vector - target.translation.vector).norm() < 1e-3);
+    }
+
+    #[test]
+    fn the_best_reachable_pick_approaches_and_lifts_in_straight_lines() {
+        let ctx = ctx("fig9-near.toml");
+        let start = ctx.setup.start.clone();
+        let (gi, pick) = (0..ctx.grasps.len())
+            .find_map(|gi| ctx.pick(Arm::Right, gi, &start).ok().map(|p| (gi, p)))
+            .expect("the right hand picks the near can");
+        assert!(off_line(&ctx, Arm::Right, &pick.approach) < 1e-3);
+        assert!(off_line(&ctx, Arm::Right, &pick.lift) < 1e-3);
+        // The approach ends where the lift starts (fingers aside), at the grasp pose.
+        let grasp = ctx.setup.object_start * ctx.grasps[gi].object_from_tcp;
+        let at = ctx.tcp(Arm::Right, pick.approach.last().unwrap());
+        assert!((at.translation.vector - grasp.translation.vector).norm() < 1e-3);
+        let lifted = ctx.tcp(Arm::Right, pick.lift.last().unwrap());
+        let rise = lifted.translation.vector.z - at.translation.vector.z;
+        assert!((rise - ctx.options.lift_height).abs() < 1e-3, "{rise}");
+    }
+
+    #[test]
+    fn a_grasp_far_from_the_shoulder_is_out_of_reach() {
+        // In the far-left scene the can is beyond the right arm's reach.
+        let ctx = ctx("fig9-far-left.toml");
+        let start = ctx.setup.start.clone();
+        for gi in 0..ctx.grasps.len().min(8) {
+            match ctx.pick(Arm::Right, gi, &start) {
+                Err(Fail::Rejected(r)) => assert_eq!(r, Rejection::OutOfReach),
+                other => panic!("grasp {gi}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_gripper_inside_the_table_is_named() {
+        let ctx = ctx("fig9-near.toml");
+        // The tool frame 2 cm below the table top, under the can.
+        let pose = Translation3::new(0.0, 0.0, -0.08) * ctx.setup.object_start;
+        assert_eq!(
+            ctx.hand_hits_environment(&pose, ctx.setup.gripper.opening_max),
+            Some(Rejection::GripperHits("table".into()))
+        );
+        let above = Translation3::new(0.0, 0.0, 0.5) * ctx.setup.object_start;
+        assert_eq!(ctx.hand_hits_environment(&above, 0.0), None);
+    }
+
+    #[test]
+    fn rejections_of_a_pick_name_their_step() {
+        let ctx = ctx("fig9-near.toml");
+        let start = ctx.setup.start.clone();
+        // Every rejection of the left hand's picks is a known one, with a step where the
+        // pick got past the reach and gripper tests.
+        for gi in 0..ctx.grasps.len().min(24) {
+            if let Err(Fail::Rejected(r)) = ctx.pick(Arm::Left, gi, &start) {
+                match &r {
+                    Rejection::OutOfReach | Rejection::GripperHits(_) => {}
+                    Rejection::At(step, _) => assert!(matches!(
+                        step,
+                        Step::Grasp | Step::Approach | Step::Lift | Step::GraspClosed
+                    )),
+                    other => panic!("unexpected {other}"),
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,419 @@
+//! The online pick-and-place planner of the paper's Fig. 8 (§III-C), with the manipulation
+//! strategies of §III-B.3 and a searched handover.
+//!
+//! Order of work, cheapest test first so that most candidates are rejected for microseconds.
+//! Each step of Fig. 8 has its module:
+//!
+//! | Fig. 8 step | module |
+//! |---|---|
+//! | placement candidates on the clicked cluster (Algorithm 2), ranked | [`plan`] (calls `pickplace_placement::candidates`) |
+//! | grasp candidates on parallel cluster pairs, ranked; those below [`PlanOptions::min_grasp_quality`] of the best dropped ("if it has good quality we check the collision of the key postures") | [`plan`] (calls `pickplace_grasp`) |
+//! | strategies in the paper's order, switching on failure | [`plan`], `search` |
+//! | key poses: reach, gripper against the environment, IK, collision with the object attached; straight approach, lift, lowering and retreat | `keypose`, `world` |
+//! | the handover pose and second grasp (RIGHT-LEFT, LEFT-RIGHT) | `handover` |
+//! | PRM motions between the key poses, shortcut | `motion` |
+//! | time parameterisation, events and key poses of the plan | `assemble` |
+//!
+//! Every rejection is counted per strategy and [`Stage`] with its typed [`Rejection`], so a
+//! failure says why; a defect of a lower layer is an [`crate::Error`], never a rejection.
+
+mod assemble;
+mod handover;
+mod keypose;
+mod motion;
+mod reason;
+mod search;
+mod world;
+
+pub use handover::handover_candidates;
+pub use reason::{Attempt, Collision, End, Fail, Rejection, Role, Stage, Step};
+
+use crate::contact::supports;
+use crate::error::{Error, Result};
+use crate::plan::{Stats, StrategyReport};
+use crate::scene::StrategyChoice;
+use crate::setup::Setup;
+use crate::strategy::Strategy;
+use pickplace_geometry::math::Real;
+use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner};
+use pickplace_placement::{Placement, PlacementOptions};
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Options of [`plan`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanOptions {
+    /// Seed of every random choice (default: the scene's `planner.seed`, else 1).
+    pub seed: u64,
+    /// Strategy (default: the scene's, else auto).
+    pub strategy: StrategyChoice,
+    /// Distance of the pre-grasp and retreat poses from the grasp, along the approach (m)
+    /// (default: 0.08).
+    pub approach_distance: Real,
+    /// Height the object is lifted after the grasp and lowered before the place (m)
+    /// (default: 0.10).
+    pub lift_height: Real,
+    /// Largest step of straight Cartesian motions (m) (default: 0.01).
+    pub cartesian_step: Real,
+    /// Largest joint change between two steps of a Cartesian motion (rad); more means the IK
+    /// jumped to another branch (default: 0.2).
+    pub max_joint_step: Real,
+    /// Placement candidates tried, best first (default: 8).
+    pub max_placements: usize,
+    /// Grasps tried per placement and arm, best first (default: 48).
+    pub max_grasps: usize,
+    /// Grasps scoring below this fraction of the best are not used (default: 0.2).
+    pub min_grasp_quality: Real,
+    /// Clearance kept by PRM motions (m) (default: 0.01).
+    pub motion_margin: Real,
+    /// Picking-hand poses tried for a handover (default: 96); see [`handover_candidates`].
+    pub handover_poses: usize,
+    /// Feasible handover poses compared before the best is kept (default: 3).
+    pub handover_feasible: usize,
+    /// Distance from the start or placed pose within which the object may touch the surface
+    /// it rests on (m) (default: 0.005).
+    pub contact_zone: Real,
+    /// Record stage timings in the plan's stats (default: true).
+    pub timings: bool,
+    /// Wall-clock budget of the whole plan (s): once spent, no further placement or strategy
+    /// is started and the failure says so (default: the scene's `planner.time_budget`, else 10).
+    /// A budget makes the outcome depend on the machine's speed only when it runs out.
+    pub time_budget: Real,
+    /// Acceleration limit of every joint (rad/s² or m/s²): URDFs carry none (default: 3.0).
+    pub max_acceleration: Real,
+    /// Trajectory sampling period (s) (default: 0.04).
+    pub sample_period: Real,
+}
+
+impl PlanOptions {
+    /// The defaults with the scene's seed, strategy and time budget.
+    pub fn for_setup(setup: &Setup) -> Self {
+        Self {
+            seed: setup.scene.planner.seed,
+            strategy: setup.scene.planner.strategy,
+            time_budget: setup.scene.planner.time_budget,
+            ..Self::default()
+        }
+    }
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            strategy: StrategyChoice::Auto,
+            approach_distance: 0.08,
+            lift_height: 0.10,
+            cartesian_step: 0.01,
+            max_joint_step: 0.2,
+            max_placements: 8,
+            max_grasps: 48,
+            min_grasp_quality: 0.2,
+            motion_margin: 0.01,
+            handover_poses: 96,
+            handover_feasible: 3,
+            contact_zone: 0.005,
+            timings: true,
+            time_budget: 10.0,
+            max_acceleration: 3.0,
+            sample_period: 0.04,
+        }
+    }
+}
+
+/// What [`plan`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// A plan.
+    Planned(Box<crate::Plan>),
+    /// No strategy succeeded: the stats say what was tried and why it failed.
+    NoPlan(Failure),
+}
+
+/// Why no plan was found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failure {
+    /// One line per reason (no placement, per strategy the most frequent rejections).
+    pub reasons: Vec<String>,
+    /// Counts per strategy and stage.
+    pub stats: Stats,
+}
+
+/// One planning run: the scene, the options and the candidates every stage shares.
+struct Ctx<'a> {
+    /// When planning started (for the time budget).
+    started: Instant,
+    setup: &'a Setup,
+    options: &'a PlanOptions,
+    /// Grasps above the quality threshold, best first.
+    grasps: Vec<Grasp>,
+    /// Placement candidates, best first.
+    placements: Vec<Placement>,
+    /// Environment bodies the object touches at the start.
+    start_supports: Vec<String>,
+    timings: BTreeMap<String, Real>,
+}
+
+impl Ctx<'_> {
+    fn out_of_time(&self) -> bool {
+        self.started.elapsed().as_secs_f64() > self.options.time_budget
+    }
+
+    fn finish_stats(&self, stats: &mut Stats, t_all: Instant) {
+        if self.options.timings {
+            stats.timings = self.timings.clone();
+            stats
+                .timings
+                .insert("total".to_owned(), t_all.elapsed().as_secs_f64());
+        }
+    }
+}
+
+/// Plans the scene (paper Fig. 8): placements on the target's cluster, grasps, then the
+/// strategies in the paper's order until one yields a plan.
+///
+/// # Errors
+/// [`Error::Target`] when the target point is on no environment cluster; [`Error::Internal`]
+/// when a lower layer fails on checked input (the collision library, the motion planner).
+/// An infeasible scene is not an error: it is [`Outcome::NoPlan`] with the reasons.
+pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
+    let t_all = Instant::now();
+    let mut timings = BTreeMap::new();
+    let t = Instant::now();
+    let target = setup.scene.target_point();
+    let placement_set = pickplace_placement::candidates(
+        &setup.placement_object,
+        &setup.placement_env,
+        &target,
+        &PlacementOptions::default(),
+    )
+    .map_err(|source| Error::Target {
+        path: setup.scene_path.clone(),
+        source: Box::new(source),
+    })?;
+    timings.insert("placement".to_owned(), t.elapsed().as_secs_f64());
+    let t = Instant::now();
+    let grasp_set = GraspPlanner::new(&setup.object_mesh)
+        .and_then(|p| {
+            p.plan(
+                &setup.object_finger,
+                &setup.gripper,
+                &GraspOptions::default(),
+            )
+        })
+        .map_err(crate::error::internal("grasp planning"))?;
+    timings.insert("grasp".to_owned(), t.elapsed().as_secs_f64());
+    let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
+    let grasps: Vec<Grasp> = grasp_set
+        .grasps
+        .iter()
+        .filter(|g| g.score >= options.min_grasp_quality * best)
+        .cloned()
+        .collect();
+    let mut stats = Stats {
+        placement_candidates: placement_set.placements.len(),
+        grasp_candidates: grasp_set.grasps.len(),
+        ..Stats::default()
+    };
+    let mut ctx = Ctx {
+        started: t_all,
+        setup,
+        options,
+        start_supports: supports(setup, &setup.object_start),
+        grasps,
+        placements: placement_set.placements.clone(),
+        timings,
+    };
+    let mut reasons = Vec::new();
+    if ctx.placements.is_empty() {
+        for (cluster, r) in &placement_set.rejections {
+            reasons.push(format!(
+                "no stable placement on environment cluster {cluster}: {} did not fit, {} unstable, {} penetrate",
+                r.did_not_fit, r.unstable, r.penetrates
+            ));
+        }
+        if reasons.is_empty() {
+            reasons.push("no stable placement near the target".to_owned());
+        }
+    }
+    if ctx.grasps.is_empty() {
+        reasons.push(format!(
+            "no grasp: {} candidates on {} cluster pairs, all rejected",
+            grasp_set.candidates, grasp_set.pairs
+        ));
+    }
+    if !reasons.is_empty() {
+        ctx.finish_stats(&mut stats, t_all);
+        return Ok(Outcome::NoPlan(Failure { reasons, stats }));
+    }
+    let shoulders = [setup.arms[0].shoulder, setup.arms[1].shoulder];
+    let start_point = setup.object_start * setup.cog;
+    let order = Strategy::order(options.strategy, shoulders, &start_point, &target);
+    for strategy in order {
+        if ctx.out_of_time() {
+            reasons.push(format!(
+                "{strategy}: not tried, the time budget of {} s is spent",
+                options.time_budget
+            ));
+            continue;
+        }
+        let t = Instant::now();
+        let mut report = StrategyReport {
+            strategy,
+            success: false,
+            stages: BTreeMap::new(),
+        };
+        let found = if strategy.has_handover() {
+            ctx.handover_strategy(strategy, &mut report)?
+        } else {
+            ctx.single_arm_strategy(strategy.pick_arm(), &mut report)?
+        };
+        ctx.timings.insert(
+            format!("strategy {}", strategy.name()),
+            t.elapsed().as_secs_f64(),
+        );
+        if let Some(found) = found {
+            report.success = true;
+            stats.strategies.push(report);
+            let plan = ctx.assemble(strategy, found, stats, t_all)?;
+            return Ok(Outcome::Planned(Box::new(plan)));
+        }
+        reasons.push(format!("{strategy}: {}", summarize(&report)));
+        stats.strategies.push(report);
+    }
+    ctx.finish_stats(&mut stats, t_all);
+    Ok(Outcome::NoPlan(Failure { reasons, stats }))
+}
+
+/// The most frequent rejections of a strategy, for the failure message: per stage (in name
+/// order) the counts and the three most frequent reasons.
+fn summarize(report: &StrategyReport) -> String {
+    let mut parts = Vec::new();
+    for (stage, count) in &report.stages {
+        let mut reasons: Vec<_> = count.rejected.iter().collect();
+        reasons.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        let top: Vec<String> = reasons
+            .iter()
+            .take(3)
+            .map(|(r, n)| format!("{r} ×{n}"))
+            .collect();
+        let top = if top.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", top.join(", "))
+        };
+        parts.push(format!(
+            "{stage} {}/{} passed{top}",
+            count.accepted, count.tried
+        ));
+    }
+    if parts.is_empty() {
+        "nothing tried".to_owned()
+    } else {
+        parts.join("; ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A planning context on a shipped scene, as [`plan`] builds it (default options).
+    pub(super) fn ctx(scene: &str) -> Ctx<'static> {
+        let setup = crate::testing::setup(scene);
+        let options: &'static PlanOptions = Box::leak(Box::new(PlanOptions {
+            timings: false,
+            ..PlanOptions::for_setup(setup)
+        }));
+        let placements = pickplace_placement::candidates(
+            &setup.placement_object,
+            &setup.placement_env,
+            &setup.scene.target_point(),
+            &PlacementOptions::default(),
+        )
+        .expect("the target is on a cluster")
+        .placements;
+        let grasp_set = GraspPlanner::new(&setup.object_mesh)
+            .and_then(|p| {
+                p.plan(
+                    &setup.object_finger,
+                    &setup.gripper,
+                    &GraspOptions::default(),
+                )
+            })
+            .expect("grasps");
+        let best = grasp_set.grasps[0].score;
+        Ctx {
+            started: Instant::now(),
+            setup,
+            options,
+            grasps: grasp_set
+                .grasps
+                .into_iter()
+                .filter(|g| g.score >= options.min_grasp_quality * best)
+                .collect(),
+            placements,
+            start_supports: supports(setup, &setup.object_start),
+            timings: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn the_summary_lists_stages_with_their_three_most_frequent_reasons() {
+        let mut report = StrategyReport {
+            strategy: Strategy::LeftLeft,
+            success: false,
+            stages: BTreeMap::new(),
+        };
+        assert_eq!(summarize(&report), "nothing tried");
+        let pick = reason::count(&mut report, Stage::Pick);
+        pick.accept();
+        for (r, n) in [("a", 1), ("b", 5), ("c", 3), ("d", 3)] {
+            for _ in 0..n {
+                pick.reject(r);
+            }
+        }
+        reason::count(&mut report, Stage::Placement).reject(Rejection::NoGraspReaches.to_string());
+        assert_eq!(
+            summarize(&report),
+            "pick 1/13 passed (b ×5, c ×3, d ×3); placement 0/1 passed (no grasp reaches it ×1)"
+        );
+    }
+
+    #[test]
+    fn the_same_seed_gives_the_same_plan_and_another_seed_still_plans() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let options = PlanOptions {
+            timings: false,
+            ..PlanOptions::for_setup(setup)
+        };
+        let one = plan(setup, &options).expect("no defect");
+        let two = plan(setup, &options).expect("no defect");
+        assert_eq!(one, two);
+        let Outcome::Planned(p) = one else {
+            panic!("the near scene plans")
+        };
+        assert_eq!(p.strategy, Strategy::RightRight);
+        assert!(p.stats.timings.is_empty());
+    }
+
+    #[test]
+    fn a_strategy_not_started_for_lack_of_time_is_said() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let options = PlanOptions {
+            time_budget: 0.0,
+            ..PlanOptions::for_setup(setup)
+        };
+        let Outcome::NoPlan(f) = plan(setup, &options).expect("no defect") else {
+            panic!("no time, no plan")
+        };
+        assert!(
+            f.reasons
+                .iter()
+                .all(|r| r.contains("the time budget of 0 s is spent")),
+            "{:?}",
+            f.reasons
+        );
+        assert!(f.stats.timings.contains_key("total"));
+    }
+}

@@ -1,0 +1,397 @@
+//! Motions between key poses (paper §III-C: "we plan collision free trajectories between
+//! [the key poses] by using the PRM"): a lazy query on the arm's precomputed roadmap, checked
+//! against this scene; RRT-Connect from both ends when a tight spot near the object keeps an
+//! end off the roadmap; then seeded shortcutting. And the chains of motions and straight
+//! segments that make up a single-arm or a handover plan.
+
+use super::Ctx;
+use super::assemble::Segment;
+use super::handover::Handover;
+use super::keypose::{Pick, Place};
+use super::reason::{Attempt, End, Rejection, Step};
+use crate::checker::ArmChecker;
+use crate::plan::EventKind;
+use crate::strategy::{Arm, Strategy};
+use pickplace_geometry::math::Real;
+use pickplace_prm::{PrmPlanner, QueryOptions, RrtOptions, ShortcutOptions, rrt_connect, shortcut};
+use pickplace_robot::collision::CollisionWorld;
+
+/// Within this joint distance (rad, every joint) of a motion's ends the PRM applies no
+/// clearance margin: the ends are grasp and release poses that may be close to the object.
+pub(super) const END_EXEMPT_RADIUS: Real = 0.1;
+
+/// True for the motion planner's "no path" outcomes (a fact about the scene); false for its
+/// refusals of malformed input, which are defects of the façade.
+fn is_search_failure(e: &pickplace_prm::Error) -> bool {
+    use pickplace_prm::Error as E;
+    matches!(
+        e,
+        E::StartInvalid
+            | E::GoalInvalid
+            | E::StartNotConnected { .. }
+            | E::GoalNotConnected { .. }
+            | E::NoPath { .. }
+            | E::RrtExhausted { .. }
+    )
+}
+
+impl Ctx<'_> {
+    /// A collision-free motion of `arm` from `from` to `to` (full configurations that differ
+    /// only in the arm's joints) in `world`, by the lazy PRM, shortcut.
+    ///
+    /// Rejected when an end collides ([`Rejection::EndInCollision`]) or no path is found
+    /// ([`Rejection::NoPath`]); an error when the motion planner or the collision library
+    /// refuses its input.
+    pub(super) fn motion(
+        &self,
+        arm: Arm,
+        world: &CollisionWorld,
+        from: &[Real],
+        to: &[Real],
+        salt: u64,
+    ) -> Attempt<Vec<Vec<Real>>> {
+        let a = self.setup.arm(arm);
+        let project = |q: &[Real]| -> Vec<Real> { a.variables.iter().map(|&v| q[v]).collect() };
+        let (qa, qb) = (project(from), project(to));
+        let checker = ArmChecker::new(
+            &self.setup.model,
+            world,
+            &a.variables,
+            from.to_vec(),
+            self.options.motion_margin,
+        )
+        .exempt(vec![qa.clone(), qb.clone()], END_EXEMPT_RADIUS);
+        for (end, q) in [(End::Start, from), (End::Goal, to)] {
+            if let Some(c) = self.collision(world, q, 0.0)? {
+                return Err(Rejection::EndInCollision(end, c).into());
+            }
+        }
+        let internal = crate::error::internal("motion planning");
+        let seed = self.options.seed ^ salt.wrapping_mul(0xd1b5_4a32_d192_ed03);
+        let mut planner = PrmPlanner::new(
+            &a.roadmap,
+            &checker,
+            QueryOptions {
+                seed,
+                growth_rounds: 1,
+                ..QueryOptions::default()
+            },
+        );
+        // The roadmap first (paper §III-C); when its start or goal cannot join it (a tight
+        // spot near the object), RRT-Connect from both ends, bounded.
+        let path = match planner.query(&qa, &qb) {
+            Ok(p) => p,
+            Err(e) if !is_search_failure(&e) => return Err(internal(e).into()),
+            Err(e) => match rrt_connect(
+                &a.space,
+                &checker,
+                &qa,
+                &qb,
+                &RrtOptions {
+                    max_iterations: 3000,
+                    step: 0.3,
+                    resolution: a.roadmap.options().resolution,
+                    seed,
+                },
+            ) {
+                Ok(p) => p,
+                Err(r) if !is_search_failure(&r) => return Err(internal(r).into()),
+                Err(r) => {
+                    checker.check_error()?;
+                    return Err(Rejection::NoPath {
+                        roadmap: e.to_string(),
+                        rrt: r.to_string(),
+                    }
+                    .into());
+                }
+            },
+        };
+        let path = shortcut(
+            &a.space,
+            &checker,
+            &path,
+            &ShortcutOptions {
+                attempts: 40,
+                resolution: 0.02,
+                seed,
+            },
+        )
+        .unwrap_or(path);
+        checker.check_error()?;
+        Ok((0..path.len())
+            .map(|i| checker.full(path.waypoint(i)))
+            .collect())
+    }
+
+    /// The arm's motion back to its start configuration after the retreat, or `None` when
+    /// the start configuration itself now collides (the object was placed where the hand
+    /// rests): the plan then ends at the retreat pose.
+    fn back_to_start(
+        &self,
+        arm: Arm,
+        world: &CollisionWorld,
+        from: &[Real],
+        start: &[Real],
+        salt: u64,
+    ) -> Attempt<Option<Segment>> {
+        let home = self.arm_from(arm, from, start);
+        if self.collision(world, &home, 0.0)?.is_some() {
+            return Ok(None);
+        }
+        let back = self
+            .motion(arm, world, from, &home, salt)
+            .map_err(|f| f.at(Step::Home))?;
+        Ok(Some(Segment::reach("home", arm, back)))
+    }
+
+    /// The segments of a single-arm plan with `arm`, placement `pi` and grasp `gi`: open the
+    /// hand, move to the pre-grasp pose, approach, grasp, lift, carry to the pre-place pose,
+    /// lower, release, retreat and go back to the start.
+    pub(super) fn single_arm_motions(
+        &self,
+        arm: Arm,
+        pi: usize,
+        gi: usize,
+        start: &[Real],
+        pick: &Pick,
+        place: &Place,
+    ) -> Attempt<Vec<Segment>> {
+        let g = &self.grasps[gi];
+        let p = &self.placements[pi];
+        let salt = (pi as u64) << 20 | (gi as u64) << 8 | arm.index() as u64;
+        let mut segments = Vec::new();
+        let open_start = self.with_fingers(arm, start, self.open_half());
+        if open_start != start {
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
+        }
+        let free = self.world_with_object_at(&self.setup.object_start);
+        let pre_grasp = &pick.approach[0];
+        let to_pre = self
+            .motion(arm, &free, &open_start, pre_grasp, salt ^ 1)
+            .map_err(|f| f.at(Step::ToPreGrasp))?;
+        segments.push(Segment::reach("pre-grasp", arm, to_pre));
+        segments.push(Segment::reach("grasp", arm, pick.approach.clone()));
+        let q_grasp = pick.approach.last().expect("non-empty");
+        let closed = self.with_fingers(arm, q_grasp, g.width / 2.0);
+        segments.push(Segment::event(
+            vec![q_grasp.clone(), closed],
+            None,
+            (EventKind::Grasp, arm, g.object_from_tcp.inverse()),
+        ));
+        segments.push(Segment::reach("lift", arm, pick.lift.clone()));
+        let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
+        let lifted = pick.lift.last().expect("non-empty");
+        let carry = self
+            .motion(arm, &holding, lifted, &place.lower[0], salt ^ 2)
+            .map_err(|f| f.at(Step::ToPrePlace))?;
+        segments.push(Segment::reach("pre-place", arm, carry));
+        segments.push(Segment::reach("place", arm, place.lower.clone()));
+        let q_place = place.lower.last().expect("non-empty");
+        let opened = self.with_fingers(arm, q_place, self.open_half());
+        segments.push(Segment::event(
+            vec![q_place.clone(), opened],
+            Some(("release", arm)),
+            (EventKind::Release, arm, g.object_from_tcp.inverse()),
+        ));
+        segments.push(Segment::reach("retreat", arm, place.retreat.clone()));
+        let left = self.world_with_object_at(&p.world_from_object);
+        let retreated = place.retreat.last().expect("non-empty");
+        if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
+            segments.push(back);
+        }
+        Ok(segments)
+    }
+
+    /// The segments of a handover plan (§III-B.3) at placement `pi`: arm A picks and carries
+    /// the object to the handover pose, arm B comes, approaches and closes, A opens, retreats
+    /// and goes home, B carries the object to the placement, lowers, releases, retreats and
+    /// goes home.
+    pub(super) fn handover_motions(
+        &self,
+        strategy: Strategy,
+        pi: usize,
+        start: &[Real],
+        pick: &Pick,
+        place: &Place,
+        h: &Handover,
+    ) -> Attempt<Vec<Segment>> {
+        let (a, b) = (strategy.pick_arm(), strategy.place_arm());
+        let (g1, g2) = (&self.grasps[h.g1], &self.grasps[h.g2]);
+        let salt = (pi as u64) << 20 | (h.g1 as u64) << 8 | (h.g2 as u64) << 32;
+        let mut segments = Vec::new();
+        // Both hands open at the start.
+        let open_start = self.with_fingers(
+            b,
+            &self.with_fingers(a, start, self.open_half()),
+            self.open_half(),
+        );
+        if open_start != start {
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
+        }
+        let free = self.world_with_object_at(&self.setup.object_start);
+        let to_pre = self
+            .motion(
+                a,
+                &free,
+                &open_start,
+                &self.other_from(b, &pick.approach[0], &open_start),
+                salt ^ 1,
+            )
+            .map_err(|f| f.at(Step::ToPreGrasp))?;
+        let here = |seg: &Vec<Vec<Real>>| seg.last().expect("non-empty").clone();
+        segments.push(Segment::reach("pre-grasp", a, to_pre));
+        let approach: Vec<Vec<Real>> = pick
+            .approach
+            .iter()
+            .map(|q| self.other_from(b, q, &open_start))
+            .collect();
+        segments.push(Segment::reach("grasp", a, approach.clone()));
+        let q = here(&approach);
+        let closed = self.with_fingers(a, &q, g1.width / 2.0);
+        segments.push(Segment::event(
+            vec![q, closed],
+            None,
+            (EventKind::Grasp, a, g1.object_from_tcp.inverse()),
+        ));
+        let lift: Vec<Vec<Real>> = pick
+            .lift
+            .iter()
+            .map(|q| self.other_from(b, q, &open_start))
+            .collect();
+        segments.push(Segment::reach("lift", a, lift.clone()));
+        // A carries the object to the handover pose.
+        let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
+        let q_handover = self.arm_from(a, &here(&lift), &h.q_a);
+        let carry = self
+            .motion(a, &holding_a, &here(&lift), &q_handover, salt ^ 2)
+            .map_err(|f| f.at(Step::ToHandover))?;
+        segments.push(Segment::reach("handover", a, carry));
+        // B comes to the pre-regrasp pose, then approaches.
+        let q_pre_b = self.arm_from(b, &q_handover, &h.approach[0]);
+        let to_b = self
+            .motion(b, &holding_a, &q_handover, &q_pre_b, salt ^ 3)
+            .map_err(|f| f.at(Step::ToPreRegrasp))?;
+        segments.push(Segment::reach("pre-regrasp", b, to_b));
+        let b_approach: Vec<Vec<Real>> = h
+            .approach
+            .iter()
+            .map(|qb| self.arm_from(b, &q_pre_b, qb))
+            .collect();
+        segments.push(Segment::reach("regrasp", b, b_approach.clone()));
+        let q = here(&b_approach);
+        let b_closed = self.with_fingers(b, &q, g2.width / 2.0);
+        segments.push(Segment::event(
+            vec![q, b_closed.clone()],
+            None,
+            (EventKind::Grasp, b, g2.object_from_tcp.inverse()),
+        ));
+        let a_open = self.with_fingers(a, &b_closed, self.open_half());
+        segments.push(Segment::event(
+            vec![b_closed, a_open.clone()],
+            Some(("release-first", a)),
+            (EventKind::Release, a, g1.object_from_tcp.inverse()),
+        ));
+        let a_retreat: Vec<Vec<Real>> = h
+            .retreat
+            .iter()
+            .map(|qa| self.arm_from(a, &a_open, qa))
+            .collect();
+        segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
+        let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
+        // A goes back to its start while B holds.
+        let a_home = self.arm_from(a, &here(&a_retreat), start);
+        let back_a = self
+            .motion(a, &holding_b, &here(&a_retreat), &a_home, salt ^ 4)
+            .map_err(|f| f.at(Step::FirstArmHome))?;
+        segments.push(Segment::reach("home-first", a, back_a));
+        // B carries the object to the pre-place pose.
+        let lower: Vec<Vec<Real>> = place
+            .lower
+            .iter()
+            .map(|qb| self.arm_from(b, &a_home, qb))
+            .collect();
+        let to_place = self
+            .motion(b, &holding_b, &a_home, &lower[0], salt ^ 5)
+            .map_err(|f| f.at(Step::ToPrePlace))?;
+        segments.push(Segment::reach("pre-place", b, to_place));
+        segments.push(Segment::reach("place", b, lower.clone()));
+        let q = here(&lower);
+        let opened = self.with_fingers(b, &q, self.open_half());
+        segments.push(Segment::event(
+            vec![q, opened.clone()],
+            Some(("release", b)),
+            (EventKind::Release, b, g2.object_from_tcp.inverse()),
+        ));
+        let retreat: Vec<Vec<Real>> = place
+            .retreat
+            .iter()
+            .map(|qb| self.arm_from(b, &opened, qb))
+            .collect();
+        segments.push(Segment::reach("retreat", b, retreat.clone()));
+        let left = self.world_with_object_at(&self.placements[pi].world_from_object);
+        if let Some(back) = self.back_to_start(b, &left, &here(&retreat), start, salt ^ 6)? {
+            segments.push(back);
+        }
+        Ok(segments)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::reason::{Fail, Rejection};
+    use super::super::tests::ctx;
+    use super::*;
+
+    #[test]
+    fn a_motion_joins_its_ends_and_every_waypoint_is_free() {
+        let ctx = ctx("fig9-near.toml");
+        let setup = ctx.setup;
+        let world = ctx.world_with_object_at(&setup.object_start);
+        let arm = setup.arm(Arm::Right);
+        // A goal away from the start: the arm's first node of the roadmap that is free here.
+        let goal = (0..arm.roadmap.node_count())
+            .map(|i| {
+                let mut q = setup.start.clone();
+                for (c, &v) in arm.variables.iter().enumerate() {
+                    q[v] = arm.roadmap.state(i)[c];
+                }
+                q
+            })
+            .find(|q| ctx.collision(&world, q, 0.02).expect("checks").is_none())
+            .expect("a free roadmap node");
+        let path = ctx
+            .motion(Arm::Right, &world, &setup.start, &goal, 5)
+            .expect("the PRM joins two free states");
+        assert_eq!(path.first(), Some(&setup.start));
+        assert_eq!(path.last(), Some(&goal));
+        for q in &path {
+            assert_eq!(ctx.collision(&world, q, 0.0).expect("checks"), None);
+            // Only the right arm moves.
+            for v in 0..q.len() {
+                if !arm.variables.contains(&v) {
+                    assert_eq!(q[v], setup.start[v]);
+                }
+            }
+        }
+        // Same seed, same path.
+        assert_eq!(
+            ctx.motion(Arm::Right, &world, &setup.start, &goal, 5).ok(),
+            Some(path)
+        );
+    }
+
+    #[test]
+    fn a_start_in_collision_is_rejected_with_the_bodies() {
+        let ctx = ctx("fig9-near.toml");
+        let setup = ctx.setup;
+        // The object lying on the right hand's tool frame at the start configuration.
+        let world = ctx.world_with_object_at(&ctx.tcp(Arm::Right, &setup.start));
+        let other = setup.start.clone();
+        match ctx.motion(Arm::Right, &world, &other, &setup.start, 1) {
+            Err(Fail::Rejected(Rejection::EndInCollision(End::Start, c))) => {
+                assert!(c.a == "object" || c.b == "object", "{c}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}

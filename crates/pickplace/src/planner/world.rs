@@ -1,0 +1,168 @@
+//! The collision worlds of a plan and the state check (paper §III-C: "collision between the
+//! robot, the object and the environment is checked at the key postures"): the object lying
+//! where it is (an obstacle), or held by a hand (attached to its tool link and allowed to
+//! touch the fingers and, near a support, the support).
+
+use super::Ctx;
+use super::reason::Collision;
+use crate::contact::OBJECT_NAME;
+use crate::error::Result;
+use crate::strategy::Arm;
+use pickplace_geometry::math::{Isometry3, Real};
+use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, CollisionWorld};
+use pickplace_robot::srdf::DisableReason;
+use std::cell::RefCell;
+
+thread_local! {
+    static SCRATCH: RefCell<CollisionScratch> = Default::default();
+}
+
+/// Runs `f` with this thread's collision scratch space.
+pub(super) fn with_scratch<T>(f: impl FnOnce(&mut CollisionScratch) -> T) -> T {
+    SCRATCH.with(|cell| f(&mut cell.borrow_mut()))
+}
+
+impl Ctx<'_> {
+    /// The world with the object lying at `world_from_object` as an obstacle.
+    pub(super) fn world_with_object_at(&self, world_from_object: &Isometry3) -> CollisionWorld {
+        let mut w = self.setup.world.clone();
+        w.add_environment(
+            OBJECT_NAME,
+            self.setup.object_shape.clone(),
+            world_from_object,
+        );
+        w
+    }
+
+    /// The world with the object held by `arm` (grasp `object_from_tcp`), allowed to touch
+    /// the environment bodies `supports`.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] when the arm's tool link is not in the world (a defect of
+    /// the setup).
+    pub(super) fn world_holding(
+        &self,
+        arm: Arm,
+        object_from_tcp: &Isometry3,
+        supports: &[String],
+    ) -> Result<CollisionWorld> {
+        let mut w = self.setup.world.clone();
+        if !supports.is_empty() {
+            let mut acm = w.acm().clone();
+            for s in supports {
+                acm.allow(
+                    OBJECT_NAME,
+                    s,
+                    DisableReason::Custom("resting contact".into()),
+                );
+            }
+            w.set_acm(acm);
+        }
+        let a = self.setup.arm(arm);
+        let touch: Vec<&str> = a.finger_links.iter().map(String::as_str).collect();
+        w.attach(
+            OBJECT_NAME,
+            &a.tcp_name,
+            self.setup.object_shape.clone(),
+            &object_from_tcp.inverse(),
+            &touch,
+        )
+        .map_err(crate::error::internal("attach"))?;
+        Ok(w)
+    }
+
+    /// The first colliding pair of the full configuration `q` in `world`, bodies closer than
+    /// `margin` counting as colliding; `None` when free.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] when the collision library fails (a configuration of the
+    /// wrong length): a defect, never a rejection.
+    pub(super) fn collision(
+        &self,
+        world: &CollisionWorld,
+        q: &[Real],
+        margin: Real,
+    ) -> Result<Option<Collision>> {
+        with_scratch(|scratch| {
+            let opts = CheckOptions { margin };
+            let model = &self.setup.model;
+            let check = crate::error::internal("collision check");
+            if !world
+                .in_collision(model, q, scratch, &opts)
+                .map_err(check)?
+            {
+                return Ok(None);
+            }
+            let pairs = world
+                .colliding_pairs(model, q, scratch, &opts)
+                .map_err(crate::error::internal("collision check"))?;
+            Ok(Some(match pairs.first() {
+                Some(&(a, b)) => Collision {
+                    a: body_name(world, a),
+                    b: body_name(world, b),
+                },
+                // The broad test and the pair list disagree only at the margin's edge.
+                None => Collision {
+                    a: "robot".into(),
+                    b: "world".into(),
+                },
+            }))
+        })
+    }
+}
+
+/// A body's name as the rejections print it: the held object is `held object`.
+pub(super) fn body_name(world: &CollisionWorld, b: BodyId) -> String {
+    match b {
+        BodyId::Link(_) | BodyId::Environment(_) => world.body_name(b).to_owned(),
+        BodyId::Attached(_) => "held object".to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::ctx;
+    use super::*;
+    use pickplace_geometry::math::Translation3;
+
+    #[test]
+    fn the_start_state_is_free_and_a_hand_inside_the_object_is_not() {
+        let ctx = ctx("fig9-near.toml");
+        let setup = ctx.setup;
+        let free = ctx.world_with_object_at(&setup.object_start);
+        assert_eq!(
+            ctx.collision(&free, &setup.start, 0.0).expect("checks"),
+            None
+        );
+        // The object moved onto the right hand's tool frame: the hand is inside it.
+        let tcp = ctx.tcp(Arm::Right, &setup.start);
+        let inside = ctx.world_with_object_at(&(tcp * Translation3::new(0.0, 0.0, 0.0)));
+        let c = ctx
+            .collision(&inside, &setup.start, 0.0)
+            .expect("checks")
+            .expect("collides");
+        assert!(c.a == OBJECT_NAME || c.b == OBJECT_NAME, "{c}");
+    }
+
+    #[test]
+    fn a_configuration_of_the_wrong_length_is_an_error_not_a_rejection() {
+        let ctx = ctx("fig9-near.toml");
+        let free = ctx.world_with_object_at(&ctx.setup.object_start);
+        assert!(ctx.collision(&free, &[0.0; 3], 0.0).is_err());
+    }
+
+    #[test]
+    fn the_held_object_is_named_as_such() {
+        let ctx = ctx("fig9-near.toml");
+        let g = &ctx.grasps[0];
+        let holding = ctx
+            .world_holding(Arm::Right, &g.object_from_tcp, &[])
+            .expect("attaches");
+        assert_eq!(body_name(&holding, BodyId::Attached(0)), "held object");
+        assert_eq!(holding.body_name(BodyId::Attached(0)), OBJECT_NAME);
+        assert!(
+            ctx.world_holding(Arm::Right, &g.object_from_tcp, &["table".into()])
+                .is_ok()
+        );
+    }
+}
