@@ -293,15 +293,14 @@ mod tests {
         let g = &ctx.setup.gripper;
         let first = &ctx.grasps[0];
         assert!(hands_overlap(g, first, first));
-        // A grasp approaching from the opposite side (its approach axis reversed) clears.
-        let approach = first.object_from_tcp.rotation * g.approach();
-        let opposite = ctx
-            .grasps
-            .iter()
-            .find(|other| (other.object_from_tcp.rotation * g.approach()).dot(&approach) < -0.9);
-        if let Some(o) = opposite {
-            assert!(!hands_overlap(g, first, o));
-        }
+        // The same grasp 20 cm away along the closing axis leaves room for the first.
+        let mut away = *first;
+        away.object_from_tcp *= Translation3::new(0.0, 0.2, 0.0);
+        assert!(!hands_overlap(g, first, &away));
+        // A grasp 1 mm from the first overlaps it.
+        let mut near = *first;
+        near.object_from_tcp *= Translation3::new(0.0, 0.0, -0.001);
+        assert!(hands_overlap(g, first, &near));
     }
 
     #[test]

@@ -404,8 +404,9 @@ mod tests {
     #[test]
     fn a_gripper_inside_the_table_is_named() {
         let ctx = ctx("fig9-near.toml");
-        // The tool frame 2 cm below the table top, under the can.
-        let pose = Translation3::new(0.0, 0.0, -0.08) * ctx.setup.object_start;
+        // The tool frame 5 cm above the table top, approaching upwards: the palm (behind the tool frame along the approach axis)
+        // goes through the table top.
+        let pose = Translation3::new(0.0, 0.0, 0.05) * ctx.setup.object_start;
         assert_eq!(
             ctx.hand_hits_environment(&pose, ctx.setup.gripper.opening_max),
             Some(Rejection::GripperHits("table".into()))

@@ -367,9 +367,9 @@ mod tests {
         for q in &path {
             assert_eq!(ctx.collision(&world, q, 0.0).expect("checks"), None);
             // Only the right arm moves.
-            for v in 0..q.len() {
+            for (v, (x, s)) in q.iter().zip(&setup.start).enumerate() {
                 if !arm.variables.contains(&v) {
-                    assert_eq!(q[v], setup.start[v]);
+                    assert_eq!(x, s);
                 }
             }
         }
@@ -384,8 +384,10 @@ mod tests {
     fn a_start_in_collision_is_rejected_with_the_bodies() {
         let ctx = ctx("fig9-near.toml");
         let setup = ctx.setup;
-        // The object lying on the right hand's tool frame at the start configuration.
-        let world = ctx.world_with_object_at(&ctx.tcp(Arm::Right, &setup.start));
+        // The object lying on the right wrist at the start configuration.
+        let wrist = ctx.tcp(Arm::Right, &setup.start)
+            * pickplace_geometry::math::Translation3::new(0.0, 0.0, -0.12);
+        let world = ctx.world_with_object_at(&wrist);
         let other = setup.start.clone();
         match ctx.motion(Arm::Right, &world, &other, &setup.start, 1) {
             Err(Fail::Rejected(Rejection::EndInCollision(End::Start, c))) => {

@@ -41,11 +41,11 @@ impl Ctx<'_> {
                 break;
             }
             let mut any = false;
-            for gi in 0..n_grasps {
-                if pick_cache[gi].is_none() {
-                    pick_cache[gi] = Some(split(self.pick(arm, gi, &start))?);
+            for (gi, cached) in pick_cache.iter_mut().enumerate().take(n_grasps) {
+                if cached.is_none() {
+                    *cached = Some(split(self.pick(arm, gi, &start))?);
                 }
-                let pick = match pick_cache[gi].as_ref().expect("filled above") {
+                let pick = match cached.as_ref().expect("filled above") {
                     Ok(p) => p.clone(),
                     Err(r) => {
                         if pi == 0 {

@@ -134,9 +134,10 @@ mod tests {
             ctx.collision(&free, &setup.start, 0.0).expect("checks"),
             None
         );
-        // The object moved onto the right hand's tool frame: the hand is inside it.
+        // The object moved onto the right wrist (behind the tool frame, along the approach
+        // axis): the hand is inside it.
         let tcp = ctx.tcp(Arm::Right, &setup.start);
-        let inside = ctx.world_with_object_at(&(tcp * Translation3::new(0.0, 0.0, 0.0)));
+        let inside = ctx.world_with_object_at(&(tcp * Translation3::new(0.0, 0.0, -0.12)));
         let c = ctx
             .collision(&inside, &setup.start, 0.0)
             .expect("checks")
