@@ -1,6 +1,39 @@
 //! pickplace: pick-and-place planning for dual-arm robots after Harada et al., "Pick and Place
 //! Planning for Dual-Arm Manipulators". This crate is the façade and API boundary: it reads
 //! scenes, runs the online pipeline of the paper's Fig. 8 and re-exports the layers below.
+//!
+//! # Quick start
+//! Load a scene (robot, object, environment and the target point; `docs/scene-format.md`),
+//! plan, and re-check the plan independently:
+//! ```
+//! use pickplace::planner::Outcome;
+//! use pickplace::{PlanOptions, Setup, SetupOptions};
+//! use std::path::Path;
+//!
+//! let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+//! // Cluster databases and arm roadmaps are cached; the first setup builds them.
+//! let options = SetupOptions { cache_dir: Some(root.join("target/pickplace-cache")) };
+//! let setup = Setup::load(&root.join("scenes/fig9-near.toml"), &options)?;
+//! let plan = match pickplace::plan(&setup, &PlanOptions::for_setup(&setup))? {
+//!     Outcome::Planned(plan) => plan,
+//!     Outcome::NoPlan(failure) => panic!("no plan: {:?}", failure.reasons),
+//! };
+//! println!("{} in {:.1} s of motion", plan.strategy, plan.stats.duration);
+//! let report = pickplace::validate::validate(&setup, &plan, Path::new("plan.json"))?;
+//! assert!(report.problems.is_empty());
+//! std::fs::write(std::env::temp_dir().join("plan.json"), plan.to_json())?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//! A scene that cannot be planned is not an error: [`Outcome::NoPlan`] carries the reasons
+//! per strategy and stage ([`planner::Stage`], [`planner::Rejection`]). Errors ([`Error`]) are
+//! bad input (naming the file and what is wrong) or a defect of a lower layer.
+//!
+//! # Layers
+//! Each stage is a crate of its own, usable alone and re-exported here: [`geometry`] (meshes,
+//! surface clustering, §III-A), [`placement`] (stable placements, §III-B.2), [`grasp`]
+//! (parallel-gripper grasps, §III-B.1), [`robot`] (URDF/SRDF, kinematics, collision) and
+//! [`prm`] (motion planning, §III-C). `docs/ARCHITECTURE.md` maps every section of the paper
+//! to its function.
 #![warn(missing_docs)]
 
 pub mod checker;
