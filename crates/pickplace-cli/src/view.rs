@@ -6,7 +6,6 @@
 //! file is written atomically, so bad input never leaves a partial output behind.
 
 use anyhow::{Context, Result, bail};
-use pickplace::plan::EventKind;
 use pickplace::{Plan, Scene};
 use pickplace_geometry::math::Isometry3;
 use pickplace_geometry::mesh::{self, MeshOptions};
@@ -155,83 +154,39 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
 
     // Plan columns -> robot variables; the names must be exactly the robot's variables.
     let robot_names: Vec<&str> = robot.variable_names().collect();
-    let missing: Vec<&str> = robot_names
-        .iter()
-        .copied()
-        .filter(|n| !plan.joint_names.iter().any(|p| p == n))
-        .collect();
-    let unknown: Vec<&str> = plan
-        .joint_names
-        .iter()
-        .map(String::as_str)
-        .filter(|p| !robot_names.contains(p))
-        .collect();
-    if !missing.is_empty() || !unknown.is_empty() {
-        bail!(
-            "the plan's joint names do not match the robot {} ({}): missing {:?}, unknown {:?}",
+    let columns = plan.columns(&robot_names).map_err(|e| {
+        anyhow::anyhow!(
+            "the plan's joint names do not match the robot {} ({}): {e}",
             robot.name(),
-            scene.robot.urdf.display(),
-            missing,
-            unknown
-        );
-    }
-    let columns: Vec<usize> = robot_names
-        .iter()
-        .map(|n| {
-            plan.joint_names
-                .iter()
-                .position(|p| p == n)
-                .expect("every robot variable is in the plan (checked above)")
-        })
-        .collect();
+            scene.robot.urdf.display()
+        )
+    })?;
     let times: Vec<f64> = plan.trajectory.iter().map(|p| p.time_from_start).collect();
     let configurations: Vec<Vec<f64>> = plan
         .trajectory
         .iter()
         .map(|p| columns.iter().map(|&c| p.positions[c]).collect())
         .collect();
-
-    // Grips: each grasp lasts until the next release by the same link.
-    let mut events: Vec<&pickplace::plan::Event> = plan.events.iter().collect();
-    events.sort_by(|a, b| a.time.total_cmp(&b.time));
-    let mut grips: Vec<Grip> = Vec::new();
-    let mut open: Vec<(String, usize)> = Vec::new();
-    for (i, e) in events.iter().enumerate() {
-        let link = robot.link_index(&e.link).with_context(|| {
-            format!(
-                "event {i} ({:?} at {} s): the robot has no link {:?}",
-                e.kind, e.time, e.link
-            )
-        })?;
-        match e.kind {
-            EventKind::Grasp => {
-                let link_from_object = e
-                    .link_from_object
-                    .to_isometry()
-                    .map_err(|r| anyhow::anyhow!("event {i}: link_from_object: {r}"))?;
-                open.push((e.link.clone(), grips.len()));
-                grips.push(Grip {
-                    link,
-                    link_from_object,
-                    grasp_time: e.time,
-                    release_time: None,
-                });
-            }
-            EventKind::Release => {
-                let k = open
-                    .iter()
-                    .rposition(|(l, _)| *l == e.link)
-                    .with_context(|| {
-                        format!(
-                            "event {i}: release by {:?} without a grasp before it",
-                            e.link
-                        )
-                    })?;
-                let (_, g) = open.remove(k);
-                grips[g].release_time = Some(e.time);
-            }
-        }
-    }
+    // Grips: the plan's holds, on the robot's links.
+    let grips = plan
+        .holds()
+        .map_err(anyhow::Error::msg)?
+        .into_iter()
+        .map(|h| {
+            let link = robot.link_index(&h.link).with_context(|| {
+                format!(
+                    "grasp at {} s: the robot has no link {:?}",
+                    h.grasp_time, h.link
+                )
+            })?;
+            Ok(Grip {
+                link,
+                link_from_object: h.link_from_object,
+                grasp_time: h.grasp_time,
+                release_time: h.release_time,
+            })
+        })
+        .collect::<Result<Vec<Grip>>>()?;
     let motion = Motion {
         world_from_root,
         times,

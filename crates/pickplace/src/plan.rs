@@ -9,7 +9,7 @@
 
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
-use pickplace_geometry::math::Real;
+use pickplace_geometry::math::{Isometry3, Real};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -201,7 +201,96 @@ impl StageCount {
     }
 }
 
+/// The object in one hand, from a grasp event to the release by the same link: how a plan is
+/// played back (the object rides with `link` in between and stays where it was left after).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hold {
+    /// The holding link (an arm's tool frame).
+    pub link: String,
+    /// The object's pose in that link's frame.
+    pub link_from_object: Isometry3,
+    /// When the grasp happens (s).
+    pub grasp_time: Real,
+    /// When the release happens (s); `None` when the plan ends with the object held.
+    pub release_time: Option<Real>,
+}
+
 impl Plan {
+    /// The plan's holds in time order of their grasps: each grasp lasts until the next
+    /// release by the same link.
+    ///
+    /// # Errors
+    /// `event I: …` for an event whose pose is invalid or a release without a grasp by the
+    /// same link before it (events numbered in time order).
+    pub fn holds(&self) -> Result<Vec<Hold>, String> {
+        let mut events: Vec<&Event> = self.events.iter().collect();
+        events.sort_by(|a, b| a.time.total_cmp(&b.time));
+        let mut holds: Vec<Hold> = Vec::new();
+        let mut open: Vec<(&str, usize)> = Vec::new();
+        for (i, e) in events.iter().enumerate() {
+            match e.kind {
+                EventKind::Grasp => {
+                    let link_from_object = e
+                        .link_from_object
+                        .to_isometry()
+                        .map_err(|r| format!("event {i}: link_from_object: {r}"))?;
+                    open.push((&e.link, holds.len()));
+                    holds.push(Hold {
+                        link: e.link.clone(),
+                        link_from_object,
+                        grasp_time: e.time,
+                        release_time: None,
+                    });
+                }
+                EventKind::Release => {
+                    let k = open
+                        .iter()
+                        .rposition(|(l, _)| *l == e.link)
+                        .ok_or_else(|| {
+                            format!(
+                                "event {i}: release by {:?} without a grasp before it",
+                                e.link
+                            )
+                        })?;
+                    let (_, h) = open.remove(k);
+                    holds[h].release_time = Some(e.time);
+                }
+            }
+        }
+        Ok(holds)
+    }
+
+    /// For each of `names` (a robot's actuated joints, in its order), the column of
+    /// [`TrajectoryPoint::positions`] that holds it.
+    ///
+    /// # Errors
+    /// When the plan's joints are not exactly these: the missing and the unknown names.
+    pub fn columns(&self, names: &[&str]) -> Result<Vec<usize>, String> {
+        let missing: Vec<&str> = names
+            .iter()
+            .copied()
+            .filter(|n| !self.joint_names.iter().any(|p| p == n))
+            .collect();
+        let unknown: Vec<&str> = self
+            .joint_names
+            .iter()
+            .map(String::as_str)
+            .filter(|p| !names.contains(p))
+            .collect();
+        if !missing.is_empty() || !unknown.is_empty() {
+            return Err(format!("missing {missing:?}, unknown {unknown:?}"));
+        }
+        Ok(names
+            .iter()
+            .map(|n| {
+                self.joint_names
+                    .iter()
+                    .position(|p| p == n)
+                    .expect("every name is in the plan (checked above)")
+            })
+            .collect())
+    }
+
     /// The plan as pretty JSON (with a final newline).
     pub fn to_json(&self) -> String {
         let mut s = serde_json::to_string_pretty(self).expect("a plan always serialises");
@@ -234,5 +323,79 @@ impl Plan {
             }
         }
         Ok(plan)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::strategy::Strategy;
+
+    fn event(time: Real, kind: EventKind, link: &str) -> Event {
+        Event {
+            time,
+            kind,
+            arm: Arm::Right,
+            link: link.into(),
+            link_from_object: PoseSpec::from_isometry(&Isometry3::identity()),
+        }
+    }
+
+    fn plan(events: Vec<Event>) -> Plan {
+        let pose = PoseSpec::from_isometry(&Isometry3::identity());
+        Plan {
+            format: PLAN_FORMAT.into(),
+            seed: 1,
+            strategy: Strategy::RightLeft,
+            joint_names: vec!["a".into(), "b".into()],
+            trajectory: vec![],
+            events,
+            object: ObjectMotion {
+                start_pose: pose.clone(),
+                placed_pose: pose,
+            },
+            placement: PlacementInfo {
+                contact: "face-face".into(),
+                object_cluster: 0,
+                environment: "table".into(),
+                env_cluster: 0,
+                stability_margin: 0.01,
+                rank: 0,
+            },
+            grasps: vec![],
+            key_poses: vec![],
+            stats: Stats::default(),
+        }
+    }
+
+    #[test]
+    fn a_handover_is_two_overlapping_holds() {
+        let p = plan(vec![
+            event(5.0, EventKind::Release, "R"),
+            event(1.0, EventKind::Grasp, "R"),
+            event(4.0, EventKind::Grasp, "L"),
+            event(9.0, EventKind::Release, "L"),
+        ]);
+        let holds = p.holds().expect("consistent");
+        let spans: Vec<_> = holds
+            .iter()
+            .map(|h| (h.link.as_str(), h.grasp_time, h.release_time))
+            .collect();
+        assert_eq!(spans, [("R", 1.0, Some(5.0)), ("L", 4.0, Some(9.0))]);
+        let bad = plan(vec![event(1.0, EventKind::Release, "R")]);
+        assert_eq!(
+            bad.holds().unwrap_err(),
+            "event 0: release by \"R\" without a grasp before it"
+        );
+    }
+
+    #[test]
+    fn columns_map_a_robot_order_to_the_plan_order() {
+        let p = plan(vec![]);
+        assert_eq!(p.columns(&["b", "a"]).unwrap(), [1, 0]);
+        assert_eq!(
+            p.columns(&["a", "c"]).unwrap_err(),
+            "missing [\"c\"], unknown [\"b\"]"
+        );
     }
 }
