@@ -167,26 +167,30 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
         .iter()
         .map(|p| columns.iter().map(|&c| p.positions[c]).collect())
         .collect();
-    // Grips: the plan's holds, on the robot's links.
-    let grips = plan
+    // Grips: the plan's holds, on the robot's links (every event's link first).
+    let mut events: Vec<&pickplace::plan::Event> = plan.events.iter().collect();
+    events.sort_by(|a, b| a.time.total_cmp(&b.time));
+    for (i, e) in events.iter().enumerate() {
+        if robot.link_index(&e.link).is_none() {
+            bail!(
+                "event {i} ({:?} at {} s): the robot has no link {:?}",
+                e.kind,
+                e.time,
+                e.link
+            );
+        }
+    }
+    let grips: Vec<Grip> = plan
         .holds()
         .map_err(anyhow::Error::msg)?
         .into_iter()
-        .map(|h| {
-            let link = robot.link_index(&h.link).with_context(|| {
-                format!(
-                    "grasp at {} s: the robot has no link {:?}",
-                    h.grasp_time, h.link
-                )
-            })?;
-            Ok(Grip {
-                link,
-                link_from_object: h.link_from_object,
-                grasp_time: h.grasp_time,
-                release_time: h.release_time,
-            })
+        .map(|h| Grip {
+            link: robot.link_index(&h.link).expect("checked above"),
+            link_from_object: h.link_from_object,
+            grasp_time: h.grasp_time,
+            release_time: h.release_time,
         })
-        .collect::<Result<Vec<Grip>>>()?;
+        .collect();
     let motion = Motion {
         world_from_root,
         times,
