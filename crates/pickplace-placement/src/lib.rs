@@ -9,6 +9,7 @@ pub mod collide;
 pub mod error;
 pub mod region;
 pub mod resting;
+pub mod stability;
 
 pub use candidates::{
     ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
