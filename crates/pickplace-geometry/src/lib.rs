@@ -12,6 +12,7 @@ pub mod export;
 pub mod hash;
 pub mod math;
 pub mod mesh;
+pub mod parry;
 pub mod polygon;
 pub mod shapes;
 

@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use crate::stability::SupportHull;
 use pickplace_geometry::math::{Isometry3, Point2, Point3, Real, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::parry;
 use std::collections::BTreeMap;
 
 /// Options of [`resting_poses`].
@@ -300,11 +301,7 @@ pub(crate) fn plane_basis(n: &Vector3) -> (Vector3, Vector3) {
 /// Builds the convex hull and merges coplanar hull triangles into facets. Returns the facets
 /// and, for each, the facets sharing a hull edge with it (sorted).
 fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
-    use parry3d_f64::math::Vector as PVector;
-    let points: Vec<PVector> = vertices
-        .iter()
-        .map(|p| PVector::new(p.x, p.y, p.z))
-        .collect();
+    let points: Vec<_> = vertices.iter().map(parry::point).collect();
     let (hull_points, hull_triangles) = parry3d_f64::transformation::try_convex_hull(&points)
         .map_err(|e| Error::DegenerateHull {
             reason: format!("{e:?}"),
@@ -314,10 +311,7 @@ fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
             reason: "fewer than 4 hull faces".into(),
         });
     }
-    let hp: Vec<Point3> = hull_points
-        .iter()
-        .map(|p| Point3::new(p.x, p.y, p.z))
-        .collect();
+    let hp: Vec<Point3> = hull_points.iter().copied().map(parry::to_point).collect();
     let normals: Vec<Option<Vector3>> = hull_triangles
         .iter()
         .map(|t| {
