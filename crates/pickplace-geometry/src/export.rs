@@ -148,7 +148,10 @@ mod tests {
         std::fs::create_dir(&path).expect("mkdir");
         std::fs::write(path.join("inside"), b"x").expect("write inside");
         let error = write_atomic(&path, b"bytes").expect_err("rename over a directory");
-        assert!(matches!(&error, Error::Io { path: p, .. } if *p == path), "{error}");
+        assert!(
+            matches!(&error, Error::Io { path: p, .. } if *p == path),
+            "{error}"
+        );
         assert_eq!(entries(dir.path()), ["taken"]);
     }
 
@@ -157,7 +160,10 @@ mod tests {
         let dir = scratch_dir();
         let path = dir.path().join("missing").join("out.bin");
         let error = write_atomic(&path, b"x").expect_err("no directory");
-        assert!(matches!(&error, Error::Io { path: p, .. } if *p == path), "{error}");
+        assert!(
+            matches!(&error, Error::Io { path: p, .. } if *p == path),
+            "{error}"
+        );
         assert!(entries(dir.path()).is_empty());
     }
 
@@ -169,14 +175,22 @@ mod tests {
         std::fs::write(&victim, b"precious").expect("victim");
         // Links planted at the names the old writers used, and at the target itself.
         let pid = std::process::id();
-        for name in [format!(".out.bin.{pid}.0.tmp"), format!(".out.bin.tmp{pid}")] {
+        for name in [
+            format!(".out.bin.{pid}.0.tmp"),
+            format!(".out.bin.tmp{pid}"),
+        ] {
             std::os::unix::fs::symlink(&victim, dir.path().join(name)).expect("symlink");
         }
         let path = dir.path().join("out.bin");
         std::os::unix::fs::symlink(&victim, &path).expect("symlink at target");
         write_atomic(&path, b"new").expect("write");
         assert_eq!(std::fs::read(&victim).expect("victim"), b"precious");
-        assert!(!std::fs::symlink_metadata(&path).expect("meta").file_type().is_symlink());
+        assert!(
+            !std::fs::symlink_metadata(&path)
+                .expect("meta")
+                .file_type()
+                .is_symlink()
+        );
         assert_eq!(std::fs::read(&path).expect("read"), b"new");
     }
 

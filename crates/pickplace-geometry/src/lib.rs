@@ -10,6 +10,7 @@ pub mod db;
 pub mod error;
 pub mod export;
 pub mod hash;
+pub mod json;
 pub mod math;
 pub mod mesh;
 pub mod parry;

@@ -81,10 +81,7 @@ impl ObjectCollider {
                 .sum::<Real>()
         });
         let (lo, hi) = (b.center - reach, b.center + reach);
-        let aabb = Aabb::new(
-            parry::point(&lo),
-            parry::point(&hi),
-        );
+        let aabb = Aabb::new(parry::point(&lo), parry::point(&hi));
         let touches = self.shape.bvh().intersect_aabb(&aabb).any(|t| {
             let [i, j, k] = self.triangles[t as usize];
             box_touches_triangle(

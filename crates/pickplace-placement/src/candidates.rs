@@ -24,12 +24,12 @@
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
+use crate::stability::{self, SupportHull};
 use pickplace_geometry::cluster::Clustering;
 use pickplace_geometry::math::{
     Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
 };
 use pickplace_geometry::mesh::TriMesh;
-use crate::stability::{self, SupportHull};
 use pickplace_geometry::polygon::{Polygon, signed_margin};
 use std::f64::consts::PI;
 
@@ -275,6 +275,30 @@ fn distance_to_region(region: &Region, p: &Point3) -> Real {
         (-signed_margin(&q, &region.polygon.outer)).max(0.0)
     };
     (h * h + outside * outside).sqrt()
+}
+
+/// A target for when the user gives none: the centre of the environment's largest
+/// upward-facing region (ties: the lowest cluster id), world frame. The centroid of a region
+/// with holes may fall in a hole; the centre of the region's bounding rectangle is taken then.
+/// `None` when no region faces up (within [`PlacementOptions::max_slope`]).
+pub fn default_target(env: &EnvironmentModel, options: &PlacementOptions) -> Option<Point3> {
+    env.regions
+        .iter()
+        .filter(|r| upward(r, options))
+        .max_by(|a, b| {
+            a.area
+                .total_cmp(&b.area)
+                .then(b.cluster_id.cmp(&a.cluster_id))
+        })
+        .and_then(|r| {
+            let c = r.polygon.centroid()?;
+            let c = if r.polygon.contains(&c) {
+                c
+            } else {
+                r.rect.center
+            };
+            Some(r.parent_from_plane * Point3::new(c.x, c.y, 0.0))
+        })
 }
 
 /// The environment cluster the target selects (the paper's click): the upward-facing region

@@ -7,13 +7,14 @@
 pub mod candidates;
 pub mod collide;
 pub mod error;
+pub mod json;
 pub mod region;
 pub mod resting;
 pub mod stability;
 
 pub use candidates::{
     ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
-    Rejections, TargetError, candidates, include_bounding_box, select_target,
+    Rejections, TargetError, candidates, default_target, include_bounding_box, select_target,
 };
 pub use error::{Error, Result};
 pub use region::Region;

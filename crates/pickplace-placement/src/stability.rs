@@ -108,7 +108,12 @@ impl SupportHull {
 ///
 /// A margin alone favours tall objects; the tipping angle makes the paper's test scale-aware.
 /// A height below 1 nm counts as 1 nm.
-pub fn is_stable(margin: Real, cog_height: Real, min_margin: Real, min_tipping_angle: Real) -> bool {
+pub fn is_stable(
+    margin: Real,
+    cog_height: Real,
+    min_margin: Real,
+    min_tipping_angle: Real,
+) -> bool {
     margin >= min_margin && margin.atan2(cog_height.max(1e-9)) >= min_tipping_angle
 }
 
@@ -164,7 +169,10 @@ mod tests {
         // The object overhangs the table's edge at x = 1: the support is x in [0.9, 1].
         let hull = SupportHull::of_regions(&Polygon::new(square(0.9, 0.0, 0.2)), &table());
         let xs: Vec<Real> = hull.points().iter().map(|p| p.x).collect();
-        assert!(xs.iter().all(|x| (0.9 - 1e-6..=1.0 + 1e-6).contains(x)), "{xs:?}");
+        assert!(
+            xs.iter().all(|x| (0.9 - 1e-6..=1.0 + 1e-6).contains(x)),
+            "{xs:?}"
+        );
         assert!(hull.cog_margin(&Point2::new(1.0, 0.1)).abs() < 1e-6);
         assert!(hull.cog_margin(&Point2::new(1.05, 0.1)) < 0.0);
     }
@@ -190,7 +198,8 @@ mod tests {
     fn a_hole_surrounded_by_support_does_not_matter_after_the_hull() {
         // A ring-shaped foot (a mug's rim): the hull bridges the hole (Fig. 7, third step).
         let mut foot = Polygon::new(square(0.0, 0.0, 0.2));
-        foot.holes.push(square(0.05, 0.05, 0.1).into_iter().rev().collect());
+        foot.holes
+            .push(square(0.05, 0.05, 0.1).into_iter().rev().collect());
         let hull = SupportHull::of_regions(&foot, &table());
         let margin = hull.cog_margin(&Point2::new(0.1, 0.1));
         assert!((margin - 0.1).abs() < 1e-6, "{margin}");
@@ -211,7 +220,11 @@ mod tests {
             vec![],
             vec![Point2::new(0.0, 0.0)],
             vec![Point2::new(-1.0, 0.0), Point2::new(1.0, 0.0)],
-            vec![Point2::new(-1.0, 0.0), Point2::new(0.0, 0.0), Point2::new(1.0, 0.0)],
+            vec![
+                Point2::new(-1.0, 0.0),
+                Point2::new(0.0, 0.0),
+                Point2::new(1.0, 0.0),
+            ],
         ] {
             let hull = SupportHull::of_points(&points);
             assert!(!hull.has_area(), "{points:?}");
@@ -240,9 +253,12 @@ mod tests {
 
     #[test]
     fn cog_foot_follows_gravity_onto_the_plane() {
-        let horizontal =
-            Region::new(0, Isometry3::translation(1.0, 2.0, 0.5), Polygon::new(square(0.0, 0.0, 1.0)))
-                .expect("region");
+        let horizontal = Region::new(
+            0,
+            Isometry3::translation(1.0, 2.0, 0.5),
+            Polygon::new(square(0.0, 0.0, 1.0)),
+        )
+        .expect("region");
         let foot = cog_foot(&horizontal, &Point3::new(1.3, 2.4, 0.9)).expect("below");
         assert!((foot - Point2::new(0.3, 0.4)).norm() < 1e-12);
         // A vertical wall: gravity runs along it, no foot.

@@ -22,8 +22,8 @@
 
 pub mod collision;
 pub mod error;
-pub mod gripper;
 pub mod ik;
+pub mod json;
 pub mod kinematics;
 pub mod model;
 pub mod rng;
@@ -31,7 +31,6 @@ pub mod srdf;
 mod urdf;
 
 pub use error::{Error, Result};
-pub use gripper::GripperConfig;
 pub use ik::{IkOptions, IkSolution, IkSolver};
 pub use kinematics::{Jacobian, KinematicChain};
 pub use model::{Joint, JointLimits, JointType, Link, LoadOptions, LoadWarning, RobotModel};

@@ -20,13 +20,13 @@ pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
 use crate::error::{Error, Result};
 use crate::model::{RobotModel, Shape};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
-use pickplace_geometry::parry;
 use parry3d_f64::math::Pose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::SharedShape;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
+use pickplace_geometry::parry;
 use std::path::Path;
 
 /// A shape for the environment or an attached object.
@@ -124,10 +124,7 @@ impl CollisionShape {
     /// The local bounding box of the shape.
     pub fn local_aabb(&self) -> (Vector3, Vector3) {
         let aabb = self.shape.compute_local_aabb();
-        (
-            parry::to_vector(aabb.mins),
-            parry::to_vector(aabb.maxs),
-        )
+        (parry::to_vector(aabb.mins), parry::to_vector(aabb.maxs))
     }
 
     /// The shape of a URDF geometry, with the pose correction for parry's conventions
