@@ -1,6 +1,6 @@
 //! The stability test of Harada et al., §III-B.2, Fig. 7 ("Stability checking algorithm"): the
 //! one home of the test, used by face-face and edge-face placements
-//! ([`crate::candidates`]), resting poses ([`crate::resting`]) and the façade's plan validator.
+//! ([`mod@crate::candidates`]), resting poses ([`crate::resting`]) and the façade's plan validator.
 //!
 //! The paper assumes friction large enough and checks that the vertical line through the
 //! object's CoG passes through the supported area, in four steps:
