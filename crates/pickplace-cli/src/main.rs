@@ -1,6 +1,7 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
 //! 2 bad input or usage.
 
+mod args;
 mod clusters;
 mod demo;
 mod grasps;

@@ -1,20 +1,18 @@
 //! `pickplace placements`: stable placements of an object on an environment (Algorithm 2), or
 //! its resting poses on a horizontal plane when no environment is given.
 
+use crate::args::{parse_point, parse_pose};
 use anyhow::{Context, bail};
 use pickplace_geometry::cluster::{ClusterParams, ContactMode, cluster_surface};
-use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion};
+use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3};
 use pickplace_geometry::mesh::{self, MassProperties, MeshOptions};
+use pickplace_placement::json::PlacementsJson;
 use pickplace_placement::{
     ContactKind, EnvironmentModel, ObjectModel, PlacementOptions, RestingOptions, candidates,
-    resting_poses,
+    default_target, resting_poses,
 };
-use serde::Serialize;
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-/// Format tag of the JSON output.
-pub const FORMAT: &str = "pickplace.placements.v1";
 
 /// Arguments of `pickplace placements`.
 #[derive(Debug, clap::Args)]
@@ -25,7 +23,8 @@ pub struct PlacementsArgs {
     /// infinite horizontal plane are listed.
     #[arg(long = "on", value_name = "ENV_MESH")]
     pub on: Option<PathBuf>,
-    /// Pose of the environment in the world: `x,y,z` or `x,y,z,qx,qy,qz,qw` (default: identity).
+    /// Pose of the environment in the world: `x,y,z`, `x,y,z,qx,qy,qz,qw` or
+    /// `{"position":[x,y,z],"orientation":[qx,qy,qz,qw]}` (default: identity).
     #[arg(long, value_name = "POSE", requires = "on", allow_hyphen_values = true)]
     pub env_pose: Option<String>,
     /// The point on the environment where the object should go (the paper's click), world
@@ -59,102 +58,6 @@ pub struct PlacementsArgs {
     pub size: String,
 }
 
-#[derive(Serialize)]
-struct JsonPose {
-    position: [Real; 3],
-    orientation: [Real; 4],
-}
-
-impl From<&Isometry3> for JsonPose {
-    fn from(p: &Isometry3) -> Self {
-        let t = p.translation.vector;
-        let q = p.rotation.quaternion();
-        Self {
-            position: [t.x, t.y, t.z],
-            orientation: [q.i, q.j, q.k, q.w],
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct JsonPlacement {
-    pose: JsonPose,
-    contact: ContactKind,
-    object_cluster: Option<usize>,
-    env_cluster: Option<usize>,
-    stability_margin: Real,
-    distance_to_target: Option<Real>,
-    tilt: Real,
-}
-
-#[derive(Serialize)]
-struct JsonRejection {
-    env_cluster: usize,
-    did_not_fit: usize,
-    unstable: usize,
-    penetrates: usize,
-    accepted: usize,
-}
-
-#[derive(Serialize)]
-struct JsonOutput {
-    format: &'static str,
-    object: String,
-    environment: Option<String>,
-    target: Option<[Real; 3]>,
-    target_cluster: Option<usize>,
-    placements: Vec<JsonPlacement>,
-    rejections: Vec<JsonRejection>,
-}
-
-fn parse_numbers(text: &str, what: &str) -> anyhow::Result<Vec<Real>> {
-    text.split(',')
-        .map(|s| {
-            let v: Real = s
-                .trim()
-                .parse()
-                .with_context(|| format!("{what} `{text}`: `{s}` is not a number"))?;
-            if !v.is_finite() {
-                bail!("{what} `{text}`: `{s}` is not finite");
-            }
-            Ok(v)
-        })
-        .collect()
-}
-
-/// Parses `x,y,z` or `x,y,z,qx,qy,qz,qw` (quaternion in ROS order, normalised).
-pub fn parse_pose(text: &str) -> anyhow::Result<Isometry3> {
-    let v = parse_numbers(text, "--env-pose")?;
-    let rotation = match v.len() {
-        3 => UnitQuaternion::identity(),
-        7 => {
-            let q = pickplace_geometry::math::nalgebra::Quaternion::new(v[6], v[3], v[4], v[5]);
-            if q.norm() < 1e-9 {
-                bail!("--env-pose `{text}`: the quaternion is zero");
-            }
-            UnitQuaternion::from_quaternion(q)
-        }
-        n => bail!(
-            "--env-pose `{text}`: expected 3 numbers (x,y,z) or 7 (x,y,z,qx,qy,qz,qw), got {n}"
-        ),
-    };
-    Ok(Isometry3::from_parts(
-        Translation3::new(v[0], v[1], v[2]),
-        rotation,
-    ))
-}
-
-fn parse_point(text: &str) -> anyhow::Result<Point3> {
-    let v = parse_numbers(text, "--target")?;
-    if v.len() != 3 {
-        bail!(
-            "--target `{text}`: expected 3 numbers X,Y,Z, got {}",
-            v.len()
-        );
-    }
-    Ok(Point3::new(v[0], v[1], v[2]))
-}
-
 /// Runs the subcommand; exit 1 when no placement exists.
 pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
     if !(args.scale.is_finite() && args.scale > 0.0) {
@@ -173,19 +76,6 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
     let Some(env_path) = &args.on else {
         let poses = resting_poses(&object_mesh, &cog, &RestingOptions::default())
             .with_context(|| format!("{object_name}: resting poses"))?;
-        let placements: Vec<JsonPlacement> = poses
-            .iter()
-            .take(args.max)
-            .map(|p| JsonPlacement {
-                pose: (&p.world_from_object).into(),
-                contact: ContactKind::FaceFace,
-                object_cluster: None,
-                env_cluster: None,
-                stability_margin: p.stability_margin,
-                distance_to_target: None,
-                tilt: 0.0,
-            })
-            .collect();
         if let Some(png) = &args.png {
             let poses: Vec<Isometry3> = poses
                 .iter()
@@ -194,20 +84,12 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
                 .collect();
             write_resting_png(png, size, &object_mesh, &poses)?;
         }
-        let out = JsonOutput {
-            format: FORMAT,
-            object: object_name,
-            environment: None,
-            target: None,
-            target_cluster: None,
-            placements,
-            rejections: Vec::new(),
-        };
+        let out = PlacementsJson::from_resting(object_name, &poses, args.max);
         return print(&out, args.json);
     };
 
     let world_from_env = match &args.env_pose {
-        Some(text) => parse_pose(text)?,
+        Some(text) => parse_pose(text, "--env-pose")?,
         None => Isometry3::identity(),
     };
     let env_mesh = mesh::load(env_path, &options)?;
@@ -227,7 +109,7 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let target = match &args.target {
-        Some(text) => parse_point(text)?,
+        Some(text) => parse_point(text, "--target")?,
         None => default_target(&env, &placement_options).with_context(|| {
             format!(
                 "{}: no upward-facing cluster to place on",
@@ -254,37 +136,7 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         .write_png(png)?;
         eprintln!("wrote {} ({} placements)", png.display(), poses.len());
     }
-    let out = JsonOutput {
-        format: FORMAT,
-        object: object_name,
-        environment: Some(env_path.display().to_string()),
-        target: Some([target.x, target.y, target.z]),
-        target_cluster: Some(set.target_cluster),
-        placements: set
-            .placements
-            .iter()
-            .map(|p| JsonPlacement {
-                pose: (&p.world_from_object).into(),
-                contact: p.contact,
-                object_cluster: Some(p.object_cluster),
-                env_cluster: Some(p.env_cluster),
-                stability_margin: p.stability_margin,
-                distance_to_target: Some(p.distance_to_target),
-                tilt: p.tilt,
-            })
-            .collect(),
-        rejections: set
-            .rejections
-            .iter()
-            .map(|(id, r)| JsonRejection {
-                env_cluster: *id,
-                did_not_fit: r.did_not_fit,
-                unstable: r.unstable,
-                penetrates: r.penetrates,
-                accepted: r.accepted,
-            })
-            .collect(),
-    };
+    let out = PlacementsJson::from_set(object_name, env_path.display().to_string(), &target, &set);
     print(&out, args.json)
 }
 
@@ -339,30 +191,7 @@ fn write_resting_png(
     Ok(())
 }
 
-/// The centre of the largest upward-facing environment region (world frame).
-fn default_target(env: &EnvironmentModel, options: &PlacementOptions) -> Option<Point3> {
-    env.regions
-        .iter()
-        .filter(|r| r.normal().z >= options.max_slope.cos())
-        .max_by(|a, b| {
-            a.area
-                .total_cmp(&b.area)
-                .then(b.cluster_id.cmp(&a.cluster_id))
-        })
-        .and_then(|r| {
-            let c = r.polygon.centroid()?;
-            // The centroid of a region with holes may fall in a hole: take the nearest point
-            // of the region's own grid then (the rectangle's centre is as good a guess).
-            let c = if r.polygon.contains(&c) {
-                c
-            } else {
-                r.rect.center
-            };
-            Some(r.parent_from_plane * Point3::new(c.x, c.y, 0.0))
-        })
-}
-
-fn print(out: &JsonOutput, json: bool) -> anyhow::Result<ExitCode> {
+fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
     if json {
         println!("{}", serde_json::to_string_pretty(out)?);
     } else {

@@ -2,6 +2,27 @@
 //! Algorithm 1), cluster geometry and the cluster database.
 //!
 //! This crate knows no robot and no planner.
+//!
+//! # Example
+//! Load the pallet of the paper's Fig. 9 and find its planar contact regions:
+//! ```
+//! use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
+//! use pickplace_geometry::mesh::{self, MeshOptions};
+//! use std::path::Path;
+//!
+//! let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes/pallet.stl");
+//! let pallet = mesh::load(&file, &MeshOptions::default())?;
+//! let clustering = cluster_surface(&pallet, &ClusterParams::environment())?;
+//! // The largest region facing up is the pallet's top, 4 cm above its base.
+//! let top = clustering
+//!     .clusters
+//!     .iter()
+//!     .filter(|c| c.normal.z > 0.99)
+//!     .max_by(|a, b| a.area.total_cmp(&b.area))
+//!     .expect("a region faces up");
+//! assert!((top.point.z - 0.04).abs() < 1e-6, "{}", top.point.z);
+//! # Ok::<(), pickplace_geometry::Error>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod cluster;
@@ -10,8 +31,10 @@ pub mod db;
 pub mod error;
 pub mod export;
 pub mod hash;
+pub mod json;
 pub mod math;
 pub mod mesh;
+pub mod parry;
 pub mod polygon;
 pub mod shapes;
 

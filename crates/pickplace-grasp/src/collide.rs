@@ -1,7 +1,7 @@
 //! Gripper-object collision tests with parry3d-f64.
 //!
-//! parry's public math is glam (through glamx); the conversion from our nalgebra types lives
-//! in this module only.
+//! parry's public math is glam (through glamx); our nalgebra types are converted by
+//! [`pickplace_geometry::parry`].
 
 use crate::error::{Error, Result};
 use crate::gripper::GripperBox;
@@ -11,6 +11,7 @@ use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
 use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::parry;
 
 /// The object prepared for collision queries: a parry triangle mesh whose BVH and pseudo-normals
 /// are built once, and the vertices of its convex hull.
@@ -38,9 +39,9 @@ impl ObjectCollider {
     /// # Errors
     /// [`Error::CollisionMesh`] when parry rejects the mesh (it has no triangle).
     pub fn new(mesh: &TriMesh) -> Result<Self> {
-        let points: Vec<PVector> = mesh.vertices().iter().map(to_parry_point).collect();
+        let points: Vec<PVector> = mesh.vertices().iter().map(parry::point).collect();
         let hull = match parry3d_f64::transformation::try_convex_hull(&points) {
-            Ok((hull, _)) => hull.iter().map(|v| Point3::new(v.x, v.y, v.z)).collect(),
+            Ok((hull, _)) => hull.into_iter().map(parry::to_point).collect(),
             // A flat or degenerate object: every vertex serves as well, only slower.
             Err(_) => mesh.vertices().to_vec(),
         };
@@ -80,10 +81,7 @@ impl ObjectCollider {
                 .sum::<Real>()
         });
         let (lo, hi) = (b.center - reach, b.center + reach);
-        let aabb = Aabb::new(
-            PVector::new(lo.x, lo.y, lo.z),
-            PVector::new(hi.x, hi.y, hi.z),
-        );
+        let aabb = Aabb::new(parry::point(&lo), parry::point(&hi));
         let touches = self.shape.bvh().intersect_aabb(&aabb).any(|t| {
             let [i, j, k] = self.triangles[t as usize];
             box_touches_triangle(
@@ -120,7 +118,7 @@ impl ObjectCollider {
     /// Whether `p` (object frame) is inside the object (by the pseudo-normal of its closest
     /// surface point).
     pub fn contains(&self, p: &Point3) -> bool {
-        self.shape.contains_local_point(to_parry_point(p))
+        self.shape.contains_local_point(parry::point(p))
     }
 }
 
@@ -158,10 +156,6 @@ fn box_touches_triangle(b: &Obb, tri: [Point3; 3]) -> bool {
         }
     }
     true
-}
-
-fn to_parry_point(p: &Point3) -> PVector {
-    PVector::new(p.x, p.y, p.z)
 }
 
 #[cfg(test)]
@@ -218,7 +212,7 @@ mod tests {
             prop_assume!((t[1] - t[0]).cross(&(t[2] - t[0])).norm() > 1e-3);
             let q = rotation.quaternion();
             let pose = Pose::from_parts(PVector::new(c[0], c[1], c[2]), Rotation::from_xyzw(q.i, q.j, q.k, q.w));
-            let triangle = Triangle::new(to_parry_point(&t[0]), to_parry_point(&t[1]), to_parry_point(&t[2]));
+            let triangle = Triangle::new(parry::point(&t[0]), parry::point(&t[1]), parry::point(&t[2]));
             let expected = parry3d_f64::query::intersection_test(&Pose::IDENTITY, &triangle, &pose, &Cuboid::new(PVector::new(half[0], half[1], half[2])))
                 .expect("supported").intersecting;
             let got = box_touches_triangle(&b, t);

@@ -1,30 +1,13 @@
-//! The `pickplace grasps --json` document (format `pickplace.grasps.v1`, see `docs/grasp.md`).
+//! The `pickplace grasps --json` document (format `pickplace.grasps/1`, see `docs/grasp.md`).
 
 use crate::planner::{GraspSet, RejectionCounts};
-use pickplace_geometry::math::{Isometry3, Point3, Real};
+use pickplace_geometry::math::{Point3, Real};
 
-/// The value of the `format` field.
-pub const GRASPS_JSON_FORMAT: &str = "pickplace.grasps.v1";
+/// The value of the `format` field. Documents written before November 2026 say
+/// `pickplace.grasps.v1`, with the same content.
+pub const GRASPS_JSON_FORMAT: &str = "pickplace.grasps/1";
 
-/// A pose as in every pickplace file: position (m) and orientation quaternion `[x, y, z, w]`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct PoseJson {
-    /// Translation (m).
-    pub position: [Real; 3],
-    /// Unit quaternion, ROS order `[x, y, z, w]`.
-    pub orientation: [Real; 4],
-}
-
-impl From<&Isometry3> for PoseJson {
-    fn from(iso: &Isometry3) -> Self {
-        let t = iso.translation.vector;
-        let q = iso.rotation.quaternion();
-        Self {
-            position: [t.x, t.y, t.z],
-            orientation: [q.i, q.j, q.k, q.w],
-        }
-    }
-}
+pub use pickplace_geometry::json::PoseJson;
 
 /// One grasp in the JSON document.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -24,12 +24,13 @@
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
+use crate::stability::{self, SupportHull};
 use pickplace_geometry::cluster::Clustering;
 use pickplace_geometry::math::{
     Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
 };
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::polygon::{Polygon, convex_hull, signed_margin, support_hull};
+use pickplace_geometry::polygon::{Polygon, signed_margin};
 use std::f64::consts::PI;
 
 /// Options of the placement search.
@@ -274,6 +275,30 @@ fn distance_to_region(region: &Region, p: &Point3) -> Real {
         (-signed_margin(&q, &region.polygon.outer)).max(0.0)
     };
     (h * h + outside * outside).sqrt()
+}
+
+/// A target for when the user gives none: the centre of the environment's largest
+/// upward-facing region (ties: the lowest cluster id), world frame. The centroid of a region
+/// with holes may fall in a hole; the centre of the region's bounding rectangle is taken then.
+/// `None` when no region faces up (within [`PlacementOptions::max_slope`]).
+pub fn default_target(env: &EnvironmentModel, options: &PlacementOptions) -> Option<Point3> {
+    env.regions
+        .iter()
+        .filter(|r| upward(r, options))
+        .max_by(|a, b| {
+            a.area
+                .total_cmp(&b.area)
+                .then(b.cluster_id.cmp(&a.cluster_id))
+        })
+        .and_then(|r| {
+            let c = r.polygon.centroid()?;
+            let c = if r.polygon.contains(&c) {
+                c
+            } else {
+                r.rect.center
+            };
+            Some(r.parent_from_plane * Point3::new(c.x, c.y, 0.0))
+        })
 }
 
 /// The environment cluster the target selects (the paper's click): the upward-facing region
@@ -528,24 +553,15 @@ fn rx(angle: Real) -> UnitQuaternion {
     UnitQuaternion::from_axis_angle(&Vector3::x_axis(), angle)
 }
 
-/// The CoG's vertical line meets the environment plane at this point (plane coordinates).
-fn cog_foot(env: &Region, cog_world: &Point3) -> Option<Point2> {
-    let (c, h) = env.to_plane(cog_world);
-    let g = env
-        .parent_from_plane
-        .inverse_transform_vector(&-Vector3::z());
-    if g.z >= -1e-9 {
-        return None;
-    }
-    let s = -h / g.z;
-    Some(Point2::new(c.x + s * g.x, c.y + s * g.y))
-}
-
-/// The stability test's verdict (Fig. 7): the CoG's vertical passes inside the support hull
-/// with at least [`PlacementOptions::min_margin`] to spare and a tipping angle of at least
-/// [`PlacementOptions::min_tipping_angle`] for a CoG `height` above the support.
+/// The stability test's verdict ([`stability::is_stable`]) with the options' minimum margin
+/// and tipping angle.
 fn stable(margin: Real, height: Real, options: &PlacementOptions) -> bool {
-    margin >= options.min_margin && margin.atan2(height.max(1e-9)) >= options.min_tipping_angle
+    stability::is_stable(
+        margin,
+        height,
+        options.min_margin,
+        options.min_tipping_angle,
+    )
 }
 
 /// searchFaceFaceContact (paper Fig. 6(c)).
@@ -596,17 +612,13 @@ fn search_face_face(
                     .map(|h| h.iter().map(map).collect())
                     .collect(),
             };
-            let hull = support_hull(&moved, &e.polygon);
+            let hull = SupportHull::of_regions(&moved, &e.polygon);
             let cog_world = world_from_object * object.cog;
-            let Some(foot) = cog_foot(e, &cog_world) else {
+            let Some(foot) = stability::cog_foot(e, &cog_world) else {
                 counts.unstable += 1;
                 continue;
             };
-            let margin = if hull.len() >= 3 {
-                signed_margin(&foot, &hull)
-            } else {
-                Real::NEG_INFINITY
-            };
+            let margin = hull.cog_margin(&foot);
             if !stable(margin, e.to_plane(&cog_world).1, options) {
                 counts.unstable += 1;
                 continue;
@@ -805,13 +817,8 @@ fn search_edge_face(
                 let horizontal = |q: &Point3| Point2::new(q.x, q.y);
                 let mut support: Vec<Point2> = vec![horizontal(&a_w), horizontal(&b_w)];
                 support.extend(second.iter().map(horizontal));
-                let support = convex_hull(&support);
                 let cog = world_from_object * object.cog;
-                let margin = if support.len() >= 3 {
-                    signed_margin(&horizontal(&cog), &support)
-                } else {
-                    Real::NEG_INFINITY
-                };
+                let margin = SupportHull::of_points(&support).cog_margin(&horizontal(&cog));
                 if !stable(margin, e.to_plane(&cog).1, options) {
                     counts.unstable += 1;
                     continue;

@@ -1,12 +1,13 @@
 //! Object-environment penetration tests with parry3d-f64.
 //!
-//! parry's public math is glam (through glamx); the conversion from our nalgebra types lives
-//! in this module only.
+//! parry's public math is glam (through glamx); our nalgebra types are converted by
+//! [`pickplace_geometry::parry`].
 
-use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
+use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::shape::{ConvexPolyhedron, TriMesh as ParryTriMesh, TriMeshFlags};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::parry;
 
 /// A mesh prepared for collision queries (its BVH is built once).
 ///
@@ -80,7 +81,7 @@ impl CollisionMesh {
         triangles: Vec<[u32; 3]>,
         detect_convex: bool,
     ) -> crate::Result<Self> {
-        let points: Vec<PVector> = vertices.iter().map(to_parry_point).collect();
+        let points: Vec<PVector> = vertices.iter().map(parry::point).collect();
         let convex = if detect_convex {
             convex_solid(&points, &vertices, &triangles)
         } else {
@@ -118,7 +119,7 @@ impl CollisionMesh {
         parry3d_f64::query::intersection_test(
             &env_pose,
             &self.shape,
-            &to_parry_pose(&pose),
+            &parry::pose(&pose),
             object_shape,
         )
         .map(|hit| hit.intersecting)
@@ -145,14 +146,14 @@ impl CollisionMesh {
                 PVector::new(lo.x - reach, lo.y - reach, lo.z - reach),
                 PVector::new(hi.x + reach, hi.y + reach, hi.z + reach),
             );
-            let tri = Triangle::new(to_parry_point(&a), to_parry_point(&b), to_parry_point(&c));
+            let tri = Triangle::new(parry::point(&a), parry::point(&b), parry::point(&c));
             for j in self.shape.bvh().intersect_aabb(&aabb) {
                 let env_tri = self.shape.triangle(j);
                 if let Ok(Some(contact)) =
                     parry3d_f64::query::contact(&identity, &tri, &identity, &env_tri, reach)
                 {
                     let m = (contact.point1 + contact.point2) * 0.5;
-                    out.push(Point3::new(m.x, m.y, m.z));
+                    out.push(parry::to_point(m));
                 }
             }
         }
@@ -167,21 +168,8 @@ impl CollisionMesh {
     /// Distance from a world point to this mesh's surface (m).
     pub fn distance_to_point(&self, p: &Point3) -> Real {
         use parry3d_f64::query::PointQuery;
-        self.shape.distance_to_local_point(to_parry_point(p), false)
+        self.shape.distance_to_local_point(parry::point(p), false)
     }
-}
-
-pub(crate) fn to_parry_point(p: &Point3) -> PVector {
-    PVector::new(p.x, p.y, p.z)
-}
-
-pub(crate) fn to_parry_pose(iso: &Isometry3) -> Pose {
-    let q = iso.rotation.quaternion();
-    let t = iso.translation.vector;
-    Pose::from_parts(
-        PVector::new(t.x, t.y, t.z),
-        Rotation::from_xyzw(q.i, q.j, q.k, q.w),
-    )
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! Resting poses of an object on an infinite horizontal plane.
 //!
-//! This is the stability test of the paper's Fig. 7 specialised to an environment cluster of
+//! This is the stability test of the paper's Fig. 7 ([`crate::stability`]) specialised to an environment cluster of
 //! infinite extent: the common area of the object's contact region and the plane is the
 //! object's contact region itself, so the support polygon is a facet of the object's convex
 //! hull (only hull points can touch a supporting plane), and the object is stable when the
@@ -20,8 +20,10 @@
 //!   minima of potential energy) that pass the CoG test.
 
 use crate::error::{Error, Result};
+use crate::stability::SupportHull;
 use pickplace_geometry::math::{Isometry3, Point2, Point3, Real, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::parry;
 use std::collections::BTreeMap;
 
 /// Options of [`resting_poses`].
@@ -274,12 +276,14 @@ fn nalgebra_unit(v: Vector3) -> pickplace_geometry::math::UnitVector3 {
     pickplace_geometry::math::UnitVector3::new_normalize(v)
 }
 
-/// Signed distance from the CoG's projection to the facet polygon's boundary (positive inside).
+/// The stability margin of the object resting on `facet` (Fig. 7 on an infinite plane, see
+/// [`crate::stability`]): the signed distance from the CoG's projection to the boundary of the
+/// facet's hull (positive inside).
 fn facet_margin(facet: &Facet, cog: &Point3) -> Real {
     let (u, v) = plane_basis(&facet.normal);
     let to2 = |p: &Point3| Point2::new(p.coords.dot(&u), p.coords.dot(&v));
-    let poly = convex_hull_2d(facet.points.iter().map(to2).collect());
-    signed_distance_convex(&poly, &to2(cog))
+    let points: Vec<Point2> = facet.points.iter().map(to2).collect();
+    SupportHull::of_points(&points).cog_margin_convex(&to2(cog))
 }
 
 /// An orthonormal basis (u, v) of the plane with normal `n`, right-handed (u × v = n).
@@ -294,76 +298,10 @@ pub(crate) fn plane_basis(n: &Vector3) -> (Vector3, Vector3) {
     (u, v)
 }
 
-/// 2D convex hull (Andrew's monotone chain), counter-clockwise, no collinear points.
-pub(crate) fn convex_hull_2d(mut pts: Vec<Point2>) -> Vec<Point2> {
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    pts.dedup_by(|a, b| (a.x - b.x).abs() < 1e-12 && (a.y - b.y).abs() < 1e-12);
-    if pts.len() < 3 {
-        return pts;
-    }
-    let cross = |o: &Point2, a: &Point2, b: &Point2| (a - o).perp(&(b - o));
-    let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() * 2);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Point2>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for p in iter {
-            while hull.len() >= start + 2
-                && cross(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= 1e-15
-            {
-                hull.pop();
-            }
-            hull.push(*p);
-        }
-        hull.pop();
-    }
-    hull
-}
-
-/// Signed distance from `p` to the boundary of a counter-clockwise convex polygon (positive
-/// inside, negative outside).
-pub(crate) fn signed_distance_convex(poly: &[Point2], p: &Point2) -> Real {
-    if poly.len() < 3 {
-        return Real::NEG_INFINITY;
-    }
-    let mut inside = Real::INFINITY;
-    let mut outside: Real = 0.0;
-    let mut is_inside = true;
-    for i in 0..poly.len() {
-        let a = poly[i];
-        let b = poly[(i + 1) % poly.len()];
-        let e = b - a;
-        let len = e.norm();
-        if len < 1e-15 {
-            continue;
-        }
-        let d = e.perp(&(p - a)) / len; // > 0 left of the edge = inside
-        inside = inside.min(d);
-        if d < 0.0 {
-            is_inside = false;
-        }
-        let t = ((p - a).dot(&e) / (len * len)).clamp(0.0, 1.0);
-        let dist = (p - (a + e * t)).norm();
-        outside = if outside == 0.0 {
-            dist
-        } else {
-            outside.min(dist)
-        };
-    }
-    if is_inside { inside } else { -outside }
-}
-
 /// Builds the convex hull and merges coplanar hull triangles into facets. Returns the facets
 /// and, for each, the facets sharing a hull edge with it (sorted).
 fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
-    use parry3d_f64::math::Vector as PVector;
-    let points: Vec<PVector> = vertices
-        .iter()
-        .map(|p| PVector::new(p.x, p.y, p.z))
-        .collect();
+    let points: Vec<_> = vertices.iter().map(parry::point).collect();
     let (hull_points, hull_triangles) = parry3d_f64::transformation::try_convex_hull(&points)
         .map_err(|e| Error::DegenerateHull {
             reason: format!("{e:?}"),
@@ -373,10 +311,7 @@ fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
             reason: "fewer than 4 hull faces".into(),
         });
     }
-    let hp: Vec<Point3> = hull_points
-        .iter()
-        .map(|p| Point3::new(p.x, p.y, p.z))
-        .collect();
+    let hp: Vec<Point3> = hull_points.iter().copied().map(parry::to_point).collect();
     let normals: Vec<Option<Vector3>> = hull_triangles
         .iter()
         .map(|t| {

@@ -54,7 +54,7 @@ pub(crate) mod lpa;
 pub(crate) mod nn;
 pub mod path;
 pub mod planner;
-pub(crate) mod rng;
+pub mod rng;
 pub mod roadmap;
 pub mod rrt;
 pub mod shortcut;

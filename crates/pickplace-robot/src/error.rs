@@ -60,14 +60,6 @@ pub enum Error {
         /// What is wrong.
         kind: SrdfErrorKind,
     },
-    /// A gripper configuration file is malformed.
-    #[error("{}: invalid gripper configuration: {detail}", path.display())]
-    GripperConfig {
-        /// The TOML file, or `<memory>`.
-        path: PathBuf,
-        /// What the parser or the validation reported.
-        detail: String,
-    },
     /// A joint name that the model does not have.
     #[error("unknown joint {name:?}")]
     UnknownJoint {

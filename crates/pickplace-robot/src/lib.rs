@@ -10,6 +10,32 @@
 //! (one per actuated joint, [`RobotModel::variable_names`] order), and output buffers are the
 //! caller's, so queries run in parallel without locks.
 //!
+//! # Example
+//! Load NX-HIRO, move its right arm by forward kinematics, and find that pose again by IK:
+//! ```
+//! use pickplace_robot::{IkOptions, IkSolver, LoadOptions, RobotModel, Semantics};
+//! use std::path::Path;
+//!
+//! let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../robots/nx-hiro");
+//! let model = RobotModel::from_urdf_file(&dir.join("nx-hiro.urdf"), &LoadOptions::default())?;
+//! let semantics = Semantics::from_file(&model, &dir.join("nx-hiro.srdf"))?;
+//! let solver = IkSolver::for_group(&model, &semantics, "right_arm")?;
+//!
+//! let mut q = model.zero_configuration();
+//! semantics.apply_state(&model, "home", &mut q)?;
+//! let seed = q.clone();
+//! let elbow = model.variable_index("RARM_JOINT2").expect("a right elbow");
+//! q[elbow] -= 0.3;
+//! let tcp = model.require_link("RARM_TCP")?;
+//! let target = model.link_poses(&q)?[tcp];
+//!
+//! let solution = solver.solve(&target, &seed, &IkOptions::default())?;
+//! assert!(solution.success);
+//! let reached = model.link_poses(&solution.positions)?[tcp];
+//! assert!((reached.translation.vector - target.translation.vector).norm() < 1e-4);
+//! # Ok::<(), pickplace_robot::Error>(())
+//! ```
+//!
 //! # Limitations
 //! - Joints: revolute, continuous, prismatic, fixed and mimic; floating, planar and
 //!   spherical joints are rejected.
@@ -22,8 +48,8 @@
 
 pub mod collision;
 pub mod error;
-pub mod gripper;
 pub mod ik;
+pub mod json;
 pub mod kinematics;
 pub mod model;
 pub mod rng;
@@ -31,7 +57,6 @@ pub mod srdf;
 mod urdf;
 
 pub use error::{Error, Result};
-pub use gripper::GripperConfig;
 pub use ik::{IkOptions, IkSolution, IkSolver};
 pub use kinematics::{Jacobian, KinematicChain};
 pub use model::{Joint, JointLimits, JointType, Link, LoadOptions, LoadWarning, RobotModel};

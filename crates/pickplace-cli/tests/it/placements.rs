@@ -25,7 +25,7 @@ fn can_into_the_large_dent() {
         String::from_utf8_lossy(&out.stderr)
     );
     let v = json(&out);
-    assert_eq!(v["format"], "pickplace.placements.v1");
+    assert_eq!(v["format"], "pickplace.placements/1");
     let first = &v["placements"][0];
     assert_eq!(first["contact"], "face-face");
     let z = first["pose"]["position"][2].as_f64().expect("z");

@@ -4,8 +4,9 @@ use super::{Clustering, ContactMode};
 use crate::math::Real;
 use crate::mesh::TriMesh;
 
-/// Value of the `format` field of [`ClustersJson`].
-pub const CLUSTERS_JSON_FORMAT: &str = "pickplace.clusters.v1";
+/// Value of the `format` field of [`ClustersJson`]. Documents written before November 2026 say
+/// `pickplace.clusters.v1`, with the same content.
+pub const CLUSTERS_JSON_FORMAT: &str = "pickplace.clusters/1";
 
 /// The `pickplace clusters --json` document.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -14,7 +14,6 @@
 use super::{Soup, TriangleSource, fan_triangulate};
 use crate::error::{Error, MeshErrorKind, Result};
 use crate::math::{Point3, Real};
-use std::io::Write;
 use std::path::Path;
 
 const HEADER_LEN: usize = 80;
@@ -261,7 +260,7 @@ fn encode_inner(mesh: &impl TriangleSource) -> std::result::Result<Vec<u8>, Mesh
 
 /// Writes a mesh as a binary STL file (see [`encode_stl_binary`]), atomically: the bytes go to
 /// a temporary file in the same folder, which is then renamed over `path`, so a reader never
-/// sees a half-written file.
+/// sees a half-written file ([`crate::export::write_atomic`]).
 ///
 /// # Errors
 /// [`Error::Mesh`] (with `path`) for the reasons of [`encode_stl_binary`]; [`Error::Io`] when
@@ -271,41 +270,7 @@ pub fn write_stl_binary(mesh: &impl TriangleSource, path: &Path) -> Result<()> {
         path: path.to_path_buf(),
         kind,
     })?;
-    write_atomically(path, &bytes)
-}
-
-/// Writes `bytes` to `path` through a temporary sibling file and a rename.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let name = path.file_name().ok_or_else(|| {
-        io(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "the path has no file name",
-        ))
-    })?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp{}", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    let result = (|| -> std::io::Result<()> {
-        let mut file = std::fs::File::create(&tmp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(source) = result {
-        // Best effort: the temporary may not exist if creation failed.
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::Io {
-            path: path.to_path_buf(),
-            source,
-        });
-    }
-    Ok(())
+    crate::export::write_atomic(path, &bytes)
 }
 
 #[cfg(test)]

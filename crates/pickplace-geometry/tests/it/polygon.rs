@@ -45,6 +45,21 @@ fn regular(n: usize, r: Real, c: Point2, phase: Real) -> Vec<Point2> {
 
 proptest! {
     #[test]
+    fn convex_distance_matches_the_general_margin_on_hulls(
+        pts in points(), x in -1.5..1.5f64, y in -1.5..1.5f64,
+    ) {
+        let hull = polygon::convex_hull(&pts);
+        let p = Point2::new(x, y);
+        let convex = polygon::signed_distance_convex(&hull, &p);
+        if hull.len() >= 3 {
+            let general = polygon::signed_margin(&p, &hull);
+            prop_assert!((convex - general).abs() <= 1e-9, "{} vs {}", convex, general);
+        } else {
+            prop_assert_eq!(convex, Real::NEG_INFINITY);
+        }
+    }
+
+    #[test]
     fn hull_is_convex_ccw_and_contains_every_point(pts in points()) {
         let hull = polygon::convex_hull(&pts);
         if hull.len() >= 3 {

@@ -20,6 +20,24 @@ fn fixture_parses_with_the_nx_hiro_values() {
 }
 
 #[test]
+fn shipped_robot_files_parse_and_match_the_fixture() {
+    // The one reader of `gripper.toml` (the robot crate has none): every shipped robot's file.
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../robots");
+    let mut read = 0;
+    for entry in std::fs::read_dir(&robots).expect("robots/") {
+        let file = entry.expect("entry").path().join("gripper.toml");
+        if file.exists() {
+            let g = GripperParams::load(&file).expect("shipped gripper file is valid");
+            assert!(g.opening_max > g.opening_min, "{}", file.display());
+            read += 1;
+        }
+    }
+    assert!(read >= 1);
+    let nx = GripperParams::load(&robots.join("nx-hiro/gripper.toml")).expect("nx-hiro");
+    assert_eq!(nx, super::support::gripper());
+}
+
+#[test]
 fn missing_file_and_missing_key_name_the_file() {
     let e = GripperParams::load(Path::new("/nonexistent/gripper.toml")).expect_err("missing");
     assert!(matches!(e, Error::Io { .. }));

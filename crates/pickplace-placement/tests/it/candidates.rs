@@ -9,7 +9,7 @@ use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::shapes;
 use pickplace_placement::{
     ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
-    candidates,
+    candidates, default_target,
 };
 
 pub struct Scene {
@@ -299,4 +299,33 @@ fn target_off_every_cluster_names_the_nearest() {
     .expect_err("far from the pallet");
     assert!(err.distance > 0.7 && err.distance < 0.9, "{err}");
     assert!(err.to_string().contains("nearest is cluster"));
+}
+
+#[test]
+fn default_target_is_the_centre_of_the_largest_upward_region() {
+    let s = can_on_pallet();
+    let options = PlacementOptions::default();
+    let target = default_target(&s.env, &options).expect("the pallet's top faces up");
+    // The pallet's top is its largest upward region: the target lies on it, inside the
+    // pallet's outline, and the placement search accepts it.
+    assert!((target.z - shapes::PALLET_SIZE[2]).abs() < 1e-9, "{target}");
+    let top = s
+        .env
+        .regions
+        .iter()
+        .filter(|r| r.normal().z > 0.99)
+        .max_by(|a, b| a.area.total_cmp(&b.area))
+        .expect("top");
+    let (q, h) = top.to_plane(&target);
+    assert!(h.abs() < 1e-9 && top.polygon.contains(&q));
+    assert!(candidates(&s.object, &s.env, &target, &options).is_ok());
+    // Tilted by 1° with no slope allowed, no region faces up: there is no default.
+    let clusters = cluster_surface(&s.env_mesh, &ClusterParams::environment()).expect("clusters");
+    let tilted = Isometry3::rotation(Vector3::x() * 1f64.to_radians());
+    let env = EnvironmentModel::new(&s.env_mesh, &clusters, &tilted).expect("env");
+    let flat_only = PlacementOptions {
+        max_slope: 0.0,
+        ..options
+    };
+    assert_eq!(default_target(&env, &flat_only), None);
 }

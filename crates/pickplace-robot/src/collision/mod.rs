@@ -14,7 +14,6 @@
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
 
 mod acm;
-pub(crate) mod convert;
 
 pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
 
@@ -27,6 +26,7 @@ use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::SharedShape;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
+use pickplace_geometry::parry;
 use std::path::Path;
 
 /// A shape for the environment or an attached object.
@@ -68,8 +68,8 @@ impl CollisionShape {
         let r = positive("capsule radius", radius)?;
         Ok(Self {
             shape: SharedShape::capsule(
-                convert::vector(&Vector3::new(0.0, 0.0, -half)),
-                convert::vector(&Vector3::new(0.0, 0.0, half)),
+                parry::vector(&Vector3::new(0.0, 0.0, -half)),
+                parry::vector(&Vector3::new(0.0, 0.0, half)),
                 r,
             ),
         })
@@ -80,7 +80,7 @@ impl CollisionShape {
     /// # Errors
     /// [`Error::InvalidParameter`] when parry rejects the mesh (no triangles).
     pub fn mesh(mesh: &TriMesh) -> Result<Self> {
-        let vertices = mesh.vertices().iter().map(convert::point).collect();
+        let vertices = mesh.vertices().iter().map(parry::point).collect();
         let shape = SharedShape::trimesh(vertices, mesh.triangles().to_vec()).map_err(|_| {
             Error::InvalidParameter {
                 name: "mesh",
@@ -96,7 +96,7 @@ impl CollisionShape {
     /// # Errors
     /// [`Error::InvalidParameter`] when the vertices span no volume.
     pub fn convex_hull(mesh: &TriMesh) -> Result<Self> {
-        let vertices: Vec<_> = mesh.vertices().iter().map(convert::point).collect();
+        let vertices: Vec<_> = mesh.vertices().iter().map(parry::point).collect();
         let shape = SharedShape::convex_hull(&vertices).ok_or(Error::InvalidParameter {
             name: "mesh",
             value: mesh.vertices().len() as Real,
@@ -124,10 +124,7 @@ impl CollisionShape {
     /// The local bounding box of the shape.
     pub fn local_aabb(&self) -> (Vector3, Vector3) {
         let aabb = self.shape.compute_local_aabb();
-        (
-            Vector3::new(aabb.mins.x, aabb.mins.y, aabb.mins.z),
-            Vector3::new(aabb.maxs.x, aabb.maxs.y, aabb.maxs.z),
-        )
+        (parry::to_vector(aabb.mins), parry::to_vector(aabb.maxs))
     }
 
     /// The shape of a URDF geometry, with the pose correction for parry's conventions
@@ -394,7 +391,7 @@ impl CollisionWorld {
         shape: CollisionShape,
         world_from_shape: &Isometry3,
     ) -> usize {
-        let pose = convert::pose(world_from_shape);
+        let pose = parry::pose(world_from_shape);
         let aabb = shape.shape.compute_aabb(&pose);
         self.environment.push(EnvironmentObject {
             name: name.to_owned(),
@@ -508,7 +505,7 @@ impl CollisionWorld {
             }
         }
         for s in &self.robot_shapes {
-            let pose = convert::pose(&(scratch.link_poses[s.link] * s.link_from_shape));
+            let pose = parry::pose(&(scratch.link_poses[s.link] * s.link_from_shape));
             scratch
                 .shape_aabbs
                 .push(s.local_aabb.transform_by(&pose).loosened(margin));
@@ -517,7 +514,7 @@ impl CollisionWorld {
         scratch.attached_poses.clear();
         scratch.attached_aabbs.clear();
         for a in &self.attached {
-            let pose = convert::pose(&(scratch.link_poses[a.link] * a.link_from_object));
+            let pose = parry::pose(&(scratch.link_poses[a.link] * a.link_from_object));
             scratch
                 .attached_aabbs
                 .push(a.local_aabb.transform_by(&pose).loosened(margin));

@@ -1,0 +1,276 @@
+//! The stability test of Harada et al., §III-B.2, Fig. 7 ("Stability checking algorithm"): the
+//! one home of the test, used by face-face and edge-face placements
+//! ([`mod@crate::candidates`]), resting poses ([`crate::resting`]) and the façade's plan validator.
+//!
+//! The paper assumes friction large enough and checks that the vertical line through the
+//! object's CoG passes through the supported area, in four steps:
+//! 1. the common area of the outer boundaries of the object's and the environment's clusters;
+//! 2. minus the regions inside their inner boundaries (holes), so that an object is not judged
+//!    to stand over a hole;
+//! 3. the 2D convex hull of that area, the [`SupportHull`];
+//! 4. the CoG's vertical must pass inside the hull: [`SupportHull::cog_margin`] is the signed
+//!    distance of its foot to the hull's boundary, and [`is_stable`] asks for a minimum margin
+//!    and a minimum tipping angle.
+//!
+//! A support given by contact points instead of areas (an edge-face contact and its second
+//! contacts, the contacts measured by a validator) enters at step 3
+//! ([`SupportHull::of_points`]); so does a face of the object's convex hull resting on an
+//! infinite plane ([`crate::resting`]), where steps 1 and 2 leave the face itself.
+//!
+//! # Example
+//! ```
+//! use pickplace_geometry::math::Point2;
+//! use pickplace_geometry::polygon::Polygon;
+//! use pickplace_placement::stability::{SupportHull, is_stable};
+//!
+//! let square = |x0: f64, y0: f64, side: f64| {
+//!     Polygon::new(vec![
+//!         Point2::new(x0, y0),
+//!         Point2::new(x0 + side, y0),
+//!         Point2::new(x0 + side, y0 + side),
+//!         Point2::new(x0, y0 + side),
+//!     ])
+//! };
+//! // A 10 cm square foot on a large table, the CoG 5 cm above the foot's centre.
+//! let hull = SupportHull::of_regions(&square(0.0, 0.0, 0.1), &square(-1.0, -1.0, 2.0));
+//! let margin = hull.cog_margin(&Point2::new(0.05, 0.05));
+//! assert!((margin - 0.05).abs() < 1e-6); // the boolean operations snap to about 1e-9 m
+//! assert!(is_stable(margin, 0.05, 0.002, 0.0));
+//! // Moved half off the table's edge at x = 1, the CoG's vertical misses the support.
+//! let hull = SupportHull::of_regions(&square(0.96, 0.0, 0.1), &square(-1.0, -1.0, 2.0));
+//! assert!(hull.cog_margin(&Point2::new(1.01, 0.05)) < 0.0);
+//! ```
+
+use crate::region::Region;
+use pickplace_geometry::math::{Point2, Point3, Real, Vector3};
+use pickplace_geometry::polygon::{self, Polygon};
+
+/// The convex hull of a contact's supported area or points, in the coordinates of the contact
+/// plane, counter-clockwise (Fig. 7, third step).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SupportHull {
+    points: Vec<Point2>,
+}
+
+impl SupportHull {
+    /// The hull of the supported area of two touching planar regions (Fig. 7, all steps
+    /// before the CoG test): the common area of the two outer boundaries, minus the holes of
+    /// both, then its convex hull. Both polygons are in the same plane coordinates.
+    pub fn of_regions(object: &Polygon, environment: &Polygon) -> Self {
+        Self {
+            points: polygon::support_hull(object, environment),
+        }
+    }
+
+    /// The hull of supporting contact points (plane coordinates): a line contact's ends with
+    /// the points where the object touches the environment again, or contacts measured on a
+    /// placed object.
+    pub fn of_points(points: &[Point2]) -> Self {
+        Self {
+            points: polygon::convex_hull(points),
+        }
+    }
+
+    /// The hull's corners, counter-clockwise.
+    pub fn points(&self) -> &[Point2] {
+        &self.points
+    }
+
+    /// Whether the support has an area (at least three corners): a point or a segment supports
+    /// nothing against tipping.
+    pub fn has_area(&self) -> bool {
+        self.points.len() >= 3
+    }
+
+    /// Fig. 7, last step: the signed distance (m) from the foot of the CoG's vertical line
+    /// (plane coordinates) to the hull's boundary, positive inside (the stability margin);
+    /// [`Real::NEG_INFINITY`] when the support has no area.
+    pub fn cog_margin(&self, cog_foot: &Point2) -> Real {
+        if self.has_area() {
+            polygon::signed_margin(cog_foot, &self.points)
+        } else {
+            Real::NEG_INFINITY
+        }
+    }
+
+    /// As [`SupportHull::cog_margin`], computed through the half-plane distances of the convex
+    /// hull ([`polygon::signed_distance_convex`]); the two agree to rounding. Resting poses
+    /// ([`crate::resting`]) use this form, and their reported margins keep its last bits.
+    pub fn cog_margin_convex(&self, cog_foot: &Point2) -> Real {
+        polygon::signed_distance_convex(&self.points, cog_foot)
+    }
+}
+
+/// The verdict of the stability test: the CoG's vertical passes inside the support with at
+/// least `min_margin` (m) to spare, and the object must turn by at least `min_tipping_angle`
+/// (rad) about the nearest edge of its support before its CoG, `cog_height` (m) above the
+/// support, crosses that edge (`atan(margin / cog_height)`).
+///
+/// A margin alone favours tall objects; the tipping angle makes the paper's test scale-aware.
+/// A height below 1 nm counts as 1 nm.
+pub fn is_stable(
+    margin: Real,
+    cog_height: Real,
+    min_margin: Real,
+    min_tipping_angle: Real,
+) -> bool {
+    margin >= min_margin && margin.atan2(cog_height.max(1e-9)) >= min_tipping_angle
+}
+
+/// Where the vertical line through a CoG at `cog_in_world` meets the plane of the environment
+/// region `env` (world frame, gravity along −z), in the region's plane coordinates; `None`
+/// when gravity does not point into the plane (a wall or a ceiling).
+pub fn cog_foot(env: &Region, cog_in_world: &Point3) -> Option<Point2> {
+    let (c, h) = env.to_plane(cog_in_world);
+    let g = env
+        .parent_from_plane
+        .inverse_transform_vector(&-Vector3::z());
+    if g.z >= -1e-9 {
+        return None;
+    }
+    let s = -h / g.z;
+    Some(Point2::new(c.x + s * g.x, c.y + s * g.y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::math::{Isometry3, Translation3, UnitQuaternion};
+
+    fn square(x0: Real, y0: Real, side: Real) -> Vec<Point2> {
+        vec![
+            Point2::new(x0, y0),
+            Point2::new(x0 + side, y0),
+            Point2::new(x0 + side, y0 + side),
+            Point2::new(x0, y0 + side),
+        ]
+    }
+
+    fn table() -> Polygon {
+        Polygon::new(square(-1.0, -1.0, 2.0))
+    }
+
+    #[test]
+    fn square_support_margin_is_the_distance_to_the_nearest_edge() {
+        let hull = SupportHull::of_regions(&Polygon::new(square(0.0, 0.0, 0.2)), &table());
+        assert!(hull.has_area());
+        assert_eq!(hull.points().len(), 4);
+        for (foot, expected) in [((0.1, 0.1), 0.1), ((0.05, 0.1), 0.05), ((0.1, 0.19), 0.01)] {
+            let margin = hull.cog_margin(&Point2::new(foot.0, foot.1));
+            // The boolean operations snap coordinates to about 1e-9 m.
+            assert!((margin - expected).abs() < 1e-6, "{foot:?}: {margin}");
+            let convex = hull.cog_margin_convex(&Point2::new(foot.0, foot.1));
+            assert!((convex - margin).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn support_is_only_the_common_area() {
+        // The object overhangs the table's edge at x = 1: the support is x in [0.9, 1].
+        let hull = SupportHull::of_regions(&Polygon::new(square(0.9, 0.0, 0.2)), &table());
+        let xs: Vec<Real> = hull.points().iter().map(|p| p.x).collect();
+        assert!(
+            xs.iter().all(|x| (0.9 - 1e-6..=1.0 + 1e-6).contains(x)),
+            "{xs:?}"
+        );
+        assert!(hull.cog_margin(&Point2::new(1.0, 0.1)).abs() < 1e-6);
+        assert!(hull.cog_margin(&Point2::new(1.05, 0.1)) < 0.0);
+    }
+
+    #[test]
+    fn a_hole_under_one_side_shrinks_the_support() {
+        // A table with a hole covering x < 0.1 under a 0.2 m square foot: the supported area is
+        // the strip x in [0.1, 0.2], so a CoG over the hole's side is outside the support.
+        let mut table = table();
+        table.holes.push(vec![
+            Point2::new(-0.5, -0.5),
+            Point2::new(-0.5, 0.5),
+            Point2::new(0.1, 0.5),
+            Point2::new(0.1, -0.5),
+        ]);
+        let hull = SupportHull::of_regions(&Polygon::new(square(0.0, 0.0, 0.2)), &table);
+        assert!(hull.cog_margin(&Point2::new(0.05, 0.1)) < 0.0);
+        let margin = hull.cog_margin(&Point2::new(0.15, 0.1));
+        assert!((margin - 0.05).abs() < 1e-6, "{margin}");
+    }
+
+    #[test]
+    fn a_hole_surrounded_by_support_does_not_matter_after_the_hull() {
+        // A ring-shaped foot (a mug's rim): the hull bridges the hole (Fig. 7, third step).
+        let mut foot = Polygon::new(square(0.0, 0.0, 0.2));
+        foot.holes
+            .push(square(0.05, 0.05, 0.1).into_iter().rev().collect());
+        let hull = SupportHull::of_regions(&foot, &table());
+        let margin = hull.cog_margin(&Point2::new(0.1, 0.1));
+        assert!((margin - 0.1).abs() < 1e-6, "{margin}");
+    }
+
+    #[test]
+    fn cog_outside_is_negative_and_unstable() {
+        let hull = SupportHull::of_points(&square(0.0, 0.0, 0.1));
+        let margin = hull.cog_margin(&Point2::new(0.13, 0.05));
+        assert!((margin + 0.03).abs() < 1e-12, "{margin}");
+        assert!(!is_stable(margin, 0.05, 0.0, 0.0));
+    }
+
+    #[test]
+    fn degenerate_supports_have_no_area() {
+        let foot = Point2::new(0.0, 0.0);
+        for points in [
+            vec![],
+            vec![Point2::new(0.0, 0.0)],
+            vec![Point2::new(-1.0, 0.0), Point2::new(1.0, 0.0)],
+            vec![
+                Point2::new(-1.0, 0.0),
+                Point2::new(0.0, 0.0),
+                Point2::new(1.0, 0.0),
+            ],
+        ] {
+            let hull = SupportHull::of_points(&points);
+            assert!(!hull.has_area(), "{points:?}");
+            assert_eq!(hull.cog_margin(&foot), Real::NEG_INFINITY);
+            assert_eq!(hull.cog_margin_convex(&foot), Real::NEG_INFINITY);
+            assert!(!is_stable(hull.cog_margin(&foot), 0.1, 0.0, 0.0));
+        }
+        // Regions that do not overlap support nothing.
+        let apart = SupportHull::of_regions(
+            &Polygon::new(square(5.0, 5.0, 0.1)),
+            &Polygon::new(square(0.0, 0.0, 0.1)),
+        );
+        assert!(!apart.has_area());
+    }
+
+    #[test]
+    fn tipping_angle_rejects_tall_objects_with_small_margins() {
+        // 1 cm margin: fine at 1 cm height (45°), not at 1 m (0.57°) when 5° are asked for.
+        let five_deg = 5f64.to_radians();
+        assert!(is_stable(0.01, 0.01, 0.002, five_deg));
+        assert!(!is_stable(0.01, 1.0, 0.002, five_deg));
+        assert!(!is_stable(0.001, 0.01, 0.002, 0.0));
+        // A zero height is clamped, not divided by.
+        assert!(is_stable(0.01, 0.0, 0.002, five_deg));
+    }
+
+    #[test]
+    fn cog_foot_follows_gravity_onto_the_plane() {
+        let horizontal = Region::new(
+            0,
+            Isometry3::translation(1.0, 2.0, 0.5),
+            Polygon::new(square(0.0, 0.0, 1.0)),
+        )
+        .expect("region");
+        let foot = cog_foot(&horizontal, &Point3::new(1.3, 2.4, 0.9)).expect("below");
+        assert!((foot - Point2::new(0.3, 0.4)).norm() < 1e-12);
+        // A vertical wall: gravity runs along it, no foot.
+        let wall = Region::new(
+            0,
+            Isometry3::from_parts(
+                Translation3::identity(),
+                UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::FRAC_PI_2),
+            ),
+            Polygon::new(square(0.0, 0.0, 1.0)),
+        )
+        .expect("region");
+        assert_eq!(cog_foot(&wall, &Point3::new(0.0, 0.0, 1.0)), None);
+    }
+}

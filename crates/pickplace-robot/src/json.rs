@@ -1,0 +1,333 @@
+//! The robot's JSON documents, printed by `pickplace robot check | fk | ik --json`: a model
+//! summary ([`CheckJson`]), forward kinematics ([`FkJson`]) and an IK solution ([`IkJson`]),
+//! with their format constants.
+//!
+//! The fields of every object are declared, and so printed, in alphabetical order, as these
+//! documents have been written since their first version.
+
+use crate::collision::{AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld};
+use crate::error::Result;
+use crate::ik::IkSolution;
+use crate::model::RobotModel;
+use crate::srdf::Semantics;
+use pickplace_geometry::math::{Isometry3, Real};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The `format` of [`CheckJson`].
+pub const CHECK_JSON_FORMAT: &str = "pickplace.robot.check/1";
+/// The `format` of [`FkJson`].
+pub const FK_JSON_FORMAT: &str = "pickplace.robot.fk/1";
+/// The `format` of [`IkJson`].
+pub const IK_JSON_FORMAT: &str = "pickplace.robot.ik/1";
+
+/// A pose in the root frame: orientation quaternion `[x, y, z, w]` and position (m).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct LinkPoseJson {
+    /// Unit quaternion, ROS order `[x, y, z, w]`.
+    pub orientation: [Real; 4],
+    /// Translation (m).
+    pub position: [Real; 3],
+}
+
+impl From<&Isometry3> for LinkPoseJson {
+    fn from(pose: &Isometry3) -> Self {
+        let t = pose.translation.vector;
+        let r = pose.rotation.coords;
+        Self {
+            orientation: [r.x, r.y, r.z, r.w],
+            position: [t.x, t.y, t.z],
+        }
+    }
+}
+
+/// `pickplace robot fk`: the pose of every link in the root frame.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct FkJson {
+    /// Always [`FK_JSON_FORMAT`].
+    pub format: &'static str,
+    /// `root_from_link` of every link, by name.
+    pub links: BTreeMap<String, LinkPoseJson>,
+    /// The root link's name.
+    pub root: String,
+}
+
+impl FkJson {
+    /// Forward kinematics of `model` at `q`.
+    ///
+    /// # Errors
+    /// As [`RobotModel::link_poses`] (wrong length, values out of limits).
+    pub fn new(model: &RobotModel, q: &[Real]) -> Result<Self> {
+        let poses = model.link_poses(q)?;
+        Ok(Self {
+            format: FK_JSON_FORMAT,
+            links: model
+                .links()
+                .iter()
+                .zip(&poses)
+                .map(|(l, p)| (l.name.clone(), p.into()))
+                .collect(),
+            root: model.links()[model.root()].name.clone(),
+        })
+    }
+}
+
+/// `pickplace robot ik`: the solution of one IK query.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct IkJson {
+    /// Attempts made (1 + restarts).
+    pub attempts: usize,
+    /// Always [`IK_JSON_FORMAT`].
+    pub format: &'static str,
+    /// The planning group solved for.
+    pub group: String,
+    /// TCP orientation error (rad).
+    pub orientation_error: Real,
+    /// TCP position error (m).
+    pub position_error: Real,
+    /// Every variable's value, by joint name.
+    pub positions: BTreeMap<String, Real>,
+    /// Why there is no solution, when there is none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// Whether both tolerances are met.
+    pub success: bool,
+}
+
+impl IkJson {
+    /// The document of `solution` for `group` of `model`.
+    pub fn new(model: &RobotModel, group: &str, solution: &IkSolution) -> Self {
+        Self {
+            attempts: solution.attempts,
+            format: IK_JSON_FORMAT,
+            group: group.to_owned(),
+            orientation_error: solution.orientation_error,
+            position_error: solution.position_error,
+            positions: model
+                .variable_names()
+                .zip(&solution.positions)
+                .map(|(n, v)| (n.to_owned(), *v))
+                .collect(),
+            reason: (!solution.success).then(|| {
+                format!(
+                    "no solution within tolerances after {} attempts (best: position error {:.3e} m, orientation error {:.3e} rad); the pose may be out of reach",
+                    solution.attempts, solution.position_error, solution.orientation_error
+                )
+            }),
+            success: solution.success,
+        }
+    }
+}
+
+/// One joint in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct JointJson {
+    /// Child link.
+    pub child: String,
+    /// Lower limit (rad or m), none when unlimited.
+    pub lower: Option<Real>,
+    /// The joint this one copies, if it is a mimic joint.
+    pub mimic: Option<String>,
+    /// Name.
+    pub name: String,
+    /// Parent link.
+    pub parent: String,
+    /// URDF joint type.
+    #[serde(rename = "type")]
+    pub joint_type: &'static str,
+    /// Upper limit (rad or m), none when unlimited.
+    pub upper: Option<Real>,
+    /// Velocity limit (rad/s or m/s).
+    pub velocity: Real,
+}
+
+/// One planning group in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct GroupJson {
+    /// The group's actuated joints.
+    pub joints: Vec<String>,
+    /// Name.
+    pub name: String,
+    /// The tip link, if the group is a chain.
+    pub tip: Option<String>,
+}
+
+/// The collision matrix summary in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CollisionMatrixJson {
+    /// Disabled pairs per SRDF reason.
+    pub by_reason: BTreeMap<String, usize>,
+    /// Pairs of collision shapes the world checks against each other.
+    pub checked_shape_pairs: usize,
+    /// Disabled link pairs.
+    pub disabled_pairs: usize,
+    /// Pairs of links that both have collision geometry.
+    pub link_pairs_with_geometry: usize,
+}
+
+/// `pickplace robot check`: a summary of a URDF (and SRDF) with warnings.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CheckJson {
+    /// The collision matrix (with an SRDF).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub collision_matrix: Option<CollisionMatrixJson>,
+    /// Always [`CHECK_JSON_FORMAT`].
+    pub format: &'static str,
+    /// The planning groups (with an SRDF).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub groups: Option<Vec<GroupJson>>,
+    /// Every joint.
+    pub joints: Vec<JointJson>,
+    /// Number of links.
+    pub links: usize,
+    /// The robot's name.
+    pub robot: String,
+    /// The root link's name.
+    pub root: String,
+    /// The SRDF file, if one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub srdf: Option<String>,
+    /// The URDF file.
+    pub urdf: String,
+    /// Actuated joints, in configuration order.
+    pub variables: Vec<String>,
+    /// Loading warnings, and named states in self-collision.
+    pub warnings: Vec<String>,
+}
+
+impl CheckJson {
+    /// The summary of `model` loaded from `urdf`, with its semantics when an SRDF was given:
+    /// groups, the collision matrix, and a warning for every named state in self-collision.
+    ///
+    /// # Errors
+    /// When the collision world cannot be built or a named state cannot be applied.
+    pub fn new(model: &RobotModel, urdf: &Path, semantics: Option<&Semantics>) -> Result<Self> {
+        let finite = |x: Real| x.is_finite().then_some(x);
+        let joints = model
+            .joints()
+            .iter()
+            .map(|j| JointJson {
+                child: model.links()[j.child_link].name.clone(),
+                lower: finite(j.limits.lower),
+                mimic: j.mimic.map(|m| model.joints()[m.joint].name.clone()),
+                name: j.name.clone(),
+                parent: model.links()[j.parent_link].name.clone(),
+                joint_type: j.joint_type.as_str(),
+                upper: finite(j.limits.upper),
+                velocity: j.limits.velocity,
+            })
+            .collect();
+        let mut doc = Self {
+            collision_matrix: None,
+            format: CHECK_JSON_FORMAT,
+            groups: None,
+            joints,
+            links: model.links().len(),
+            robot: model.name().to_owned(),
+            root: model.links()[model.root()].name.clone(),
+            srdf: None,
+            urdf: urdf.display().to_string(),
+            variables: model.variable_names().map(str::to_owned).collect(),
+            warnings: model.warnings().iter().map(ToString::to_string).collect(),
+        };
+        if let Some(semantics) = semantics {
+            doc.groups = Some(
+                semantics
+                    .groups()
+                    .iter()
+                    .map(|g| GroupJson {
+                        joints: g
+                            .variables
+                            .iter()
+                            .map(|&v| model.variable_joint(v).name.clone())
+                            .collect(),
+                        name: g.name.clone(),
+                        tip: g.tip_link.map(|t| model.links()[t].name.clone()),
+                    })
+                    .collect(),
+            );
+            let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+            let with_geometry = model
+                .links()
+                .iter()
+                .filter(|l| !l.collisions.is_empty())
+                .count();
+            let world = CollisionWorld::new(model, acm.clone())?;
+            // Named states should be free of self-collision.
+            let mut scratch = CollisionScratch::default();
+            for state in &semantics.srdf().group_states {
+                let mut q = model.zero_configuration();
+                semantics.apply_state(model, &state.name, &mut q)?;
+                for (a, b) in
+                    world.colliding_pairs(model, &q, &mut scratch, &CheckOptions::default())?
+                {
+                    doc.warnings.push(format!(
+                        "state {:?}: {} and {} collide",
+                        state.name,
+                        world.body_name(a),
+                        world.body_name(b)
+                    ));
+                }
+            }
+            doc.srdf = Some(semantics.source().display().to_string());
+            doc.collision_matrix = Some(CollisionMatrixJson {
+                by_reason: acm
+                    .counts_by_reason()
+                    .into_iter()
+                    .map(|(r, n)| (r.as_str().to_owned(), n))
+                    .collect(),
+                checked_shape_pairs: world.self_pair_count(),
+                disabled_pairs: acm.len(),
+                link_pairs_with_geometry: with_geometry * with_geometry.saturating_sub(1) / 2,
+            });
+        }
+        Ok(doc)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::LoadOptions;
+    use pickplace_geometry::math::{Translation3, UnitQuaternion};
+
+    #[test]
+    fn link_poses_are_quaternion_then_position() {
+        let pose = Isometry3::from_parts(
+            Translation3::new(1.0, 2.0, 3.0),
+            UnitQuaternion::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_2),
+        );
+        let json = LinkPoseJson::from(&pose);
+        assert_eq!(json.position, [1.0, 2.0, 3.0]);
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((json.orientation[2] - s).abs() < 1e-12 && (json.orientation[3] - s).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nx_hiro_check_and_fk() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../robots/nx-hiro");
+        let urdf = root.join("nx-hiro.urdf");
+        let model = RobotModel::from_urdf_file(&urdf, &LoadOptions::default()).expect("urdf");
+        let semantics = Semantics::from_file(&model, &root.join("nx-hiro.srdf")).expect("srdf");
+        let check = CheckJson::new(&model, &urdf, Some(&semantics)).expect("check");
+        assert_eq!(check.variables.len(), model.variable_count());
+        let matrix = check.collision_matrix.expect("with an SRDF");
+        assert_eq!(
+            matrix.disabled_pairs,
+            matrix.by_reason.values().sum::<usize>()
+        );
+        assert!(
+            check
+                .groups
+                .expect("groups")
+                .iter()
+                .any(|g| g.name == "right_arm")
+        );
+        let bare = CheckJson::new(&model, &urdf, None).expect("check");
+        assert!(bare.groups.is_none() && bare.collision_matrix.is_none() && bare.srdf.is_none());
+
+        let fk = FkJson::new(&model, &model.zero_configuration()).expect("fk");
+        assert_eq!(fk.links.len(), model.links().len());
+        assert_eq!(fk.links[&fk.root].position, [0.0; 3]);
+    }
+}
