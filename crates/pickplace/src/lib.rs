@@ -7,6 +7,7 @@ pub mod checker;
 pub mod error;
 pub mod plan;
 pub mod planner;
+pub mod precompute;
 pub mod roadmaps;
 pub mod scene;
 pub mod setup;
