@@ -20,8 +20,8 @@
 //!   object following the link that holds it between grasp and release; rendered per frame
 //!   or exported as an animated glTF with one keyframe per sample.
 //!
-//! Files are written atomically (temporary file, then rename): an output path is never left
-//! half-written.
+//! Files are written atomically by [`pickplace_geometry::export::write_atomic`] (temporary
+//! file, then rename): an output path is never left half-written.
 //!
 //! # Example
 //! ```
@@ -76,7 +76,7 @@ pub mod scene;
 
 pub use camera::{Camera, DEFAULT_FOV_Y, OBLIQUE_VIEW, Projection};
 pub use error::{Error, GeometryErrorKind, GlbErrorKind, GltfErrorKind, MotionErrorKind, Result};
-pub use image::{Colour, Image, MontageOptions, montage, write_atomic};
+pub use image::{Colour, Image, MontageOptions, montage};
 pub use pictures::{PictureOptions, cluster_colours, render_clusters, render_placements};
 pub use plan::{Grip, Motion, PlanView, Prop};
 pub use raster::{AntiAliasing, RenderOptions, render, render_to_png};

@@ -13,8 +13,9 @@ mod validate;
 pub use validate::{AnimationSummary, ChannelSummary, GlbSummary, validate_glb};
 
 use crate::error::{Error, GltfErrorKind, Result};
-use crate::image::{Colour, write_atomic};
+use crate::image::Colour;
 use crate::scene::{Geometry, Paint, Scene, check_pose};
+use pickplace_geometry::export::write_atomic;
 use pickplace_geometry::math::{Isometry3, UnitQuaternion, Vector3};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -604,9 +605,9 @@ impl GltfBuilder {
     /// Encodes the document and writes it to `path` atomically (temporary file and rename).
     ///
     /// # Errors
-    /// As [`GltfBuilder::encode`], or [`Error::Io`] naming `path`.
+    /// As [`GltfBuilder::encode`], or [`Error::Write`] naming `path`.
     pub fn write_glb(&self, path: &Path) -> Result<()> {
-        write_atomic(path, &self.encode()?)
+        Ok(write_atomic(path, &self.encode()?)?)
     }
 }
 
