@@ -26,11 +26,13 @@ fn main() -> anyhow::Result<()> {
                 "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
                  (meshes/*.stl) from pickplace_geometry::shapes\n  \
                  acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
-                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
-                 and a PRM roadmap per arm group of NX-HIRO into the cache \
+                 precompute   [--force]: cluster every mesh in meshes/ (env and finger) into the \
+                 cache and a PRM roadmap per arm group of NX-HIRO into the cache \
                  ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
-                 bench        [--quick] [--no-run] [-- FILTER…]: run the criterion benches and \
-                 rewrite the generated part of docs/benchmarks.md\n  \
+                 bench        [--quick] [--no-run | --text-only] [-- FILTER…]: run the criterion \
+                 benches and write docs/benchmarks.md from their results and \
+                 benches/targets.toml; --no-run uses the results on disk, --text-only keeps \
+                 the figures of the document and rewrites its text\n  \
                  fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
                  (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
                  fuzz-seeds   write the generated seed corpora under fuzz/seeds/"
