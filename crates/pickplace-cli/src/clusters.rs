@@ -60,7 +60,7 @@ pub struct ClustersArgs {
         allow_negative_numbers = true
     )]
     pub scale: f64,
-    /// Print the clusters as JSON on stdout (format `pickplace.clusters.v1`).
+    /// Print the clusters as JSON on stdout (format `pickplace.clusters/1`).
     #[arg(long)]
     pub json: bool,
     /// Also write the clusters as a PLY mesh with one colour per cluster.
