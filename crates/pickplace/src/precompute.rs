@@ -227,25 +227,15 @@ mod tests {
     use pickplace_geometry::shapes;
     use std::sync::Mutex;
 
-    /// A fresh folder under the system temp dir, removed on drop.
-    struct TempDir(PathBuf);
-
-    impl TempDir {
-        fn new(name: &str) -> Self {
-            let dir = std::env::temp_dir().join(format!(
-                "pickplace-precompute-{name}-{}",
-                std::process::id()
-            ));
-            let _ = std::fs::remove_dir_all(&dir);
-            std::fs::create_dir_all(&dir).expect("temp dir");
-            Self(dir)
-        }
-    }
-
-    impl Drop for TempDir {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
+    /// An empty cache folder for one test (removed by the test when it passes).
+    fn empty_cache(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!(
+            "pickplace-precompute-{name}-{}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("cache folder");
+        dir
     }
 
     /// Records the calls, as a progress bar would see them.
@@ -274,11 +264,11 @@ mod tests {
 
     #[test]
     fn builds_then_loads_then_forced_rebuild() {
-        let dir = TempDir::new("cycle");
+        let dir = empty_cache("cycle");
         let can = shapes::can_builder().build().expect("can");
         let jobs = Job::each_mode(Path::new("meshes/can.stl"), &can, &modes());
         let log = Log::default();
-        let first = precompute(&jobs, &dir.0, &PrecomputeOptions::default(), &log).expect("first");
+        let first = precompute(&jobs, &dir, &PrecomputeOptions::default(), &log).expect("first");
         assert_eq!(
             *log.0.lock().expect("log"),
             ["start env", "end env ok", "start finger", "end finger ok"]
@@ -289,7 +279,7 @@ mod tests {
             assert_eq!(report.params, params);
             assert_eq!(
                 report.db_path,
-                cache_path(&dir.0, Path::new("can.stl"), &params)
+                cache_path(&dir, Path::new("can.stl"), &params)
             );
             assert!(report.db_path.is_file());
             assert_eq!(report.mesh_path, Path::new("meshes/can.stl"));
@@ -299,7 +289,7 @@ mod tests {
             ContactMode::Finger
         );
 
-        let second = precompute(&jobs, &dir.0, &PrecomputeOptions::default(), &()).expect("second");
+        let second = precompute(&jobs, &dir, &PrecomputeOptions::default(), &()).expect("second");
         assert!(second.iter().all(|r| r.status == CacheStatus::Loaded));
         for (a, b) in first.iter().zip(&second) {
             assert_eq!(
@@ -311,18 +301,19 @@ mod tests {
         let forced = PrecomputeOptions {
             rebuild: Rebuild::Always,
         };
-        let third = precompute(&jobs[..1], &dir.0, &forced, &()).expect("forced");
+        let third = precompute(&jobs[..1], &dir, &forced, &()).expect("forced");
         assert_eq!(
             third[0].status,
             CacheStatus::Built {
                 reason: Some(FORCED_REASON.to_owned())
             }
         );
+        std::fs::remove_dir_all(&dir).expect("cleanup");
     }
 
     #[test]
     fn parallel_keeps_the_job_order_and_goes_on_after_an_error() {
-        let dir = TempDir::new("parallel");
+        let dir = empty_cache("parallel");
         let can = shapes::can_builder().build().expect("can");
         let bad = ClusterParams {
             h_max: -1.0,
@@ -331,7 +322,7 @@ mod tests {
         let params = [ClusterParams::finger(), bad, ClusterParams::environment()];
         let jobs = Job::each_mode(Path::new("can.stl"), &can, &params);
         let log = Log::default();
-        let outcomes = precompute_parallel(&jobs, &dir.0, &PrecomputeOptions::default(), &log);
+        let outcomes = precompute_parallel(&jobs, &dir, &PrecomputeOptions::default(), &log);
         assert_eq!(outcomes.len(), 3);
         assert_eq!(
             outcomes[0].as_ref().expect("finger").params.mode,
@@ -345,8 +336,9 @@ mod tests {
         assert_eq!(log.0.lock().expect("log").len(), 6);
         // In order, the same invalid job stops the run before the third.
         let log = Log::default();
-        assert!(precompute(&jobs, &dir.0, &PrecomputeOptions::default(), &log).is_err());
+        assert!(precompute(&jobs, &dir, &PrecomputeOptions::default(), &log).is_err());
         assert_eq!(log.0.lock().expect("log").len(), 4);
+        std::fs::remove_dir_all(&dir).expect("cleanup");
     }
 
     #[test]

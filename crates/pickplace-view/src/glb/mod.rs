@@ -267,27 +267,11 @@ impl GltfBuilder {
         parent: Option<NodeId>,
         parent_from_node: &Isometry3,
     ) -> Result<NodeId> {
-        if let Some(m) = mesh
-            && m.0 >= self.meshes.len()
-        {
-            return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange {
-                    what: "mesh",
-                    index: m.0,
-                    count: self.meshes.len(),
-                },
-            });
+        if let Some(m) = mesh {
+            check_index("mesh", m.0, self.meshes.len())?;
         }
-        if let Some(p) = parent
-            && p.0 >= self.nodes.len()
-        {
-            return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange {
-                    what: "parent",
-                    index: p.0,
-                    count: self.nodes.len(),
-                },
-            });
+        if let Some(p) = parent {
+            check_index("parent", p.0, self.nodes.len())?;
         }
         check_pose(parent_from_node, "node")?;
         let t = parent_from_node.translation.vector;
@@ -697,5 +681,16 @@ impl BinWriter {
             "type": "SCALAR"
         }));
         Some(self.accessors.len() - 1)
+    }
+}
+
+/// [`GltfErrorKind::IndexOutOfRange`] unless `index < count`.
+fn check_index(what: &'static str, index: usize, count: usize) -> Result<()> {
+    if index < count {
+        Ok(())
+    } else {
+        Err(Error::Gltf {
+            kind: GltfErrorKind::IndexOutOfRange { what, index, count },
+        })
     }
 }
