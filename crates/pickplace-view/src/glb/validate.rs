@@ -460,7 +460,7 @@ fn check_accessor(i: usize, a: &Value, views: &[View], bin: &[u8]) -> Result<Acc
     }
     let offset = optional_u64(a, "accessor", i, "byteOffset")?.unwrap_or(0);
     let view = views[view];
-    if offset % size as u64 != 0 || (view.offset + offset) % size as u64 != 0 {
+    if offset % size as u64 != 0 || !(view.offset + offset).is_multiple_of(size as u64) {
         return Err(rule(
             "accessor",
             i,
@@ -918,11 +918,11 @@ mod tests {
     /// A GLB container of `json` (padded with spaces) and `bin` (padded with zeros).
     fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
         let mut json = json.as_bytes().to_vec();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let mut bin = bin.to_vec();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let mut out = Vec::new();
