@@ -64,6 +64,17 @@ fn pallet_world(model: &RobotModel, semantics: &Semantics) -> CollisionWorld {
     world
 }
 
+/// The solver's chain variables of the full configuration `seed`, in chain order (the `k`
+/// chain's joint order).
+fn chain_seed(solver: &IkSolver, seed: &[f64]) -> Vec<f64> {
+    solver
+        .chain()
+        .variables()
+        .iter()
+        .map(|&v| seed[v])
+        .collect()
+}
+
 /// The `k` crate's chain for the same group: from `RARM_TCP_JOINT` to the root (7 joints,
 /// waist first).
 struct KArm {
@@ -114,12 +125,7 @@ fn ik_acceptance(model: &RobotModel, semantics: &Semantics) {
     }
     let ours = median(times);
     let k_arm = KArm::new();
-    let k_seed: Vec<f64> = solver
-        .chain()
-        .variables()
-        .iter()
-        .map(|&v| seed[v])
-        .collect();
+    let k_seed = chain_seed(&solver, &seed);
     let (mut k_ok, mut k_times) = (0, Vec::with_capacity(POSES));
     for target in &targets {
         let t = KArm::target(target);
@@ -213,12 +219,7 @@ fn bench_ik(c: &mut Criterion) {
         });
     });
     let k_arm = KArm::new();
-    let k_seed: Vec<f64> = solver
-        .chain()
-        .variables()
-        .iter()
-        .map(|&v| seed[v])
-        .collect();
+    let k_seed = chain_seed(&solver, &seed);
     let k_targets: Vec<_> = targets.iter().map(KArm::target).collect();
     group.bench_function("k_jacobian_ik", |b| {
         b.iter(|| {

@@ -302,13 +302,7 @@ impl GltfBuilder {
         let times = self.check_track(node, path, times, translations.len())?;
         let mut values = Vec::with_capacity(3 * translations.len());
         for (index, t) in translations.iter().enumerate() {
-            if !t.iter().all(|c| c.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue {
-                    node: node.0,
-                    path: path.name(),
-                    index,
-                }));
-            }
+            check_finite_value(t.iter(), node, path, index)?;
             values.extend([t.x as f32, t.y as f32, t.z as f32]);
         }
         self.tracks.push(Track {
@@ -337,13 +331,7 @@ impl GltfBuilder {
         let mut previous: Option<[f64; 4]> = None;
         for (index, q) in rotations.iter().enumerate() {
             let c = q.coords;
-            if !c.iter().all(|x| x.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue {
-                    node: node.0,
-                    path: path.name(),
-                    index,
-                }));
-            }
+            check_finite_value(c.iter(), node, path, index)?;
             let mut xyzw = [c.x, c.y, c.z, c.w];
             if let Some(p) = previous
                 && p.iter().zip(&xyzw).map(|(a, b)| a * b).sum::<f64>() < 0.0
@@ -692,5 +680,24 @@ fn check_index(what: &'static str, index: usize, count: usize) -> Result<()> {
         Err(Error::Gltf {
             kind: GltfErrorKind::IndexOutOfRange { what, index, count },
         })
+    }
+}
+
+/// [`GltfErrorKind::NonFiniteValue`] unless every component of keyframe `index` of the
+/// node's `path` track is finite.
+fn check_finite_value<'a>(
+    components: impl IntoIterator<Item = &'a f64>,
+    node: NodeId,
+    path: TrackPath,
+    index: usize,
+) -> Result<()> {
+    if components.into_iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(track_error(GltfErrorKind::NonFiniteValue {
+            node: node.0,
+            path: path.name(),
+            index,
+        }))
     }
 }
