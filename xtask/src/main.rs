@@ -76,7 +76,10 @@ mod tests {
             .collect();
         assert_eq!(tasks.len(), 6, "{tasks:?}");
         for task in tasks {
-            assert!(USAGE.contains(&format!("\n  {task} ")), "{task} is not in the help");
+            assert!(
+                USAGE.contains(&format!("\n  {task} ")),
+                "{task} is not in the help"
+            );
         }
     }
 }
