@@ -7,15 +7,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use pickplace::planner::{Outcome, PlanOptions};
 use pickplace::{Setup, SetupOptions};
+use pickplace_benches::repo;
 use std::hint::black_box;
-use std::path::PathBuf;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default()
-}
 
 fn setup(scene: &str) -> Setup {
     let options = SetupOptions {

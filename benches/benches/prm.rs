@@ -9,18 +9,17 @@
 //!   pallet scene of the robot benches, checked by `pickplace_robot`'s collision world (full
 //!   robot, 1 cm margin), the other joints at the SRDF `home` state.
 
+use pickplace_benches::{add_pallet_scene, nx_hiro};
 use std::hint::black_box;
-use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use pickplace::checker::ArmChecker;
-use pickplace_geometry::math::{Isometry3, Vector3};
 use pickplace_prm::{
     JointSpace, PrmPlanner, QueryOptions, Roadmap, RoadmapOptions, RrtOptions, ShortcutOptions,
     TimingOptions, ValidityChecker, rrt_connect, shortcut, time_parameterize,
 };
-use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
-use pickplace_robot::{LoadOptions, RobotModel, Semantics};
+use pickplace_robot::RobotModel;
+use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionWorld};
 
 /// A planning problem: a joint space, a validity checker and one hard query.
 struct Problem {
@@ -106,29 +105,14 @@ fn roadmap_options(problem: &Problem) -> RoadmapOptions {
     }
 }
 
-/// WAIST is 0.97 m above the floor; the table top is 0.72 m high (as in the robot benches).
-const TABLE_TOP_Z: f64 = 0.72 - 0.97;
 const GROUP: &str = "right_arm_waist";
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default()
-}
 
 /// The problem: NX-HIRO's right arm with the waist in the pallet scene. The roadmap is
 /// prefiltered by self-collisions (no scene), the queries check the full scene lazily. Start and
 /// goal are the first pair of seeded collision-free configurations whose direct motion collides
 /// and that the roadmap joins (the first 8 such pairs).
 fn nxhiro_problem() -> Problem {
-    let model = RobotModel::from_urdf_file(
-        &repo().join("robots/nx-hiro/nx-hiro.urdf"),
-        &LoadOptions::default(),
-    )
-    .expect("shipped URDF loads");
-    let semantics = Semantics::from_file(&model, &repo().join("robots/nx-hiro/nx-hiro.srdf"))
-        .expect("shipped SRDF resolves");
+    let (model, semantics) = nx_hiro();
     let mut home = model.zero_configuration();
     semantics
         .apply_state(&model, "home", &mut home)
@@ -160,17 +144,7 @@ fn nxhiro_problem() -> Problem {
     let variables: &'static [usize] = Box::leak(variables.into_boxed_slice());
     let self_world: &'static CollisionWorld = Box::leak(Box::new(world.clone()));
     let self_collisions = ArmChecker::new(model, self_world, variables, home.clone(), 0.01);
-    world.add_environment(
-        "table",
-        CollisionShape::cuboid(Vector3::new(0.3, 0.5, 0.015)).expect("valid box"),
-        &Isometry3::translation(0.55, 0.0, TABLE_TOP_Z - 0.015),
-    );
-    world.add_environment(
-        "pallet",
-        CollisionShape::mesh_file(&repo().join("meshes/pallet.stl"), &Default::default())
-            .expect("shipped pallet loads"),
-        &Isometry3::translation(0.45, 0.0, TABLE_TOP_Z),
-    );
+    add_pallet_scene(&mut world);
     let world: &'static CollisionWorld = Box::leak(Box::new(world));
     let checker = ArmChecker::new(model, world, variables, home, 0.01);
     let resolution = 0.05;

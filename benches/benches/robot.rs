@@ -8,39 +8,27 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use k::InverseKinematicsSolver as _;
-use pickplace_geometry::math::{Isometry3, Point3, Vector3};
+use pickplace_benches::{add_pallet_scene, nx_hiro, repo};
+use pickplace_geometry::math::{Isometry3, Point3};
 use pickplace_robot::collision::{
-    AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionShape, CollisionWorld,
+    AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
 };
 use pickplace_robot::kinematics::Jacobian;
 use pickplace_robot::rng::Rng;
-use pickplace_robot::{IkOptions, IkSolver, LoadOptions, RobotModel, Semantics};
+use pickplace_robot::{IkOptions, IkSolver, RobotModel, Semantics};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
 
 const GROUP: &str = "right_arm_waist";
 const POSES: usize = 10_000;
-/// WAIST is 0.97 m above the floor (facts sheet); the table top is 0.72 m high.
-const TABLE_TOP_Z: f64 = 0.72 - 0.97;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default()
-}
 
 fn urdf_path() -> PathBuf {
     repo().join("robots/nx-hiro/nx-hiro.urdf")
 }
 
 fn load() -> (RobotModel, Semantics) {
-    let model = RobotModel::from_urdf_file(&urdf_path(), &LoadOptions::default())
-        .expect("shipped URDF loads");
-    let semantics = Semantics::from_file(&model, &repo().join("robots/nx-hiro/nx-hiro.srdf"))
-        .expect("shipped SRDF resolves");
-    (model, semantics)
+    nx_hiro()
 }
 
 fn random_configurations(model: &RobotModel, n: usize, seed: u64) -> Vec<Vec<f64>> {
@@ -72,18 +60,19 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn pallet_world(model: &RobotModel, semantics: &Semantics) -> CollisionWorld {
     let mut world = CollisionWorld::new(model, AllowedCollisionMatrix::from_srdf(semantics.srdf()))
         .expect("valid robot shapes");
-    world.add_environment(
-        "table",
-        CollisionShape::cuboid(Vector3::new(0.3, 0.5, 0.015)).expect("valid box"),
-        &Isometry3::translation(0.55, 0.0, TABLE_TOP_Z - 0.015),
-    );
-    world.add_environment(
-        "pallet",
-        CollisionShape::mesh_file(&repo().join("meshes/pallet.stl"), &Default::default())
-            .expect("shipped pallet loads"),
-        &Isometry3::translation(0.45, 0.0, TABLE_TOP_Z),
-    );
+    add_pallet_scene(&mut world);
     world
+}
+
+/// The solver's chain variables of the full configuration `seed`, in chain order (the `k`
+/// chain's joint order).
+fn chain_seed(solver: &IkSolver, seed: &[f64]) -> Vec<f64> {
+    solver
+        .chain()
+        .variables()
+        .iter()
+        .map(|&v| seed[v])
+        .collect()
 }
 
 /// The `k` crate's chain for the same group: from `RARM_TCP_JOINT` to the root (7 joints,
@@ -136,12 +125,7 @@ fn ik_acceptance(model: &RobotModel, semantics: &Semantics) {
     }
     let ours = median(times);
     let k_arm = KArm::new();
-    let k_seed: Vec<f64> = solver
-        .chain()
-        .variables()
-        .iter()
-        .map(|&v| seed[v])
-        .collect();
+    let k_seed = chain_seed(&solver, &seed);
     let (mut k_ok, mut k_times) = (0, Vec::with_capacity(POSES));
     for target in &targets {
         let t = KArm::target(target);
@@ -235,12 +219,7 @@ fn bench_ik(c: &mut Criterion) {
         });
     });
     let k_arm = KArm::new();
-    let k_seed: Vec<f64> = solver
-        .chain()
-        .variables()
-        .iter()
-        .map(|&v| seed[v])
-        .collect();
+    let k_seed = chain_seed(&solver, &seed);
     let k_targets: Vec<_> = targets.iter().map(KArm::target).collect();
     group.bench_function("k_jacobian_ik", |b| {
         b.iter(|| {

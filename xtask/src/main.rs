@@ -21,24 +21,31 @@ fn main() -> anyhow::Result<()> {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
         }
+        Some("--help" | "-h" | "help") => {
+            println!("{USAGE}");
+            Ok(())
+        }
         _ => {
-            eprintln!(
-                "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
-                 (meshes/*.stl) from pickplace_geometry::shapes\n  \
-                 acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
-                 precompute   cluster every mesh in meshes/ (env and finger) into the cache \
-                 and a PRM roadmap per arm group of NX-HIRO into the cache \
-                 ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
-                 bench        [--quick] [--no-run] [-- FILTER…]: run the criterion benches and \
-                 rewrite the generated part of docs/benchmarks.md\n  \
-                 fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
-                 (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
-                 fuzz-seeds   write the generated seed corpora under fuzz/seeds/"
-            );
+            eprintln!("{USAGE}");
             std::process::exit(2);
         }
     }
 }
+
+/// `cargo xtask --help`: every task and its arguments.
+const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
+     (meshes/*.stl) from pickplace_geometry::shapes\n  \
+     acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
+     precompute   [--force]: cluster every mesh in meshes/ (env and finger) into the \
+     cache and a PRM roadmap per arm group of NX-HIRO into the cache \
+     ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
+     bench        [--quick] [--no-run | --text-only] [-- FILTER…]: run the criterion \
+     benches and write docs/benchmarks.md from their results and \
+     benches/targets.toml; --no-run uses the results on disk, --text-only keeps \
+     the figures of the document and rewrites its text\n  \
+     fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
+     (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
+     fuzz-seeds   write the generated seed corpora under fuzz/seeds/";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
@@ -51,4 +58,28 @@ fn repo_root() -> PathBuf {
         .parent()
         .map(PathBuf::from)
         .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::USAGE;
+
+    /// Every task `main` dispatches is described in the usage text.
+    #[test]
+    fn every_task_is_in_the_help() {
+        let main = include_str!("main.rs");
+        let tasks: Vec<&str> = main
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("Some(\""))
+            .filter_map(|l| l.split('"').next())
+            .filter(|t| !t.starts_with('-') && *t != "help")
+            .collect();
+        assert_eq!(tasks.len(), 6, "{tasks:?}");
+        for task in tasks {
+            assert!(
+                USAGE.contains(&format!("\n  {task} ")),
+                "{task} is not in the help"
+            );
+        }
+    }
 }

@@ -2,28 +2,35 @@
 //! h_max) in parallel and writes the cluster databases into the cache folder where the planner
 //! and `pickplace precompute` look for them: `$PICKPLACE_CACHE`, else `<repo>/target/pickplace-cache`.
 //! A database already valid for its mesh and parameters is kept unless `--force` is given.
-//! Then every shipped scene is set up once, which caches the PRM roadmap of each arm (see
-//! `roadmaps`).
+//! The loop is the façade's ([`pickplace::precompute`]); this task lists the meshes and shows
+//! the progress. Then every shipped scene is set up once, which caches the PRM roadmap of each
+//! arm (see `roadmaps`).
 
 use anyhow::{Context, Result};
+use pickplace::precompute::{
+    self, DatabaseReport, Job, PrecomputeOptions, Rebuild, precompute_parallel,
+};
 use pickplace_geometry::cluster::ClusterParams;
-use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
-use pickplace_geometry::mesh::{self, MeshOptions};
+use pickplace_geometry::db::CacheStatus;
+use pickplace_geometry::mesh::{self, MeshOptions, TriMesh};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// Runs the task from the repository root `root`.
-pub fn run(root: &Path, force: bool) -> Result<()> {
-    let meshes_dir = root.join("meshes");
-    let out = std::env::var_os("PICKPLACE_CACHE")
-        .filter(|v| !v.is_empty())
-        .map_or_else(
-            || root.join("target").join("pickplace-cache"),
-            PathBuf::from,
-        );
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let mut meshes: Vec<PathBuf> = std::fs::read_dir(&meshes_dir)
-        .with_context(|| format!("reading {}", meshes_dir.display()))?
+/// Advances the progress bar as each database is done.
+struct Bar(indicatif::ProgressBar);
+
+impl precompute::Progress for Bar {
+    fn finished(&self, _job: &Job<'_>, outcome: &pickplace_geometry::Result<DatabaseReport>) {
+        if outcome.is_ok() {
+            self.0.inc(1);
+        }
+    }
+}
+
+/// The mesh files of `dir` (`.stl`, `.obj`, `.ply`, any case), sorted.
+fn mesh_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut meshes: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("reading {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             matches!(
@@ -36,59 +43,72 @@ pub fn run(root: &Path, force: bool) -> Result<()> {
         })
         .collect();
     meshes.sort();
-    let jobs: Vec<(PathBuf, ClusterParams)> = meshes
-        .iter()
-        .flat_map(|m| {
-            [
-                (m.clone(), ClusterParams::environment()),
-                (m.clone(), ClusterParams::finger()),
-            ]
-        })
-        .collect();
-    let bar = indicatif::ProgressBar::new(jobs.len() as u64);
+    Ok(meshes)
+}
+
+/// One line of the log: mesh, mode, loaded or built, time, database path relative to `root`.
+fn report_line(root: &Path, report: &DatabaseReport) -> String {
+    let rel = report
+        .db_path
+        .strip_prefix(root)
+        .unwrap_or(&report.db_path)
+        .display()
+        .to_string();
+    format!(
+        "{:<24} {:<6} {} in {:.2} ms -> {rel}",
+        report
+            .mesh_path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        report.params.mode.name(),
+        match report.status {
+            CacheStatus::Loaded => "loaded from cache",
+            _ => "built",
+        },
+        report.elapsed.as_secs_f64() * 1e3
+    )
+}
+
+/// Runs the task from the repository root `root`.
+pub fn run(root: &Path, force: bool) -> Result<()> {
+    let out = precompute::cache_dir(root);
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let paths = mesh_files(&root.join("meshes"))?;
+    let params = [ClusterParams::environment(), ClusterParams::finger()];
+    let bar = indicatif::ProgressBar::new((paths.len() * params.len()) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("precompute {bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let results: Vec<Result<String>> = jobs
+    let loaded: Vec<(&PathBuf, pickplace_geometry::Result<TriMesh>)> = paths
         .par_iter()
-        .map(|(path, params)| {
-            let start = std::time::Instant::now();
-            let mesh = mesh::load(path, &MeshOptions::default())?;
-            let db_path = cache_path(&out, path, params);
-            let status = if force {
-                ClusterDatabase::build(&mesh, params)?.save(&db_path)?;
-                CacheStatus::Built {
-                    reason: Some("--force".into()),
-                }
-            } else {
-                ClusterDatabase::load_or_build(&db_path, &mesh, params)?.1
-            };
-            bar.inc(1);
-            let rel = db_path
-                .strip_prefix(root)
-                .unwrap_or(&db_path)
-                .display()
-                .to_string();
-            Ok(format!(
-                "{:<24} {:<6} {} in {:.2} ms -> {rel}",
-                path.file_name()
-                    .map(|f| f.to_string_lossy().into_owned())
-                    .unwrap_or_default(),
-                params.mode.name(),
-                match status {
-                    CacheStatus::Loaded => "loaded from cache",
-                    _ => "built",
-                },
-                start.elapsed().as_secs_f64() * 1e3
-            ))
-        })
+        .map(|path| (path, mesh::load(path, &MeshOptions::default())))
         .collect();
-    bar.finish_and_clear();
     let mut failed = 0;
-    for r in results {
-        match r {
-            Ok(line) => eprintln!("{line}"),
+    let mut jobs = Vec::new();
+    for (path, mesh) in &loaded {
+        match mesh {
+            Ok(mesh) => jobs.extend(Job::each_mode(path, mesh, &params)),
+            Err(e) => {
+                failed += 1;
+                bar.suspend(|| eprintln!("error: {e:#}"));
+            }
+        }
+    }
+    let options = PrecomputeOptions {
+        rebuild: if force {
+            Rebuild::Always
+        } else {
+            Rebuild::WhenInvalid
+        },
+    };
+    let bar = Bar(bar);
+    let outcomes = precompute_parallel(&jobs, &out, &options, &bar);
+    bar.0.finish_and_clear();
+    for outcome in outcomes {
+        match outcome {
+            Ok(report) => eprintln!("{}", report_line(root, &report)),
             Err(e) => {
                 failed += 1;
                 eprintln!("error: {e:#}");

@@ -8,14 +8,14 @@
 //! leaves no partial file behind.
 
 use anyhow::{Context, Result};
+use pickplace::precompute::{self, DatabaseReport, Job, PrecomputeOptions, Rebuild};
 use pickplace_geometry::cluster::{ClusterParams, Clustering, ContactMode};
-use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
+use pickplace_geometry::db::{CacheStatus, ClusterDatabase};
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::mesh::{self, MeshOptions, TriMesh};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
 
 /// Contact mode on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -60,7 +60,7 @@ pub struct ClustersArgs {
         allow_negative_numbers = true
     )]
     pub scale: f64,
-    /// Print the clusters as JSON on stdout (format `pickplace.clusters.v1`).
+    /// Print the clusters as JSON on stdout (format `pickplace.clusters/1`).
     #[arg(long)]
     pub json: bool,
     /// Also write the clusters as a PLY mesh with one colour per cluster.
@@ -106,9 +106,7 @@ pub struct PrecomputeArgs {
 
 /// The default cache folder: `$PICKPLACE_CACHE`, else `target/pickplace-cache`.
 pub fn default_cache_dir() -> PathBuf {
-    std::env::var_os("PICKPLACE_CACHE")
-        .filter(|v| !v.is_empty())
-        .map_or_else(|| PathBuf::from("target/pickplace-cache"), PathBuf::from)
+    precompute::cache_dir(Path::new(""))
 }
 
 fn load_mesh(path: &Path, scale: f64) -> Result<TriMesh> {
@@ -196,6 +194,41 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Prints each database's line above the progress bar.
+struct PrecomputeBar(indicatif::ProgressBar);
+
+impl precompute::Progress for PrecomputeBar {
+    fn started(&self, job: &Job<'_>) {
+        self.0.set_message(format!(
+            "{} ({})",
+            job.mesh_path.display(),
+            job.params.mode.name()
+        ));
+    }
+
+    fn finished(&self, _job: &Job<'_>, outcome: &pickplace_geometry::Result<DatabaseReport>) {
+        if let Ok(report) = outcome {
+            let what = match &report.status {
+                CacheStatus::Loaded => "loaded from cache".to_owned(),
+                CacheStatus::Built { reason: Some(r) } => format!("rebuilt ({r})"),
+                _ => "built".to_owned(),
+            };
+            let clustering = &report.database.clustering;
+            let line = format!(
+                "{}: {} {} clusters{}: {what} {} ({:.2} ms)",
+                report.mesh_path.display(),
+                clustering.clusters.len(),
+                report.params.mode.name(),
+                pairs_note(clustering),
+                report.db_path.display(),
+                report.elapsed.as_secs_f64() * 1e3
+            );
+            self.0.suspend(|| eprintln!("{line}"));
+            self.0.inc(1);
+        }
+    }
+}
+
 /// `pickplace precompute`.
 pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
     let modes: Vec<ModeArg> = match args.mode {
@@ -216,46 +249,26 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 
-    let bar = indicatif::ProgressBar::new((meshes.len() * params.len()) as u64);
+    let jobs: Vec<Job<'_>> = args
+        .meshes
+        .iter()
+        .zip(&meshes)
+        .flat_map(|(path, mesh)| Job::each_mode(path, mesh, &params))
+        .collect();
+    let bar = indicatif::ProgressBar::new(jobs.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("precompute {bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    for (path, mesh) in args.meshes.iter().zip(&meshes) {
-        for p in &params {
-            let db_path = cache_path(&out, path, p);
-            bar.set_message(format!("{} ({})", path.display(), p.mode.name()));
-            let start = Instant::now();
-            let (db, status) = if args.force {
-                let db = ClusterDatabase::build(mesh, p)?;
-                db.save(&db_path)?;
-                (
-                    db,
-                    CacheStatus::Built {
-                        reason: Some("--force".into()),
-                    },
-                )
-            } else {
-                ClusterDatabase::load_or_build(&db_path, mesh, p)?
-            };
-            let what = match status {
-                CacheStatus::Loaded => "loaded from cache".to_owned(),
-                CacheStatus::Built { reason: Some(r) } => format!("rebuilt ({r})"),
-                _ => "built".to_owned(),
-            };
-            let line = format!(
-                "{}: {} {} clusters{}: {what} {} ({:.2} ms)",
-                path.display(),
-                db.clustering.clusters.len(),
-                p.mode.name(),
-                pairs_note(&db.clustering),
-                db_path.display(),
-                start.elapsed().as_secs_f64() * 1e3
-            );
-            bar.suspend(|| eprintln!("{line}"));
-            bar.inc(1);
-        }
-    }
-    bar.finish_and_clear();
+    let options = PrecomputeOptions {
+        rebuild: if args.force {
+            Rebuild::Always
+        } else {
+            Rebuild::WhenInvalid
+        },
+    };
+    let bar = PrecomputeBar(bar);
+    precompute::precompute(&jobs, &out, &options, &bar)?;
+    bar.0.finish_and_clear();
     Ok(ExitCode::SUCCESS)
 }

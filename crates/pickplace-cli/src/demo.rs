@@ -12,7 +12,7 @@ use anyhow::Context;
 use pickplace::planner::Outcome;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::export::{write_atomic, write_clusters_ply};
-use pickplace_geometry::mesh::encode_stl_binary;
+use pickplace_geometry::mesh::write_stl_binary;
 use pickplace_geometry::shapes;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -162,8 +162,7 @@ fn write_scene(dir: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(&meshes)
         .with_context(|| format!("{}: cannot create the folder", meshes.display()))?;
     for shipped in shapes::shipped_meshes() {
-        let bytes = encode_stl_binary(&shipped.builder)?;
-        write_atomic(&meshes.join(shipped.file_name), &bytes)?;
+        write_stl_binary(&shipped.builder, &meshes.join(shipped.file_name))?;
     }
     Ok(())
 }

@@ -1,19 +1,16 @@
 //! The error type of the view crate.
 
-use std::path::PathBuf;
-
 /// Errors of `pickplace-view`. Each says which file, parameter or element is wrong and how.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A file could not be written (or its temporary file renamed into place).
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The output file.
-        path: PathBuf,
-        /// The I/O error.
-        #[source]
-        source: std::io::Error,
+    /// A file could not be written (or its temporary file renamed into place) by the one
+    /// atomic writer, [`pickplace_geometry::export::write_atomic`]; its error names the file.
+    #[error(transparent)]
+    Write {
+        /// The writer's error ([`pickplace_geometry::Error::Io`]).
+        #[from]
+        source: pickplace_geometry::Error,
     },
     /// The PNG encoder refused the image.
     #[error("PNG encoding of a {width}x{height} image failed: {source}")]

@@ -1,6 +1,7 @@
-//! RGBA8 images, colours, PNG encoding, atomic file output and image montages.
+//! RGBA8 images, colours, PNG encoding and image montages.
 
 use crate::error::{Error, Result};
+use pickplace_geometry::export::write_atomic;
 use std::path::Path;
 
 /// An sRGB colour, 8 bits per channel (opaque).
@@ -222,10 +223,10 @@ impl Image {
     /// directory, which is then renamed over `path`, so `path` is never half-written.
     ///
     /// # Errors
-    /// [`Error::PngEncode`], or [`Error::Io`] naming `path`.
+    /// [`Error::PngEncode`], or [`Error::Write`] naming `path`.
     pub fn write_png(&self, path: &Path) -> Result<()> {
         let bytes = self.encode_png()?;
-        write_atomic(path, &bytes)
+        Ok(write_atomic(path, &bytes)?)
     }
 }
 
@@ -238,21 +239,6 @@ fn check_side(name: &'static str, side: u32) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so
-/// that readers never see a partial file ([`pickplace_geometry::export::write_atomic`]).
-///
-/// # Errors
-/// [`Error::Io`] naming `path`.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    pickplace_geometry::export::write_atomic(path, bytes).map_err(|e| match e {
-        pickplace_geometry::Error::Io { path, source } => Error::Io { path, source },
-        other => Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::other(other.to_string()),
-        },
-    })
 }
 
 /// Options of [`montage`].
@@ -385,23 +371,5 @@ mod tests {
             Some([0, 0, 0, 255]),
             "empty cell keeps the background"
         );
-    }
-
-    #[test]
-    fn atomic_write_replaces_and_leaves_no_temp() {
-        let dir =
-            std::env::temp_dir().join(format!("pickplace-view-atomic-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        let path = dir.join("a.bin");
-        write_atomic(&path, b"first").expect("write");
-        write_atomic(&path, b"second").expect("overwrite");
-        assert_eq!(std::fs::read(&path).expect("read"), b"second");
-        let names: Vec<_> = std::fs::read_dir(&dir)
-            .expect("list")
-            .map(|e| e.expect("entry").file_name())
-            .collect();
-        assert_eq!(names.len(), 1, "{names:?}");
-        assert!(write_atomic(&dir.join("missing-dir").join("x.png"), b"x").is_err());
-        std::fs::remove_dir_all(&dir).expect("cleanup");
     }
 }

@@ -1,28 +1,5 @@
 //! Pictures of clusters, placements and plans, without a GPU or a browser.
 //!
-//! Two outputs:
-//! - **PNG pictures** from a small software rasteriser ([`render`], [`render_to_png`]): a
-//!   [`Scene`] of triangle meshes placed by poses (`world_from_mesh`) and coloured per
-//!   instance or per triangle (cluster pictures, Harada et al. §III-A), seen by a look-at
-//!   [`Camera`] (perspective or orthographic, [`Camera::fit`] frames a bounding box), with a
-//!   z-buffer, near-plane clipping, two-sided flat Lambert shading, optional edge darkening and
-//!   2x2 supersampling. Markers show target points and directions
-//!   ([`Scene::add_point_marker`], [`Scene::add_arrow`], [`Scene::add_frame_axes`]);
-//!   [`montage`] tiles several pictures (key poses, say) into one.
-//! - **glTF 2.0 binary files** ([`glb::GltfBuilder`]): flat-shaded meshes, a node hierarchy
-//!   with local transforms and one animation of per-node translation and rotation tracks, for
-//!   any glTF viewer; [`glb::validate_glb`] reads a file back and checks it.
-//!
-//! - **The paper's pictures** ([`pictures`]): clusters coloured like Harada et al. Figs. 3–5
-//!   ([`render_clusters`]) and candidate placements like Fig. 6 ([`render_placements`]).
-//! - **Plans played back** ([`plan::PlanView`]): robot links ([`RobotGeometry`], URDF
-//!   primitives triangulated) posed by forward kinematics at every trajectory sample, the
-//!   object following the link that holds it between grasp and release; rendered per frame
-//!   or exported as an animated glTF with one keyframe per sample.
-//!
-//! Files are written atomically (temporary file, then rename): an output path is never left
-//! half-written.
-//!
 //! # Example
 //! ```
 //! use pickplace_geometry::math::{Isometry3, Point3, Vector3};
@@ -47,6 +24,29 @@
 //! assert_eq!(&png[1..4], b"PNG");
 //! # Ok::<(), pickplace_view::Error>(())
 //! ```
+//!
+//! # Outputs
+//!
+//! - **PNG pictures** from a small software rasteriser ([`render`], [`render_to_png`]): a
+//!   [`Scene`] of triangle meshes placed by poses (`world_from_mesh`) and coloured per
+//!   instance or per triangle (cluster pictures, Harada et al. §III-A), seen by a look-at
+//!   [`Camera`] (perspective or orthographic, [`Camera::fit`] frames a bounding box), with a
+//!   z-buffer, near-plane clipping, two-sided flat Lambert shading, optional edge darkening and
+//!   2x2 supersampling. Markers show target points and directions
+//!   ([`Scene::add_point_marker`], [`Scene::add_arrow`], [`Scene::add_frame_axes`]);
+//!   [`montage`] tiles several pictures (key poses, say) into one.
+//! - **glTF 2.0 binary files** ([`glb::GltfBuilder`]): flat-shaded meshes, a node hierarchy
+//!   with local transforms and one animation of per-node translation and rotation tracks, for
+//!   any glTF viewer; [`glb::validate_glb`] reads a file back and checks it.
+//! - **The paper's pictures** ([`pictures`]): clusters coloured like Harada et al. Figs. 3–5
+//!   ([`render_clusters`]) and candidate placements like Fig. 6 ([`render_placements`]).
+//! - **Plans played back** ([`plan::PlanView`]): robot links ([`RobotGeometry`], URDF
+//!   primitives triangulated) posed by forward kinematics at every trajectory sample, the
+//!   object following the link that holds it between grasp and release; rendered per frame
+//!   or exported as an animated glTF with one keyframe per sample.
+//!
+//! Files are written atomically by [`pickplace_geometry::export::write_atomic`] (temporary
+//! file, then rename): an output path is never left half-written.
 //!
 //! # Limitations
 //! - Flat shading only: one normal per triangle, no smoothing, textures or shadows;
@@ -76,7 +76,7 @@ pub mod scene;
 
 pub use camera::{Camera, DEFAULT_FOV_Y, OBLIQUE_VIEW, Projection};
 pub use error::{Error, GeometryErrorKind, GlbErrorKind, GltfErrorKind, MotionErrorKind, Result};
-pub use image::{Colour, Image, MontageOptions, montage, write_atomic};
+pub use image::{Colour, Image, MontageOptions, montage};
 pub use pictures::{PictureOptions, cluster_colours, render_clusters, render_placements};
 pub use plan::{Grip, Motion, PlanView, Prop};
 pub use raster::{AntiAliasing, RenderOptions, render, render_to_png};

@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::image::Colour;
-use crate::scene::{Geometry, Instance, Paint, Scene, sphere_geometry};
+use crate::scene::{Geometry, Instance, Paint, Scene, positive, sphere_geometry};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::shapes::{box_builder, cylinder_builder, revolve_builder};
 use pickplace_robot::RobotModel;
@@ -50,17 +50,6 @@ impl Default for RobotGeometryOptions {
 /// [`Error::InvalidParameter`] for a non-positive or non-finite size;
 /// [`crate::GeometryErrorKind`] for a malformed mesh.
 pub fn shape_geometry(shape: &Shape, options: &RobotGeometryOptions) -> Result<Geometry> {
-    let positive = |name: &'static str, value: Real| {
-        if value.is_finite() && value > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::InvalidParameter {
-                name,
-                value,
-                reason: "must be positive and finite",
-            })
-        }
-    };
     let segments = options.segments.max(3);
     let builder = match shape {
         Shape::Box { half_extents } => {

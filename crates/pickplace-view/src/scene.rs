@@ -360,7 +360,8 @@ pub(crate) fn rotation_from_z(direction: &Vector3) -> UnitQuaternion {
     })
 }
 
-fn positive(name: &'static str, value: Real) -> Result<()> {
+/// `Ok` when `value` is positive and finite, else [`Error::InvalidParameter`] naming `name`.
+pub(crate) fn positive(name: &'static str, value: Real) -> Result<()> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {

@@ -41,6 +41,7 @@ pub mod contact;
 pub mod error;
 pub mod plan;
 pub mod planner;
+pub mod precompute;
 pub mod roadmaps;
 pub mod scene;
 pub mod setup;

@@ -2,6 +2,7 @@
 
 use crate::args;
 use crate::support::{Scratch, mesh, ok, run_in, stdout};
+use pickplace_geometry::cluster::CLUSTERS_JSON_FORMAT;
 use serde_json::Value;
 
 type V3 = [f64; 3];
@@ -55,7 +56,7 @@ fn unit_normal(t: &[V3; 3]) -> V3 {
 /// partition the triangles, every triangle lies within h ≤ h_max under its cluster's contact
 /// plane and faces its normal, and the boundaries lie on the contact planes.
 fn check_document(doc: &Value, triangles: &[[V3; 3]], mode: &str, h_max: f64) {
-    assert_eq!(doc["format"], "pickplace.clusters.v1");
+    assert_eq!(doc["format"], CLUSTERS_JSON_FORMAT);
     assert_eq!(doc["mode"], mode);
     assert_eq!(doc["h_max"].as_f64(), Some(h_max));
     assert_eq!(doc["triangle_count"].as_u64(), Some(triangles.len() as u64));

@@ -13,8 +13,9 @@ mod validate;
 pub use validate::{AnimationSummary, ChannelSummary, GlbSummary, validate_glb};
 
 use crate::error::{Error, GltfErrorKind, Result};
-use crate::image::{Colour, write_atomic};
+use crate::image::Colour;
 use crate::scene::{Geometry, Paint, Scene, check_pose};
+use pickplace_geometry::export::write_atomic;
 use pickplace_geometry::math::{Isometry3, UnitQuaternion, Vector3};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -266,27 +267,11 @@ impl GltfBuilder {
         parent: Option<NodeId>,
         parent_from_node: &Isometry3,
     ) -> Result<NodeId> {
-        if let Some(m) = mesh
-            && m.0 >= self.meshes.len()
-        {
-            return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange {
-                    what: "mesh",
-                    index: m.0,
-                    count: self.meshes.len(),
-                },
-            });
+        if let Some(m) = mesh {
+            check_index("mesh", m.0, self.meshes.len())?;
         }
-        if let Some(p) = parent
-            && p.0 >= self.nodes.len()
-        {
-            return Err(Error::Gltf {
-                kind: GltfErrorKind::IndexOutOfRange {
-                    what: "parent",
-                    index: p.0,
-                    count: self.nodes.len(),
-                },
-            });
+        if let Some(p) = parent {
+            check_index("parent", p.0, self.nodes.len())?;
         }
         check_pose(parent_from_node, "node")?;
         let t = parent_from_node.translation.vector;
@@ -317,13 +302,7 @@ impl GltfBuilder {
         let times = self.check_track(node, path, times, translations.len())?;
         let mut values = Vec::with_capacity(3 * translations.len());
         for (index, t) in translations.iter().enumerate() {
-            if !t.iter().all(|c| c.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue {
-                    node: node.0,
-                    path: path.name(),
-                    index,
-                }));
-            }
+            check_finite_value(t.iter(), node, path, index)?;
             values.extend([t.x as f32, t.y as f32, t.z as f32]);
         }
         self.tracks.push(Track {
@@ -352,13 +331,7 @@ impl GltfBuilder {
         let mut previous: Option<[f64; 4]> = None;
         for (index, q) in rotations.iter().enumerate() {
             let c = q.coords;
-            if !c.iter().all(|x| x.is_finite()) {
-                return Err(track_error(GltfErrorKind::NonFiniteValue {
-                    node: node.0,
-                    path: path.name(),
-                    index,
-                }));
-            }
+            check_finite_value(c.iter(), node, path, index)?;
             let mut xyzw = [c.x, c.y, c.z, c.w];
             if let Some(p) = previous
                 && p.iter().zip(&xyzw).map(|(a, b)| a * b).sum::<f64>() < 0.0
@@ -604,9 +577,9 @@ impl GltfBuilder {
     /// Encodes the document and writes it to `path` atomically (temporary file and rename).
     ///
     /// # Errors
-    /// As [`GltfBuilder::encode`], or [`Error::Io`] naming `path`.
+    /// As [`GltfBuilder::encode`], or [`Error::Write`] naming `path`.
     pub fn write_glb(&self, path: &Path) -> Result<()> {
-        write_atomic(path, &self.encode()?)
+        Ok(write_atomic(path, &self.encode()?)?)
     }
 }
 
@@ -696,5 +669,35 @@ impl BinWriter {
             "type": "SCALAR"
         }));
         Some(self.accessors.len() - 1)
+    }
+}
+
+/// [`GltfErrorKind::IndexOutOfRange`] unless `index < count`.
+fn check_index(what: &'static str, index: usize, count: usize) -> Result<()> {
+    if index < count {
+        Ok(())
+    } else {
+        Err(Error::Gltf {
+            kind: GltfErrorKind::IndexOutOfRange { what, index, count },
+        })
+    }
+}
+
+/// [`GltfErrorKind::NonFiniteValue`] unless every component of keyframe `index` of the
+/// node's `path` track is finite.
+fn check_finite_value<'a>(
+    components: impl IntoIterator<Item = &'a f64>,
+    node: NodeId,
+    path: TrackPath,
+    index: usize,
+) -> Result<()> {
+    if components.into_iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(track_error(GltfErrorKind::NonFiniteValue {
+            node: node.0,
+            path: path.name(),
+            index,
+        }))
     }
 }

@@ -372,7 +372,7 @@ fn render_to_png_writes_a_complete_file_atomically() {
     let missing = dir.join("no-such-dir").join("x.png");
     assert!(matches!(
         render_to_png(&scene, &camera, &small(8, 8), &missing),
-        Err(pickplace_view::Error::Io { .. })
+        Err(pickplace_view::Error::Write { .. })
     ));
     std::fs::remove_dir_all(&dir).expect("cleanup");
 }
