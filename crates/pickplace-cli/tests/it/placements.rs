@@ -85,40 +85,29 @@ fn environment_pose_moves_the_placements() {
     assert!((p[2].as_f64().expect("z") - 0.725).abs() < 1e-9);
 }
 
-#[test]
-fn no_placement_exits_1_with_reasons() {
+/// The can on the pallet at `target`: the exit status and every `needle` on stderr.
+fn check_can_on_pallet(target: &str, code: i32, needles: &[&str]) {
     let out = pickplace(&[
         "placements",
         "meshes/can.stl",
         "--on",
         "meshes/pallet.stl",
         "--target",
-        "0.05,0.06,0.03",
+        target,
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(code), "{target}");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("did not fit") && err.contains("environment cluster"),
-        "{err}"
-    );
+    assert!(needles.iter().all(|n| err.contains(n)), "{target}: {err}");
+}
+
+#[test]
+fn no_placement_exits_1_with_reasons() {
+    check_can_on_pallet("0.05,0.06,0.03", 1, &["did not fit", "environment cluster"]);
 }
 
 #[test]
 fn target_off_the_environment_exits_2_naming_the_nearest_cluster() {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        "1,0,0.04",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("nearest is cluster") && err.contains("pallet.stl"),
-        "{err}"
-    );
+    check_can_on_pallet("1,0,0.04", 2, &["nearest is cluster", "pallet.stl"]);
 }
 
 #[test]
