@@ -11,8 +11,9 @@
 //!
 //! Every pose must pass the stability test (Fig. 7, [`crate::stability`]): for face-face
 //! contacts the common area of the two outer boundaries minus both regions' holes, its convex
-//! hull, and the vertical through the CoG must pass inside it; for edge-face contacts the hull of the segment and the points
-//! where C_j meets the environment. And it must not penetrate the environment (parry3d-f64, with
+//! hull, and the vertical through the CoG must pass inside it; for edge-face contacts the hull
+//! of the segment and the points where C_j meets the environment. And it must not penetrate
+//! the environment (parry3d-f64, with
 //! a small clearance; a convex object is tested as its convex hull against the environment
 //! mesh, others mesh against mesh).
 //!
