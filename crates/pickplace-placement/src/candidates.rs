@@ -13,9 +13,8 @@
 //! contacts the common area of the two outer boundaries minus both regions' holes, its convex
 //! hull, and the vertical through the CoG must pass inside it; for edge-face contacts the hull
 //! of the segment and the points where C_j meets the environment. And it must not penetrate
-//! the environment (parry3d-f64, with
-//! a small clearance; a convex object is tested as its convex hull against the environment
-//! mesh, others mesh against mesh).
+//! the environment (parry3d-f64, with a small clearance; a convex object is tested as its
+//! convex hull against the environment mesh, others mesh against mesh).
 //!
 //! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
 //! a grid in order of distance to the target so the first candidates are the best ranked;
