@@ -7,15 +7,15 @@ fn json(out: &std::process::Output) -> Value {
     serde_json::from_slice(&out.stdout).expect("JSON on stdout")
 }
 
-#[test]
-fn can_into_the_large_dent() {
+/// The JSON document of the can's placements on the pallet at `target` (exit status 0).
+fn can_on_pallet_json(target: &str) -> Value {
     let out = pickplace(&[
         "placements",
         "meshes/can.stl",
         "--on",
         "meshes/pallet.stl",
         "--target",
-        "-0.1,0.05,0.025",
+        target,
         "--json",
     ]);
     assert_eq!(
@@ -24,7 +24,12 @@ fn can_into_the_large_dent() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let v = json(&out);
+    json(&out)
+}
+
+#[test]
+fn can_into_the_large_dent() {
+    let v = can_on_pallet_json("-0.1,0.05,0.025");
     assert_eq!(v["format"], "pickplace.placements/1");
     let first = &v["placements"][0];
     assert_eq!(first["contact"], "face-face");
@@ -38,22 +43,7 @@ fn can_into_the_large_dent() {
 
 #[test]
 fn can_on_the_groove_is_edge_face() {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        "-0.08,-0.09,0.028",
-        "--json",
-    ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v = json(&out);
+    let v = can_on_pallet_json("-0.08,-0.09,0.028");
     let placements = v["placements"].as_array().expect("array");
     assert!(!placements.is_empty());
     assert!(placements.iter().all(|p| p["contact"] == "edge-face"));
