@@ -7,17 +7,23 @@ fn json(out: &std::process::Output) -> Value {
     serde_json::from_slice(&out.stdout).expect("JSON on stdout")
 }
 
-/// The JSON document of the can's placements on the pallet at `target` (exit status 0).
-fn can_on_pallet_json(target: &str) -> Value {
-    let out = pickplace(&[
+/// `pickplace placements` of the can on the pallet at `target`, with `extra` arguments.
+fn can_on_pallet(target: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "placements",
         "meshes/can.stl",
         "--on",
         "meshes/pallet.stl",
         "--target",
         target,
-        "--json",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    pickplace(&args)
+}
+
+/// The JSON document of the can's placements on the pallet at `target` (exit status 0).
+fn can_on_pallet_json(target: &str) -> Value {
+    let out = can_on_pallet(target, &["--json"]);
     assert_eq!(
         out.status.code(),
         Some(0),
@@ -77,14 +83,7 @@ fn environment_pose_moves_the_placements() {
 
 /// The can on the pallet at `target`: the exit status and every `needle` on stderr.
 fn check_can_on_pallet(target: &str, code: i32, needles: &[&str]) {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        target,
-    ]);
+    let out = can_on_pallet(target, &[]);
     assert_eq!(out.status.code(), Some(code), "{target}");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(needles.iter().all(|n| err.contains(n)), "{target}: {err}");
