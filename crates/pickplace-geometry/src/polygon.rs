@@ -155,6 +155,17 @@ pub fn signed_margin(p: &Point2, ring: &[Point2]) -> Real {
     if point_in_ring(p, ring) { d } else { -d }
 }
 
+/// The counter-clockwise ring of the axis-aligned rectangle with corners `min` and `max`,
+/// starting at `min`.
+pub fn rectangle(min: Point2, max: Point2) -> Vec<Point2> {
+    vec![
+        min,
+        Point2::new(max.x, min.y),
+        max,
+        Point2::new(min.x, max.y),
+    ]
+}
+
 /// Signed distance of `p` to the boundary of a counter-clockwise convex ring (m): positive
 /// inside, negative outside; [`Real::NEG_INFINITY`] for a ring of fewer than three points.
 ///
@@ -476,12 +487,7 @@ mod tests {
     use super::*;
 
     fn square(x0: Real, y0: Real, s: Real) -> Vec<Point2> {
-        vec![
-            Point2::new(x0, y0),
-            Point2::new(x0 + s, y0),
-            Point2::new(x0 + s, y0 + s),
-            Point2::new(x0, y0 + s),
-        ]
+        rectangle(Point2::new(x0, y0), Point2::new(x0 + s, y0 + s))
     }
 
     #[test]

@@ -128,12 +128,7 @@ mod tests {
     use super::*;
 
     fn square(x0: Real, y0: Real, s: Real) -> Vec<Point2> {
-        vec![
-            Point2::new(x0, y0),
-            Point2::new(x0 + s, y0),
-            Point2::new(x0 + s, y0 + s),
-            Point2::new(x0, y0 + s),
-        ]
+        pickplace_geometry::polygon::rectangle(Point2::new(x0, y0), Point2::new(x0 + s, y0 + s))
     }
 
     #[test]

@@ -9,12 +9,12 @@
 //! environment's contact plane and the object is rotated about it until a second contact
 //! appears (bisection on the tilt angle).
 //!
-//! Every pose must pass the stability test (Fig. 7): for face-face contacts the common area of
-//! the two outer boundaries minus both regions' holes, its convex hull, and the vertical through
-//! the CoG must pass inside it; for edge-face contacts the hull of the segment and the points
-//! where C_j meets the environment. And it must not penetrate the environment (parry3d-f64, with
-//! a small clearance; a convex object is tested as its convex hull against the environment
-//! mesh, others mesh against mesh).
+//! Every pose must pass the stability test (Fig. 7, [`crate::stability`]): for face-face
+//! contacts the common area of the two outer boundaries minus both regions' holes, its convex
+//! hull, and the vertical through the CoG must pass inside it; for edge-face contacts the hull
+//! of the segment and the points where C_j meets the environment. And it must not penetrate
+//! the environment (parry3d-f64, with a small clearance; a convex object is tested as its
+//! convex hull against the environment mesh, others mesh against mesh).
 //!
 //! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
 //! a grid in order of distance to the target so the first candidates are the best ranked;

@@ -20,16 +20,11 @@
 //! # Example
 //! ```
 //! use pickplace_geometry::math::Point2;
-//! use pickplace_geometry::polygon::Polygon;
+//! use pickplace_geometry::polygon::{Polygon, rectangle};
 //! use pickplace_placement::stability::{SupportHull, is_stable};
 //!
 //! let square = |x0: f64, y0: f64, side: f64| {
-//!     Polygon::new(vec![
-//!         Point2::new(x0, y0),
-//!         Point2::new(x0 + side, y0),
-//!         Point2::new(x0 + side, y0 + side),
-//!         Point2::new(x0, y0 + side),
-//!     ])
+//!     Polygon::new(rectangle(Point2::new(x0, y0), Point2::new(x0 + side, y0 + side)))
 //! };
 //! // A 10 cm square foot on a large table, the CoG 5 cm above the foot's centre.
 //! let hull = SupportHull::of_regions(&square(0.0, 0.0, 0.1), &square(-1.0, -1.0, 2.0));
@@ -138,12 +133,7 @@ mod tests {
     use pickplace_geometry::math::{Isometry3, Translation3, UnitQuaternion};
 
     fn square(x0: Real, y0: Real, side: Real) -> Vec<Point2> {
-        vec![
-            Point2::new(x0, y0),
-            Point2::new(x0 + side, y0),
-            Point2::new(x0 + side, y0 + side),
-            Point2::new(x0, y0 + side),
-        ]
+        polygon::rectangle(Point2::new(x0, y0), Point2::new(x0 + side, y0 + side))
     }
 
     fn table() -> Polygon {

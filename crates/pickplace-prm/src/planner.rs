@@ -132,6 +132,29 @@ impl Overlay {
         }
     }
 
+    /// The overlay edges at `node`, newest first: `(overlay edge index, other end, edge)`.
+    fn edges_at(
+        &self,
+        node: u32,
+        base_count: u32,
+    ) -> impl Iterator<Item = (u32, u32, OverlayEdge)> + '_ {
+        let mut link = self.head(node, base_count);
+        std::iter::from_fn(move || {
+            if link == NONE {
+                return None;
+            }
+            let Link { edge, next } = self.links[link as usize];
+            link = next;
+            let e = self.edges[edge as usize];
+            let other = if e.ends[0] == node {
+                e.ends[1]
+            } else {
+                e.ends[0]
+            };
+            Some((edge, other, e))
+        })
+    }
+
     fn add_edge(&mut self, a: u32, b: u32, length: f64, base_count: u32) {
         let edge = self.edges.len() as u32;
         self.edges.push(OverlayEdge {
@@ -519,13 +542,7 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                     .map(|&(other, _)| other),
             );
         }
-        let mut link = self.overlay.head(node, n);
-        while link != NONE {
-            let Link { edge, next } = self.overlay.links[link as usize];
-            let ends = self.overlay.edges[edge as usize].ends;
-            out.push(if ends[0] == node { ends[1] } else { ends[0] });
-            link = next;
-        }
+        out.extend(self.overlay.edges_at(node, n).map(|(_, other, _)| other));
     }
 
     /// A* from `start` to `goal` over edges and nodes not known to be invalid. Fills
@@ -606,21 +623,12 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
                     }
                 }
             }
-            let mut link = self.overlay.head(node, n);
-            while link != NONE {
-                let Link { edge, next } = self.overlay.links[link as usize];
-                let e = self.overlay.edges[edge as usize];
-                let other = if e.ends[0] == node {
-                    e.ends[1]
-                } else {
-                    e.ends[0]
-                };
+            for (edge, other, e) in self.overlay.edges_at(node, n) {
                 if e.status != Status::Invalid
                     && (other >= n || self.node_status[other as usize] != Status::Invalid)
                 {
                     relax(other, base_edges + edge, e.length, s);
                 }
-                link = next;
             }
         }
         self.stats.nodes_expanded += s.expanded.len();
@@ -671,19 +679,10 @@ impl Graph for View<'_> {
             }
         }
         let base_edges = self.roadmap.edge_count() as u32;
-        let mut link = self.overlay.head(node, n);
-        while link != NONE {
-            let Link { edge, next } = self.overlay.links[link as usize];
-            let e = self.overlay.edges[edge as usize];
-            let other = if e.ends[0] == node {
-                e.ends[1]
-            } else {
-                e.ends[0]
-            };
+        for (edge, other, e) in self.overlay.edges_at(node, n) {
             if e.status != Status::Invalid && usable(other) {
                 out.push((other, base_edges + edge, e.length));
             }
-            link = next;
         }
     }
 

@@ -7,24 +7,35 @@ fn json(out: &std::process::Output) -> Value {
     serde_json::from_slice(&out.stdout).expect("JSON on stdout")
 }
 
-#[test]
-fn can_into_the_large_dent() {
-    let out = pickplace(&[
+/// `pickplace placements` of the can on the pallet at `target`, with `extra` arguments.
+fn can_on_pallet(target: &str, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
         "placements",
         "meshes/can.stl",
         "--on",
         "meshes/pallet.stl",
         "--target",
-        "-0.1,0.05,0.025",
-        "--json",
-    ]);
+        target,
+    ];
+    args.extend_from_slice(extra);
+    pickplace(&args)
+}
+
+/// The JSON document of the can's placements on the pallet at `target` (exit status 0).
+fn can_on_pallet_json(target: &str) -> Value {
+    let out = can_on_pallet(target, &["--json"]);
     assert_eq!(
         out.status.code(),
         Some(0),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let v = json(&out);
+    json(&out)
+}
+
+#[test]
+fn can_into_the_large_dent() {
+    let v = can_on_pallet_json("-0.1,0.05,0.025");
     assert_eq!(v["format"], "pickplace.placements/1");
     let first = &v["placements"][0];
     assert_eq!(first["contact"], "face-face");
@@ -38,22 +49,7 @@ fn can_into_the_large_dent() {
 
 #[test]
 fn can_on_the_groove_is_edge_face() {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        "-0.08,-0.09,0.028",
-        "--json",
-    ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v = json(&out);
+    let v = can_on_pallet_json("-0.08,-0.09,0.028");
     let placements = v["placements"].as_array().expect("array");
     assert!(!placements.is_empty());
     assert!(placements.iter().all(|p| p["contact"] == "edge-face"));
@@ -85,40 +81,22 @@ fn environment_pose_moves_the_placements() {
     assert!((p[2].as_f64().expect("z") - 0.725).abs() < 1e-9);
 }
 
+/// The can on the pallet at `target`: the exit status and every `needle` on stderr.
+fn check_can_on_pallet(target: &str, code: i32, needles: &[&str]) {
+    let out = can_on_pallet(target, &[]);
+    assert_eq!(out.status.code(), Some(code), "{target}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(needles.iter().all(|n| err.contains(n)), "{target}: {err}");
+}
+
 #[test]
 fn no_placement_exits_1_with_reasons() {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        "0.05,0.06,0.03",
-    ]);
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("did not fit") && err.contains("environment cluster"),
-        "{err}"
-    );
+    check_can_on_pallet("0.05,0.06,0.03", 1, &["did not fit", "environment cluster"]);
 }
 
 #[test]
 fn target_off_the_environment_exits_2_naming_the_nearest_cluster() {
-    let out = pickplace(&[
-        "placements",
-        "meshes/can.stl",
-        "--on",
-        "meshes/pallet.stl",
-        "--target",
-        "1,0,0.04",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("nearest is cluster") && err.contains("pallet.stl"),
-        "{err}"
-    );
+    check_can_on_pallet("1,0,0.04", 2, &["nearest is cluster", "pallet.stl"]);
 }
 
 #[test]
