@@ -10,11 +10,11 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use k::InverseKinematicsSolver as _;
 use pickplace_benches::{add_pallet_scene, nx_hiro, repo};
 use pickplace_geometry::math::{Isometry3, Point3};
+use pickplace_prm::rng::Rng;
 use pickplace_robot::collision::{
     AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
 };
 use pickplace_robot::kinematics::Jacobian;
-use pickplace_robot::rng::Rng;
 use pickplace_robot::{IkOptions, IkSolver, RobotModel, Semantics};
 use std::hint::black_box;
 use std::path::PathBuf;

@@ -18,7 +18,7 @@ pub struct GraspsArgs {
     /// The robot directory (its `gripper.toml` is read) or a gripper configuration file.
     #[arg(long, value_name = "DIR_OR_CONFIG")]
     pub robot: PathBuf,
-    /// Print the machine-readable document (format `pickplace.grasps.v1`) on stdout.
+    /// Print the machine-readable document (format `pickplace.grasps/1`) on stdout.
     #[arg(long)]
     pub json: bool,
     /// Finger-contact cluster thickness h_max (m).

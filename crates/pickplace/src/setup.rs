@@ -494,7 +494,7 @@ fn arm_setup(
     let shoulder = world_from_root * Point3::from(shoulder_local);
     // Reach: the farthest the TCP gets from the shoulder over a seeded sample of the arm's
     // space (a bound for the cheap "out of reach" test, padded by 2 %).
-    let mut rng = pickplace_robot::rng::Rng::new(0x5eed);
+    let mut rng = pickplace_prm::rng::Rng::new(0x5eed);
     let mut q = start.to_vec();
     let mut reach: Real = 0.0;
     for _ in 0..2000 {

@@ -10,7 +10,7 @@
 //! is until a grasp, moves with the holding link, and stays where it was released. At the end
 //! it must lie at the plan's placed pose, not penetrate the environment, and be statically
 //! stable there (paper Fig. 7: the CoG's vertical passes through the hull of the contact
-//! points).
+//! points; `pickplace_placement::stability`, the test the placement planner uses).
 
 use crate::contact::{OBJECT_NAME, supports};
 use crate::error::{Error, Result};
@@ -18,7 +18,7 @@ use crate::plan::{EventKind, Plan};
 use crate::setup::Setup;
 use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
-use pickplace_geometry::polygon::{convex_hull, signed_margin};
+use pickplace_placement::stability::SupportHull;
 use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, CollisionWorld};
 use pickplace_robot::srdf::DisableReason;
 use serde::Serialize;
@@ -408,16 +408,16 @@ impl Validator<'_> {
         }
         let points = env.touching_points(obj, object, 1.5e-3);
         let ring: Vec<Point2> = points.iter().map(|p| Point2::new(p.x, p.y)).collect();
-        let hull = convex_hull(&ring);
+        let support = SupportHull::of_points(&ring);
         let cog = object * setup.cog;
-        if hull.len() < 3 {
+        if !support.has_area() {
             self.problem(
                 t,
                 "the placed object does not rest on a support (fewer than 3 contacts)".into(),
             );
             return None;
         }
-        let margin = signed_margin(&Point2::new(cog.x, cog.y), &hull);
+        let margin = support.cog_margin(&Point2::new(cog.x, cog.y));
         if margin <= 0.0 {
             self.problem(
                 t,

@@ -74,7 +74,7 @@ impl Ctx<'_> {
     ) -> Attempt<Vec<Real>> {
         let mut reason = Rejection::NoIk;
         let a = self.setup.arm(arm);
-        let mut rng = pickplace_robot::rng::Rng::new(
+        let mut rng = pickplace_prm::rng::Rng::new(
             self.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
         );
         let mut seed = seed.to_vec();
