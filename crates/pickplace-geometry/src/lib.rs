@@ -34,6 +34,7 @@ pub mod hash;
 pub mod json;
 pub mod math;
 pub mod mesh;
+pub mod obb;
 pub mod parry;
 pub mod polygon;
 pub mod shapes;

@@ -9,8 +9,9 @@ use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
-use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, Vector3};
+use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
+use pickplace_geometry::obb::Obb;
 use pickplace_geometry::parry;
 
 /// The object prepared for collision queries: a parry triangle mesh whose BVH and pseudo-normals
@@ -22,15 +23,6 @@ pub struct ObjectCollider {
     triangles: Vec<[u32; 3]>,
     /// Vertices of the convex hull (all vertices when the hull cannot be built).
     hull: Vec<Point3>,
-}
-
-/// A box in the object frame.
-#[derive(Debug, Clone, Copy)]
-struct Obb {
-    center: Point3,
-    /// Columns: the box axes in the object frame.
-    axes: Matrix3,
-    half: Vector3,
 }
 
 impl ObjectCollider {
@@ -75,23 +67,16 @@ impl ObjectCollider {
         if self.hull_separated(&b) {
             return false;
         }
-        let reach = Vector3::from_fn(|i, _| {
-            (0..3)
-                .map(|k| b.axes[(i, k)].abs() * b.half[k])
-                .sum::<Real>()
-        });
+        let reach = b.reach();
         let (lo, hi) = (b.center - reach, b.center + reach);
         let aabb = Aabb::new(parry::point(&lo), parry::point(&hi));
         let touches = self.shape.bvh().intersect_aabb(&aabb).any(|t| {
             let [i, j, k] = self.triangles[t as usize];
-            box_touches_triangle(
-                &b,
-                [
-                    self.vertices[i as usize],
-                    self.vertices[j as usize],
-                    self.vertices[k as usize],
-                ],
-            )
+            b.touches_triangle([
+                self.vertices[i as usize],
+                self.vertices[j as usize],
+                self.vertices[k as usize],
+            ])
         });
         touches || self.contains(&b.center)
     }
@@ -122,46 +107,10 @@ impl ObjectCollider {
     }
 }
 
-/// Separating-axis test of a solid box and a triangle: the three box axes, the triangle's
-/// normal and the nine cross products of box axes and triangle edges. Touching counts as
-/// overlapping.
-fn box_touches_triangle(b: &Obb, tri: [Point3; 3]) -> bool {
-    // Triangle in the box frame.
-    let to_box = b.axes.transpose();
-    let v = tri.map(|p| to_box * (p - b.center));
-    let h = b.half;
-    for k in 0..3 {
-        let (lo, hi) = (
-            v[0][k].min(v[1][k]).min(v[2][k]),
-            v[0][k].max(v[1][k]).max(v[2][k]),
-        );
-        if lo > h[k] || hi < -h[k] {
-            return false;
-        }
-    }
-    let e = [v[1] - v[0], v[2] - v[1], v[0] - v[2]];
-    let separated = |axis: Vector3| {
-        let r = h.x * axis.x.abs() + h.y * axis.y.abs() + h.z * axis.z.abs();
-        let p = [axis.dot(&v[0]), axis.dot(&v[1]), axis.dot(&v[2])];
-        p[0].min(p[1]).min(p[2]) > r || p[0].max(p[1]).max(p[2]) < -r
-    };
-    if separated(e[0].cross(&e[1])) {
-        return false;
-    }
-    for edge in &e {
-        for unit in [Vector3::x(), Vector3::y(), Vector3::z()] {
-            if separated(unit.cross(edge)) {
-                return false;
-            }
-        }
-    }
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pickplace_geometry::math::{Translation3, UnitQuaternion};
+    use pickplace_geometry::math::{Matrix3, Translation3, UnitQuaternion};
     use pickplace_geometry::shapes;
     use proptest::prelude::*;
 
@@ -215,13 +164,13 @@ mod tests {
             let triangle = Triangle::new(parry::point(&t[0]), parry::point(&t[1]), parry::point(&t[2]));
             let expected = parry3d_f64::query::intersection_test(&Pose::IDENTITY, &triangle, &pose, &Cuboid::new(PVector::new(half[0], half[1], half[2])))
                 .expect("supported").intersecting;
-            let got = box_touches_triangle(&b, t);
+            let got = b.touches_triangle(t);
             if got != expected {
                 // Only grazing contacts may differ: shrinking or growing the box by 1e-9 decides.
                 let shrunk = Obb { half: b.half.add_scalar(-1e-9), ..b };
                 let grown = Obb { half: b.half.add_scalar(1e-9), ..b };
-                prop_assert!(!box_touches_triangle(&shrunk, t) || box_touches_triangle(&grown, t));
-                prop_assert!(box_touches_triangle(&grown, t) != box_touches_triangle(&shrunk, t), "disagree: sat {got} parry {expected}");
+                prop_assert!(!shrunk.touches_triangle(t) || grown.touches_triangle(t));
+                prop_assert!(grown.touches_triangle(t) != shrunk.touches_triangle(t), "disagree: sat {got} parry {expected}");
             }
         }
     }

@@ -351,7 +351,7 @@ mod tests {
             trajectory: vec![],
             events,
             object: ObjectMotion {
-                start_pose: pose.clone(),
+                start_pose: pose,
                 placed_pose: pose,
             },
             placement: PlacementInfo {

@@ -15,6 +15,7 @@ use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::{
     Isometry3, Matrix3, Point3, Real, Translation3, UnitQuaternion, Vector3,
 };
+use pickplace_geometry::obb::Obb;
 use pickplace_grasp::{Grasp, GripperParams};
 
 /// Clearance kept between the two hands at a handover (m).
@@ -158,7 +159,7 @@ impl Ctx<'_> {
 
 /// Whether the gripper of `second` (open) would overlap the gripper of `first` (closed on
 /// the object) when both hold the object: any of their palm and finger boxes intersect
-/// (separating-axis test on oriented boxes, object frame), with [`HAND_CLEARANCE`].
+/// (separating-axis test on oriented boxes, [`Obb::intersects`], object frame), with [`HAND_CLEARANCE`].
 pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Grasp) -> bool {
     let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
         let [f1, f2] = gripper.fingers(opening);
@@ -174,40 +175,6 @@ pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Gra
     let a = boxes(first, first.width);
     let b = boxes(second, gripper.opening_max);
     a.iter().any(|x| b.iter().any(|y| x.intersects(y)))
-}
-
-/// An oriented box: centre, axes as matrix columns, half extents.
-struct Obb {
-    center: Point3,
-    axes: Matrix3,
-    half: Vector3,
-}
-
-impl Obb {
-    /// Separating-axis test over the 15 candidate axes.
-    fn intersects(&self, other: &Obb) -> bool {
-        let d = other.center - self.center;
-        let mut axes: Vec<Vector3> = Vec::with_capacity(15);
-        for i in 0..3 {
-            axes.push(self.axes.column(i).into_owned());
-            axes.push(other.axes.column(i).into_owned());
-        }
-        for i in 0..3 {
-            for j in 0..3 {
-                let c = self.axes.column(i).cross(&other.axes.column(j));
-                if c.norm_squared() > 1e-12 {
-                    axes.push(c.normalize());
-                }
-            }
-        }
-        let radius = |b: &Obb, axis: &Vector3| -> Real {
-            (0..3)
-                .map(|i| b.half[i] * b.axes.column(i).dot(axis).abs())
-                .sum()
-        };
-        axes.iter()
-            .all(|axis| d.dot(axis).abs() <= radius(self, axis) + radius(other, axis))
-    }
 }
 
 /// Poses of the picking hand (`world_from_tcp`) tried for a handover, best guess first; the
@@ -301,28 +268,5 @@ mod tests {
         let mut near = *first;
         near.object_from_tcp *= Translation3::new(0.0, 0.0, -0.001);
         assert!(hands_overlap(g, first, &near));
-    }
-
-    #[test]
-    fn boxes_separate_along_a_face_axis_and_touch_when_they_overlap() {
-        let unit = |x: Real| Obb {
-            center: Point3::new(x, 0.0, 0.0),
-            axes: Matrix3::identity(),
-            half: Vector3::new(0.5, 0.5, 0.5),
-        };
-        assert!(unit(0.0).intersects(&unit(0.9)));
-        assert!(!unit(0.0).intersects(&unit(1.1)));
-        // Rotated 45° about z, the corner reaches 0.707 along x.
-        let rotated = Obb {
-            axes: *UnitQuaternion::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_4)
-                .to_rotation_matrix()
-                .matrix(),
-            ..unit(1.15)
-        };
-        assert!(unit(0.0).intersects(&rotated));
-        assert!(!unit(0.0).intersects(&Obb {
-            center: Point3::new(1.25, 0.0, 0.0),
-            ..rotated
-        }));
     }
 }
