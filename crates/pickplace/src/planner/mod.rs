@@ -35,8 +35,8 @@ use crate::scene::StrategyChoice;
 use crate::setup::Setup;
 use crate::strategy::Strategy;
 use pickplace_geometry::math::Real;
-use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner};
-use pickplace_placement::{Placement, PlacementOptions};
+use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet};
+use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -169,22 +169,18 @@ impl Ctx<'_> {
     }
 }
 
-/// Plans the scene (paper Fig. 8): placements on the target's cluster, grasps, then the
-/// strategies in the paper's order until one yields a plan.
-///
-/// # Errors
-/// [`Error::Target`] when the target point is on no environment cluster; [`Error::Internal`]
-/// when a lower layer fails on checked input (the collision library, the motion planner).
-/// An infeasible scene is not an error: it is [`Outcome::NoPlan`] with the reasons.
-pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
-    let t_all = Instant::now();
-    let mut timings = BTreeMap::new();
+/// Fig. 8's first two steps: the placement candidates on the cluster the target selects
+/// (Algorithm 2) and the grasp candidates on the object's parallel cluster pairs (§III-B.1),
+/// each timed into `timings`.
+fn candidates(
+    setup: &Setup,
+    timings: &mut BTreeMap<String, Real>,
+) -> Result<(PlacementSet, GraspSet)> {
     let t = Instant::now();
-    let target = setup.scene.target_point();
     let placement_set = pickplace_placement::candidates(
         &setup.placement_object,
         &setup.placement_env,
-        &target,
+        &setup.scene.target_point(),
         &PlacementOptions::default(),
     )
     .map_err(|source| Error::Target {
@@ -203,27 +199,57 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         })
         .map_err(crate::error::internal("grasp planning"))?;
     timings.insert("grasp".to_owned(), t.elapsed().as_secs_f64());
-    let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
-    let grasps: Vec<Grasp> = grasp_set
-        .grasps
-        .iter()
-        .filter(|g| g.score >= options.min_grasp_quality * best)
-        .cloned()
-        .collect();
+    Ok((placement_set, grasp_set))
+}
+
+impl<'a> Ctx<'a> {
+    /// The context of a run started at `started`: the grasps scoring at least
+    /// [`PlanOptions::min_grasp_quality`] of the best, every placement candidate, and the
+    /// environment parts the object rests on at its start.
+    fn new(
+        setup: &'a Setup,
+        options: &'a PlanOptions,
+        started: Instant,
+        placement_set: &PlacementSet,
+        grasp_set: &GraspSet,
+        timings: BTreeMap<String, Real>,
+    ) -> Self {
+        let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
+        Ctx {
+            started,
+            setup,
+            options,
+            grasps: grasp_set
+                .grasps
+                .iter()
+                .filter(|g| g.score >= options.min_grasp_quality * best)
+                .cloned()
+                .collect(),
+            placements: placement_set.placements.clone(),
+            start_supports: supports(setup, &setup.object_start),
+            timings,
+        }
+    }
+}
+
+/// Plans the scene (paper Fig. 8): placements on the target's cluster, grasps, then the
+/// strategies in the paper's order until one yields a plan.
+///
+/// # Errors
+/// [`Error::Target`] when the target point is on no environment cluster; [`Error::Internal`]
+/// when a lower layer fails on checked input (the collision library, the motion planner).
+/// An infeasible scene is not an error: it is [`Outcome::NoPlan`] with the reasons.
+pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
+    let t_all = Instant::now();
+    let mut timings = BTreeMap::new();
+    let target = setup.scene.target_point();
+    let (placement_set, grasp_set) = candidates(setup, &mut timings)?;
     let mut stats = Stats {
         placement_candidates: placement_set.placements.len(),
         grasp_candidates: grasp_set.grasps.len(),
         ..Stats::default()
     };
-    let mut ctx = Ctx {
-        started: t_all,
-        setup,
-        options,
-        start_supports: supports(setup, &setup.object_start),
-        grasps,
-        placements: placement_set.placements.clone(),
-        timings,
-    };
+    let mut ctx = Ctx::new(setup, options, t_all, &placement_set, &grasp_set, timings);
     let mut reasons = Vec::new();
     if ctx.placements.is_empty() {
         for (cluster, r) in &placement_set.rejections {
@@ -325,37 +351,15 @@ mod tests {
             timings: false,
             ..PlanOptions::for_setup(setup)
         }));
-        let placements = pickplace_placement::candidates(
-            &setup.placement_object,
-            &setup.placement_env,
-            &setup.scene.target_point(),
-            &PlacementOptions::default(),
-        )
-        .expect("the target is on a cluster")
-        .placements;
-        let grasp_set = GraspPlanner::new(&setup.object_mesh)
-            .and_then(|p| {
-                p.plan(
-                    &setup.object_finger,
-                    &setup.gripper,
-                    &GraspOptions::default(),
-                )
-            })
-            .expect("grasps");
-        let best = grasp_set.grasps[0].score;
-        Ctx {
-            started: Instant::now(),
+        let (placements, grasps) = candidates(setup, &mut BTreeMap::new()).expect("candidates");
+        Ctx::new(
             setup,
             options,
-            grasps: grasp_set
-                .grasps
-                .into_iter()
-                .filter(|g| g.score >= options.min_grasp_quality * best)
-                .collect(),
-            placements,
-            start_supports: supports(setup, &setup.object_start),
-            timings: BTreeMap::new(),
-        }
+            Instant::now(),
+            &placements,
+            &grasps,
+            BTreeMap::new(),
+        )
     }
 
     #[test]
