@@ -104,8 +104,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
         _ => Path::new("."),
     };
-    // The temporary file is deleted when `tmp` drops, on every error path below.
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(io)?;
+    // The temporary file is deleted when `tmp` drops, on every error path below. It is
+    // created with the mode `File::create` gives (0o666 less the umask), not tempfile's
+    // owner-only default, so that the renamed file is readable as any other output is.
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir).map_err(io)?;
     tmp.write_all(bytes).map_err(io)?;
     tmp.as_file().sync_all().map_err(io)?;
     tmp.persist(path).map_err(|e| io(e.error))?;
@@ -128,6 +136,19 @@ mod tests {
             .collect();
         names.sort();
         names
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_file_gets_the_mode_file_create_gives() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = scratch_dir();
+        let atomic = dir.path().join("atomic.bin");
+        let plain = dir.path().join("plain.bin");
+        write_atomic(&atomic, b"x").expect("write");
+        std::fs::write(&plain, b"x").expect("write");
+        let mode = |p: &Path| std::fs::metadata(p).expect("stat").permissions().mode() & 0o777;
+        assert_eq!(mode(&atomic), mode(&plain));
     }
 
     #[test]

@@ -17,6 +17,7 @@ pub struct Obb {
 
 impl Obb {
     /// Half extents of the axis-aligned box that bounds this one.
+    #[inline]
     pub fn reach(&self) -> Vector3 {
         Vector3::from_fn(|i, _| {
             (0..3)
@@ -27,6 +28,7 @@ impl Obb {
 
     /// Whether two solid boxes overlap (touching counts): the separating-axis test over the
     /// 15 candidate axes (each box's 3 axes and the 9 cross products).
+    #[inline]
     pub fn intersects(&self, other: &Obb) -> bool {
         let d = other.center - self.center;
         let mut axes: Vec<Vector3> = Vec::with_capacity(15);
@@ -54,6 +56,7 @@ impl Obb {
     /// Whether the solid box and the triangle overlap (touching counts): the separating-axis
     /// test over the three box axes, the triangle's normal and the nine cross products of box
     /// axes and triangle edges.
+    #[inline]
     pub fn touches_triangle(&self, tri: [Point3; 3]) -> bool {
         // Triangle in the box frame.
         let to_box = self.axes.transpose();
