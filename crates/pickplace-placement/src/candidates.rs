@@ -392,6 +392,14 @@ pub fn candidates(
                 counts.unstable += 1;
                 continue;
             }
+            let pair = RegionPair {
+                object,
+                o: object_region,
+                env,
+                e: env_region,
+                target,
+                options,
+            };
             let found = if include_bounding_box(object_region, env_region) {
                 if !face_face_can_be_stable(object, object_region, options) {
                     // No pose of this region can pass the stability test (Fig. 7): its support
@@ -399,25 +407,9 @@ pub fn candidates(
                     counts.unstable += 1;
                     continue;
                 }
-                search_face_face(
-                    object,
-                    object_region,
-                    env,
-                    env_region,
-                    target,
-                    options,
-                    &mut counts,
-                )
+                search_face_face(&pair, &mut counts)
             } else {
-                let found = search_edge_face(
-                    object,
-                    object_region,
-                    env,
-                    env_region,
-                    target,
-                    options,
-                    &mut counts,
-                );
+                let found = search_edge_face(&pair, &mut counts);
                 if found.is_empty() {
                     counts.did_not_fit += 1;
                 }
@@ -564,16 +556,30 @@ fn stable(margin: Real, height: Real, options: &PlacementOptions) -> bool {
     )
 }
 
+/// An object region facing an environment region (Algorithm 2, lines 3–6): what both
+/// contact searches work on.
+#[derive(Clone, Copy)]
+struct RegionPair<'a> {
+    object: &'a ObjectModel,
+    /// The object's region.
+    o: &'a Region,
+    env: &'a EnvironmentModel,
+    /// The environment's region.
+    e: &'a Region,
+    target: &'a Point3,
+    options: &'a PlacementOptions,
+}
+
 /// searchFaceFaceContact (paper Fig. 6(c)).
-fn search_face_face(
-    object: &ObjectModel,
-    o: &Region,
-    env: &EnvironmentModel,
-    e: &Region,
-    target: &Point3,
-    options: &PlacementOptions,
-    counts: &mut Rejections,
-) -> Vec<Placement> {
+fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Placement> {
+    let RegionPair {
+        object,
+        o,
+        env,
+        e,
+        target,
+        options,
+    } = *pair;
     let (target2, _) = e.to_plane(target);
     let reference = o.polygon.centroid().unwrap_or_else(Point2::origin);
     let plane_from_object = o.parent_from_plane.inverse();
@@ -662,15 +668,15 @@ fn search_face_face(
 /// object tips over whatever it touches), so hopeless positions cost one collision test
 /// instead of a bisection; a segment whose region is too narrow along it for the margin is
 /// rejected before any collision test (the support is the segment and [`second_contacts`]).
-fn search_edge_face(
-    object: &ObjectModel,
-    o: &Region,
-    env: &EnvironmentModel,
-    e: &Region,
-    target: &Point3,
-    options: &PlacementOptions,
-    counts: &mut Rejections,
-) -> Vec<Placement> {
+fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Placement> {
+    let RegionPair {
+        object,
+        o,
+        env,
+        e,
+        target,
+        options,
+    } = *pair;
     // The segments are those of the hull of the points really on the contact plane.
     let hull = &o.support;
     if hull.len() < 3 {

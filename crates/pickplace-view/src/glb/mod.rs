@@ -305,13 +305,18 @@ impl GltfBuilder {
             check_finite_value(t.iter(), node, path, index)?;
             values.extend([t.x as f32, t.y as f32, t.z as f32]);
         }
+        self.push_track(node, path, times, values);
+        Ok(())
+    }
+
+    /// Adds a checked track (keyframe times and flattened values).
+    fn push_track(&mut self, node: NodeId, path: TrackPath, times: Vec<f32>, values: Vec<f32>) {
         self.tracks.push(Track {
             node,
             path,
             times,
             values,
         });
-        Ok(())
     }
 
     /// Animates a node's local rotation, spherically interpolated between keyframes. Signs are
@@ -341,12 +346,7 @@ impl GltfBuilder {
             previous = Some(xyzw);
             values.extend(xyzw.map(|x| x as f32));
         }
-        self.tracks.push(Track {
-            node,
-            path,
-            times,
-            values,
-        });
+        self.push_track(node, path, times, values);
         Ok(())
     }
 
