@@ -184,13 +184,20 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
         .holds()
         .map_err(anyhow::Error::msg)?
         .into_iter()
-        .map(|h| Grip {
-            link: robot.link_index(&h.link).expect("checked above"),
-            link_from_object: h.link_from_object,
-            grasp_time: h.grasp_time,
-            release_time: h.release_time,
+        .map(|h| {
+            Ok(Grip {
+                link: robot.link_index(&h.link).with_context(|| {
+                    format!(
+                        "grasp at {} s: the robot has no link {:?}",
+                        h.grasp_time, h.link
+                    )
+                })?,
+                link_from_object: h.link_from_object,
+                grasp_time: h.grasp_time,
+                release_time: h.release_time,
+            })
         })
-        .collect();
+        .collect::<Result<_>>()?;
     let motion = Motion {
         world_from_root,
         times,

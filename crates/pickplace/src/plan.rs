@@ -266,10 +266,15 @@ impl Plan {
     /// # Errors
     /// When the plan's joints are not exactly these: the missing and the unknown names.
     pub fn columns(&self, names: &[&str]) -> Result<Vec<usize>, String> {
+        let found: Vec<Option<usize>> = names
+            .iter()
+            .map(|n| self.joint_names.iter().position(|p| p == n))
+            .collect();
         let missing: Vec<&str> = names
             .iter()
-            .copied()
-            .filter(|n| !self.joint_names.iter().any(|p| p == n))
+            .zip(&found)
+            .filter(|(_, c)| c.is_none())
+            .map(|(n, _)| *n)
             .collect();
         let unknown: Vec<&str> = self
             .joint_names
@@ -280,15 +285,7 @@ impl Plan {
         if !missing.is_empty() || !unknown.is_empty() {
             return Err(format!("missing {missing:?}, unknown {unknown:?}"));
         }
-        Ok(names
-            .iter()
-            .map(|n| {
-                self.joint_names
-                    .iter()
-                    .position(|p| p == n)
-                    .expect("every name is in the plan (checked above)")
-            })
-            .collect())
+        Ok(found.into_iter().flatten().collect())
     }
 
     /// The plan as pretty JSON (with a final newline).

@@ -117,7 +117,8 @@ impl Ctx<'_> {
                     });
                 }
             }
-            let end = trajectory.last().expect("non-empty");
+            // The trajectory starts with the start state and only grows.
+            let end = &trajectory[trajectory.len() - 1];
             let q_end = end.positions.clone();
             let time = end.time_from_start;
             if let Some((kind, arm, link_from_object)) = seg.event {

@@ -59,7 +59,7 @@ impl Ctx<'_> {
         if (pose_a.translation.vector - arm_a.shoulder.coords).norm() > arm_a.reach {
             return Err(Rejection::ArmOutOfReach(Role::Picking).into());
         }
-        let lifted = pick.lift.last().expect("non-empty");
+        let lifted = super::end_of(&pick.lift)?;
         let salt = (hi as u64) << 24 | (g1 as u64) << 8 | 0x40;
         let holding_a = self.world_holding(a, &grasp1.object_from_tcp, &[])?;
         let q_a = self

@@ -170,7 +170,8 @@ impl Ctx<'_> {
                 ),
                 from_pose.rotation.slerp(&to_pose.rotation, s),
             );
-            let prev = path.last().expect("the path starts with `from`");
+            // The path holds `from` and the i − 1 steps before this one.
+            let prev = &path[i - 1];
             let q = self
                 .ik(arm, &pose, prev, salt.wrapping_add(i as u64))
                 .ok_or(Rejection::NoIkOnLine)?;
@@ -279,8 +280,9 @@ impl Ctx<'_> {
         }
         let salt = (pi as u64) << 20 | (gi as u64) << 8 | 0x80 | arm.index() as u64;
         let closed_seed = self.with_fingers(arm, seed, g.width / 2.0);
-        let supports = supports(self.setup, &p.world_from_object);
-        let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, &supports)?;
+        let supports =
+            self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
+        let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
         let q_place = self
             .free_ik(arm, &place_pose, &closed_seed, salt, &holding_contact)
             .map_err(|f| f.at(Step::Place))?;

@@ -38,6 +38,7 @@ use pickplace_geometry::math::Real;
 use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet};
 use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 /// Options of [`plan`].
@@ -151,6 +152,9 @@ struct Ctx<'a> {
     placements: Vec<Placement>,
     /// Environment bodies the object touches at the start.
     start_supports: Vec<String>,
+    /// Environment bodies the object touches at each placement, found once per placement
+    /// (every grasp placing there asks; places run in parallel).
+    placement_supports: Vec<OnceLock<Vec<String>>>,
     timings: BTreeMap<String, Real>,
 }
 
@@ -167,6 +171,18 @@ impl Ctx<'_> {
                 .insert("total".to_owned(), t_all.elapsed().as_secs_f64());
         }
     }
+}
+
+/// The last configuration of a path the planner built.
+///
+/// # Errors
+/// [`Error::Internal`] when the path is empty: every path the planner builds starts at its
+/// start configuration, so an empty one is a defect.
+fn end_of(path: &[Vec<Real>]) -> Result<&Vec<Real>> {
+    path.last().ok_or_else(|| Error::Internal {
+        stage: "path",
+        reason: "a motion with no configuration".to_owned(),
+    })
 }
 
 /// Fig. 8's first two steps: the placement candidates on the cluster the target selects
@@ -226,6 +242,11 @@ impl<'a> Ctx<'a> {
                 .cloned()
                 .collect(),
             placements: placement_set.placements.clone(),
+            placement_supports: placement_set
+                .placements
+                .iter()
+                .map(|_| OnceLock::new())
+                .collect(),
             start_supports: supports(setup, &setup.object_start),
             timings,
         }

@@ -171,7 +171,7 @@ impl Ctx<'_> {
             .map_err(|f| f.at(Step::ToPreGrasp))?;
         segments.push(Segment::reach("pre-grasp", arm, to_pre));
         segments.push(Segment::reach("grasp", arm, pick.approach.clone()));
-        let q_grasp = pick.approach.last().expect("non-empty");
+        let q_grasp = super::end_of(&pick.approach)?;
         let closed = self.with_fingers(arm, q_grasp, g.width / 2.0);
         segments.push(Segment::event(
             vec![q_grasp.clone(), closed],
@@ -180,13 +180,13 @@ impl Ctx<'_> {
         ));
         segments.push(Segment::reach("lift", arm, pick.lift.clone()));
         let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
-        let lifted = pick.lift.last().expect("non-empty");
+        let lifted = super::end_of(&pick.lift)?;
         let carry = self
             .motion(arm, &holding, lifted, &place.lower[0], salt ^ 2)
             .map_err(|f| f.at(Step::ToPrePlace))?;
         segments.push(Segment::reach("pre-place", arm, carry));
         segments.push(Segment::reach("place", arm, place.lower.clone()));
-        let q_place = place.lower.last().expect("non-empty");
+        let q_place = super::end_of(&place.lower)?;
         let opened = self.with_fingers(arm, q_place, self.open_half());
         segments.push(Segment::event(
             vec![q_place.clone(), opened],
@@ -195,7 +195,7 @@ impl Ctx<'_> {
         ));
         segments.push(Segment::reach("retreat", arm, place.retreat.clone()));
         let left = self.world_with_object_at(&p.world_from_object);
-        let retreated = place.retreat.last().expect("non-empty");
+        let retreated = super::end_of(&place.retreat)?;
         if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
             segments.push(back);
         }
@@ -238,7 +238,7 @@ impl Ctx<'_> {
                 salt ^ 1,
             )
             .map_err(|f| f.at(Step::ToPreGrasp))?;
-        let here = |seg: &Vec<Vec<Real>>| seg.last().expect("non-empty").clone();
+        let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
         segments.push(Segment::reach("pre-grasp", a, to_pre));
         let approach: Vec<Vec<Real>> = pick
             .approach
@@ -246,7 +246,7 @@ impl Ctx<'_> {
             .map(|q| self.other_from(b, q, &open_start))
             .collect();
         segments.push(Segment::reach("grasp", a, approach.clone()));
-        let q = here(&approach);
+        let q = here(&approach)?;
         let closed = self.with_fingers(a, &q, g1.width / 2.0);
         segments.push(Segment::event(
             vec![q, closed],
@@ -261,9 +261,9 @@ impl Ctx<'_> {
         segments.push(Segment::reach("lift", a, lift.clone()));
         // A carries the object to the handover pose.
         let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
-        let q_handover = self.arm_from(a, &here(&lift), &h.q_a);
+        let q_handover = self.arm_from(a, &here(&lift)?, &h.q_a);
         let carry = self
-            .motion(a, &holding_a, &here(&lift), &q_handover, salt ^ 2)
+            .motion(a, &holding_a, &here(&lift)?, &q_handover, salt ^ 2)
             .map_err(|f| f.at(Step::ToHandover))?;
         segments.push(Segment::reach("handover", a, carry));
         // B comes to the pre-regrasp pose, then approaches.
@@ -278,7 +278,7 @@ impl Ctx<'_> {
             .map(|qb| self.arm_from(b, &q_pre_b, qb))
             .collect();
         segments.push(Segment::reach("regrasp", b, b_approach.clone()));
-        let q = here(&b_approach);
+        let q = here(&b_approach)?;
         let b_closed = self.with_fingers(b, &q, g2.width / 2.0);
         segments.push(Segment::event(
             vec![q, b_closed.clone()],
@@ -299,9 +299,9 @@ impl Ctx<'_> {
         segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
         let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
         // A goes back to its start while B holds.
-        let a_home = self.arm_from(a, &here(&a_retreat), start);
+        let a_home = self.arm_from(a, &here(&a_retreat)?, start);
         let back_a = self
-            .motion(a, &holding_b, &here(&a_retreat), &a_home, salt ^ 4)
+            .motion(a, &holding_b, &here(&a_retreat)?, &a_home, salt ^ 4)
             .map_err(|f| f.at(Step::FirstArmHome))?;
         segments.push(Segment::reach("home-first", a, back_a));
         // B carries the object to the pre-place pose.
@@ -315,7 +315,7 @@ impl Ctx<'_> {
             .map_err(|f| f.at(Step::ToPrePlace))?;
         segments.push(Segment::reach("pre-place", b, to_place));
         segments.push(Segment::reach("place", b, lower.clone()));
-        let q = here(&lower);
+        let q = here(&lower)?;
         let opened = self.with_fingers(b, &q, self.open_half());
         segments.push(Segment::event(
             vec![q, opened.clone()],
@@ -329,7 +329,7 @@ impl Ctx<'_> {
             .collect();
         segments.push(Segment::reach("retreat", b, retreat.clone()));
         let left = self.world_with_object_at(&self.placements[pi].world_from_object);
-        if let Some(back) = self.back_to_start(b, &left, &here(&retreat), start, salt ^ 6)? {
+        if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
             segments.push(back);
         }
         Ok(segments)

@@ -42,10 +42,11 @@ impl Ctx<'_> {
             }
             let mut any = false;
             for (gi, cached) in pick_cache.iter_mut().enumerate().take(n_grasps) {
-                if cached.is_none() {
-                    *cached = Some(split(self.pick(arm, gi, &start))?);
-                }
-                let pick = match cached.as_ref().expect("filled above") {
+                let result = match cached {
+                    Some(result) => result,
+                    None => cached.insert(split(self.pick(arm, gi, &start))?),
+                };
+                let pick = match result {
                     Ok(p) => p.clone(),
                     Err(r) => {
                         if pi == 0 {
@@ -57,7 +58,7 @@ impl Ctx<'_> {
                 if pi == 0 {
                     count(report, Stage::Pick).accept();
                 }
-                let lifted = pick.lift.last().expect("non-empty").clone();
+                let lifted = super::end_of(&pick.lift)?.clone();
                 let place = match split(self.place(arm, pi, gi, &lifted))? {
                     Ok(p) => p,
                     Err(r) => {
@@ -166,17 +167,20 @@ impl Ctx<'_> {
             }
             feasible.sort_by(|x, y| y.0.total_cmp(&x.0));
             for (_, h) in feasible {
-                let (pick, place) = (
-                    &picks
-                        .iter()
-                        .find(|(g, _)| *g == h.g1)
-                        .expect("from picks")
-                        .1,
-                    places
-                        .get(&h.g2)
-                        .and_then(Option::as_ref)
-                        .expect("a handover's second grasp places"),
-                );
+                // A handover is built from one of `picks` and one of `places`.
+                let missing = |what: &str| crate::Error::Internal {
+                    stage: "handover",
+                    reason: format!("the handover's {what} is not among the candidates"),
+                };
+                let pick = &picks
+                    .iter()
+                    .find(|(g, _)| *g == h.g1)
+                    .ok_or_else(|| missing("pick"))?
+                    .1;
+                let place = places
+                    .get(&h.g2)
+                    .and_then(Option::as_ref)
+                    .ok_or_else(|| missing("place"))?;
                 match split(self.handover_motions(strategy, pi, &start, pick, place, &h))? {
                     Ok(segments) => {
                         count(report, Stage::Motion).accept();
