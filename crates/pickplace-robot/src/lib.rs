@@ -48,6 +48,7 @@
 
 pub mod collision;
 pub mod error;
+pub mod gripper;
 pub mod ik;
 pub mod json;
 pub mod kinematics;
