@@ -19,7 +19,6 @@
 //! The closing command for a grasp of width `w` is the `s` whose opening is `w − squeeze`.
 
 use crate::model::{JointType, JointValueSource, RobotModel, Shape};
-use parry3d_f64::math::Pose;
 use parry3d_f64::query;
 use parry3d_f64::shape::SharedShape;
 use pickplace_geometry::math::nalgebra::Rotation3;
@@ -241,12 +240,22 @@ impl Gripper {
                 }
             }
         }
-        let mut with_geometry: Vec<(Vec<usize>, Vec<Piece>)> = Vec::new();
-        for (_, links) in &groups {
+        let driver = |joint: usize| match model.joints()[joint].source {
+            JointValueSource::Variable(v) | JointValueSource::Mimic { variable: v, .. } => v,
+            JointValueSource::Fixed => usize::MAX,
+        };
+        let mut with_geometry: Vec<(usize, Vec<usize>, Vec<Piece>)> = Vec::new();
+        for (j, links) in &groups {
             let pieces: Vec<Piece> = links.iter().flat_map(|&l| pieces_of(model, l)).collect();
             if !pieces.is_empty() {
-                with_geometry.push((links.clone(), pieces));
+                with_geometry.push((driver(*j), links.clone(), pieces));
             }
+        }
+        if drive_vars.len() > 2 {
+            return Err(GripperError::BadDrive {
+                joint: model.variable_joint(drive_vars[2]).name.clone(),
+                reason: "a parallel gripper has one or two independent finger joints; this is a third",
+            });
         }
         if with_geometry.len() < 2 {
             return Err(GripperError::NotTwoFingers {
@@ -273,40 +282,74 @@ impl Gripper {
                 }
             })
             .collect();
-        // Split the groups in two sides along the line between the two farthest centroids
-        // (at the mid configuration).
+        // Split the moving groups into the two fingers. Two drives: one finger each. One drive:
+        // the fingers move towards each other, so a group's side is the sign of its motion
+        // over the drive's stroke along the largest motion.
+        let side_of: Vec<usize> = if drive_vars.len() == 2 {
+            with_geometry
+                .iter()
+                .map(|(v, _, _)| usize::from(*v == drive_vars[1]))
+                .collect()
+        } else {
+            let at = |sample: &mut Sampler<'_>, lower: bool| {
+                let ends: Vec<Drive> = mids
+                    .iter()
+                    .map(|d| {
+                        let l = model.variable_joint(d.variable).limits;
+                        let x = if lower { l.lower } else { l.upper };
+                        Drive {
+                            closed: x,
+                            open: x,
+                            ..*d
+                        }
+                    })
+                    .collect();
+                sample.set(&ends, 0.0);
+                let poses = sample.hand_poses();
+                with_geometry
+                    .iter()
+                    .map(|(_, _, pieces)| centroid(pieces, &poses))
+                    .collect::<Vec<Point3>>()
+            };
+            let from = at(&mut sample, true);
+            let to = at(&mut sample, false);
+            let motion: Vec<Vector3> = from.iter().zip(&to).map(|(a, b)| b - a).collect();
+            let largest = motion
+                .iter()
+                .copied()
+                .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+                .unwrap_or_else(Vector3::zeros);
+            motion
+                .iter()
+                .map(|m| usize::from(m.dot(&largest) < 0.0))
+                .collect()
+        };
+        let mut sides: [(Vec<usize>, Vec<Piece>); 2] = Default::default();
+        for (i, (_, links, pieces)) in with_geometry.into_iter().enumerate() {
+            sides[side_of[i]].0.extend(links);
+            sides[side_of[i]].1.extend(pieces);
+        }
+        if sides.iter().any(|(_, pieces)| pieces.is_empty()) {
+            return Err(GripperError::NotTwoFingers {
+                tip: tip_name,
+                found: 1,
+            });
+        }
+        // The line between the fingers, at mid stroke.
         sample.set(&mids, 0.0);
         let poses = sample.hand_poses();
-        let centroids: Vec<Point3> = with_geometry
-            .iter()
-            .map(|(_, pieces)| centroid(pieces, &poses))
-            .collect();
-        let (mut ia, mut ib, mut far) = (0, 1, -1.0);
-        for i in 0..centroids.len() {
-            for k in i + 1..centroids.len() {
-                let d = (centroids[i] - centroids[k]).norm();
-                if d > far {
-                    (ia, ib, far) = (i, k, d);
-                }
-            }
-        }
-        let axis = (centroids[ib] - centroids[ia])
+        let (ca, cb) = (centroid(&sides[0].1, &poses), centroid(&sides[1].1, &poses));
+        let axis = (cb - ca)
             .try_normalize(1e-9)
             .ok_or_else(|| GripperError::NotTwoFingers {
                 tip: tip_name.clone(),
                 found: 1,
             })?;
-        let mid_point = Point3::from((centroids[ia].coords + centroids[ib].coords) * 0.5);
-        let mut sides: [(Vec<usize>, Vec<Piece>); 2] = Default::default();
-        for (i, (links, pieces)) in with_geometry.into_iter().enumerate() {
-            let side = usize::from((centroids[i] - mid_point).dot(&axis) > 0.0);
-            sides[side].0.extend(links);
-            sides[side].1.extend(pieces);
-        }
+        let mid_point = Point3::from((ca.coords + cb.coords) * 0.5);
         let [(links_a, pieces_a), (links_b, pieces_b)] = sides;
-        // The pads: on each side, the links that reach farthest towards the finger tips (within
-        // 5 mm), the approach being roughly from the hand's origin to the fingers, across the
-        // line between them. Proximal links (PR2's, TALOS's) are not pads.
+        // The pads: on each side, the pieces of geometry that reach farthest towards the finger
+        // tips (within 5 mm), the approach being roughly from the hand's origin to the fingers, across the
+        // line between them. Proximal links (PR2's, TALOS's) and cross bars (Baxter's) are not pads.
         let rough_approach = (mid_point.coords - axis * mid_point.coords.dot(&axis))
             .try_normalize(1e-6)
             .unwrap_or_else(|| {
@@ -323,19 +366,25 @@ impl Gripper {
                     .fold(Real::NEG_INFINITY, Real::max)
             };
             let far = pieces.iter().map(reach).fold(Real::NEG_INFINITY, Real::max);
-            let pad_links: Vec<usize> = pieces
-                .iter()
-                .filter(|p| reach(p) >= far - 0.005)
-                .map(|p| p.link)
-                .collect();
             pieces
                 .into_iter()
-                .filter(|p| pad_links.contains(&p.link))
+                .filter(|p| reach(p) >= far - 0.005)
                 .collect()
         };
         let pieces = [pads_of(pieces_a), pads_of(pieces_b)];
+        // The closing axis: from one finger's pads to the other's, at mid stroke; the opening
+        // is the gap between the pads along it (negative when interleaved fingers pass each
+        // other, as TALOS's do when fully closed).
+        sample.set(&mids, 0.0);
+        let poses = sample.hand_poses();
+        let closing = (centroid(&pieces[1], &poses) - centroid(&pieces[0], &poses))
+            .try_normalize(1e-9)
+            .ok_or_else(|| GripperError::NotTwoFingers {
+                tip: tip_name.clone(),
+                found: 1,
+            })?;
         let distance = |sample: &Sampler<'_>| -> Result<Real, GripperError> {
-            side_distance(&pieces, &sample.hand_poses(), &tip_name)
+            Ok(axis_gap(&pieces, &sample.hand_poses(), &closing))
         };
         let mut drives = Vec::with_capacity(mids.len());
         for (i, d) in mids.iter().enumerate() {
@@ -394,16 +443,12 @@ impl Gripper {
             running = running.max(o);
         }
         // Make it non-decreasing (small numerical dips).
-        let mut best = 0.0;
+        let mut best = Real::NEG_INFINITY;
         for entry in &mut table {
             best = Real::max(best, entry.1);
             entry.1 = best;
         }
 
-        // Closing direction (side a → side b) at half the stroke, from the closest points.
-        sample.set(&drives, 0.5);
-        let poses = sample.hand_poses();
-        let closing = closing_direction(&pieces, &poses, &tip_name)?;
         // Pads when closed.
         sample.set(&drives, 0.0);
         let poses = sample.hand_poses();
@@ -506,7 +551,7 @@ impl Gripper {
             drives,
             pieces,
             table,
-            opening_min: measured_min,
+            opening_min: measured_min.max(0.0),
             opening_max,
             squeeze: options.squeeze,
             tip_from_tcp,
@@ -900,65 +945,17 @@ fn extent(values: impl Iterator<Item = Real>) -> (Real, Real) {
     })
 }
 
-fn piece_pose(piece: &Piece, poses: &[Isometry3]) -> Pose {
-    parry::pose(&poses[piece.link])
-}
 
-/// The smallest distance between the two sides' pieces.
-fn side_distance(
-    pieces: &[Vec<Piece>; 2],
-    poses: &[Isometry3],
-    tip: &str,
-) -> Result<Real, GripperError> {
-    let mut best = Real::INFINITY;
-    for a in &pieces[0] {
-        for b in &pieces[1] {
-            let d = query::distance(
-                &piece_pose(a, poses),
-                &*a.shape.0,
-                &piece_pose(b, poses),
-                &*b.shape.0,
-            )
-            .map_err(|_| GripperError::Unmeasurable {
-                tip: tip.to_owned(),
-                what: "the distance between the fingers".to_owned(),
-            })?
-            .distance;
-            best = best.min(d);
-        }
-    }
-    Ok(best)
-}
-
-/// The unit direction from side a's nearest point to side b's.
-fn closing_direction(
-    pieces: &[Vec<Piece>; 2],
-    poses: &[Isometry3],
-    tip: &str,
-) -> Result<Vector3, GripperError> {
-    let mut best: Option<(Real, Vector3)> = None;
-    for a in &pieces[0] {
-        for b in &pieces[1] {
-            let (pa, pb) = (piece_pose(a, poses), piece_pose(b, poses));
-            let closest = query::closest_points(&pa, &*a.shape.0, &pb, &*b.shape.0, Real::MAX)
-                .map_err(|_| GripperError::Unmeasurable {
-                    tip: tip.to_owned(),
-                    what: "the closest points of the fingers".to_owned(),
-                })?;
-            if let query::ClosestPoints::WithinMargin(p1, p2) = closest {
-                let d = parry::to_vector(p2 - p1);
-                let n = d.norm();
-                if n > 1e-6 && best.is_none_or(|(b, _)| n < b) {
-                    best = Some((n, d / n));
-                }
-            }
-        }
-    }
-    best.map(|(_, v)| v)
-        .ok_or_else(|| GripperError::CannotOpen {
-            tip: tip.to_owned(),
-            reason: "has fingers that touch at half stroke: no closing direction".to_owned(),
-        })
+/// The gap between the two sides' pads along the closing axis (side a → side b).
+fn axis_gap(pieces: &[Vec<Piece>; 2], poses: &[Isometry3], closing: &Vector3) -> Real {
+    let along = |side: &[Piece]| {
+        side_points(side, poses)
+            .into_iter()
+            .map(|p| p.coords.dot(closing))
+    };
+    let inner_a = along(&pieces[0]).fold(Real::NEG_INFINITY, Real::max);
+    let inner_b = along(&pieces[1]).fold(Real::INFINITY, Real::min);
+    inner_b - inner_a
 }
 
 #[cfg(test)]
