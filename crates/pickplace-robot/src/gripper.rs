@@ -759,6 +759,157 @@ impl GripObject {
     }
 }
 
+/// An arm found in the URDF by [`find_arms`]: a serial chain of actuated joints ending in a
+/// parallel gripper.
+#[derive(Debug, Clone)]
+pub struct FoundArm {
+    /// The arm's variables, root side first.
+    pub variables: Vec<usize>,
+    /// The link where the chain starts (where it branches off the rest of the robot).
+    pub base_link: usize,
+    /// The arm's last moving link (the hand hangs from it).
+    pub tip_link: usize,
+}
+
+/// The arms of a robot that has no SRDF groups for them: for every link whose subtree holds
+/// one or two actuated finger joints (and nothing else actuated), the chain of actuated joints
+/// above it up to the first link where the robot branches into another actuated chain, when
+/// it has at least `min_joints` joints and [`Gripper::derive`] accepts its hand. Sorted by
+/// tip link.
+pub fn find_arms(model: &RobotModel, min_joints: usize) -> Vec<FoundArm> {
+    let n = model.links().len();
+    // Actuated (variable) joints in each link's subtree, counted bottom-up (children come
+    // after parents).
+    let mut actuated_below = vec![0usize; n];
+    for l in (1..n).rev() {
+        if let Some(j) = model.links()[l].parent_joint {
+            let own = usize::from(matches!(
+                model.joints()[j].source,
+                JointValueSource::Variable(_)
+            ));
+            let parent = model.joints()[j].parent_link;
+            actuated_below[parent] += actuated_below[l] + own;
+        }
+    }
+    let is_variable = |l: usize| {
+        model.links()[l]
+            .parent_joint
+            .is_some_and(|j| matches!(model.joints()[j].source, JointValueSource::Variable(_)))
+    };
+    let children = |l: usize| -> Vec<usize> {
+        (0..n)
+            .filter(|&c| model.parent_link(c) == Some(l))
+            .collect()
+    };
+    let mut arms = Vec::new();
+    for tip in 0..n {
+        // The hand: one or two actuated joints below, each with nothing actuated below it.
+        let below = actuated_below[tip];
+        if !is_variable(tip) || !(1..=2).contains(&below) {
+            continue;
+        }
+        let fingers_are_leaves = (0..n)
+            .filter(|&l| l != tip && model.is_ancestor(tip, l))
+            .all(|l| !is_variable(l) || actuated_below[l] == 0);
+        if !fingers_are_leaves {
+            continue;
+        }
+        // Up the chain to the branch point.
+        let mut variables = Vec::new();
+        let mut link = tip;
+        let base_link = loop {
+            if let Some(j) = model.links()[link].parent_joint
+                && let JointValueSource::Variable(v) = model.joints()[j].source
+            {
+                variables.push(v);
+            }
+            let Some(parent) = model.parent_link(link) else {
+                break link;
+            };
+            let branches = children(parent)
+                .into_iter()
+                .filter(|&c| c != link && (actuated_below[c] > 0 || is_variable(c)))
+                .count();
+            if branches > 0 {
+                break parent;
+            }
+            link = parent;
+        };
+        variables.reverse();
+        if variables.len() < min_joints {
+            continue;
+        }
+        if Gripper::derive(model, &variables, &GripperOptions::default()).is_ok() {
+            arms.push(FoundArm {
+                variables,
+                base_link,
+                tip_link: tip,
+            });
+        }
+    }
+    arms
+}
+
+impl RobotModel {
+    /// This model with one more link, `name`, fixed to `parent` at `parent_from_link` (no
+    /// geometry): a tool frame. Indices of existing links, joints and variables are unchanged.
+    ///
+    /// # Errors
+    /// [`crate::Error::UnknownLink`] for a bad parent; [`crate::Error::InvalidModel`] when the
+    /// name is taken.
+    pub fn with_fixed_link(
+        &self,
+        name: &str,
+        parent: usize,
+        parent_from_link: Isometry3,
+    ) -> crate::Result<Self> {
+        if parent >= self.links().len() {
+            return Err(crate::Error::UnknownLink {
+                name: format!("#{parent}"),
+            });
+        }
+        if self.link_index(name).is_some() || self.joint_index(&format!("{name}_joint")).is_some() {
+            return Err(crate::Error::InvalidModel {
+                path: self.source().to_path_buf(),
+                kind: crate::error::ModelErrorKind::DuplicateLink {
+                    name: name.to_owned(),
+                },
+            });
+        }
+        let mut links = self.links().to_vec();
+        let mut joints = self.joints().to_vec();
+        joints.push(crate::model::Joint {
+            name: format!("{name}_joint"),
+            joint_type: JointType::Fixed,
+            parent_link: parent,
+            child_link: links.len(),
+            parent_from_joint: parent_from_link,
+            axis: pickplace_geometry::math::UnitVector3::new_normalize(Vector3::z()),
+            limits: crate::model::JointLimits {
+                lower: 0.0,
+                upper: 0.0,
+                velocity: 0.0,
+                effort: 0.0,
+            },
+            mimic: None,
+            source: JointValueSource::Fixed,
+        });
+        links.push(crate::model::Link {
+            name: name.to_owned(),
+            parent_joint: Some(joints.len() - 1),
+            collisions: Vec::new(),
+            visuals: Vec::new(),
+        });
+        Ok(Self::from_parts(
+            self.name().to_owned(),
+            self.source().to_path_buf(),
+            links,
+            joints,
+            self.warnings().to_vec(),
+        ))
+    }
+}
+
 fn check_options(o: &GripperOptions) -> Result<(), GripperError> {
     let bad = |name, reason| Err(GripperError::BadOption { name, reason });
     if !o.squeeze.is_finite() || o.squeeze < 0.0 || o.squeeze > 0.02 {
@@ -944,7 +1095,6 @@ fn extent(values: impl Iterator<Item = Real>) -> (Real, Real) {
         (lo.min(v), hi.max(v))
     })
 }
-
 
 /// The gap between the two sides' pads along the closing axis (side a → side b).
 fn axis_gap(pieces: &[Vec<Piece>; 2], poses: &[Isometry3], closing: &Vector3) -> Real {
