@@ -13,6 +13,7 @@ use std::hint::black_box;
 fn setup(scene: &str) -> Setup {
     let options = SetupOptions {
         cache_dir: Some(repo().join("target/pickplace-cache")),
+        ..SetupOptions::default()
     };
     Setup::load(&repo().join("scenes").join(scene), &options).expect("shipped scene sets up")
 }

@@ -29,6 +29,7 @@ pub fn run(root: &Path, out: &Path, force: bool) -> Result<()> {
     scenes.sort();
     let options = SetupOptions {
         cache_dir: Some(out.to_path_buf()),
+        ..SetupOptions::default()
     };
     for scene in scenes {
         let start = std::time::Instant::now();

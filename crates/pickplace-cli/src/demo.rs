@@ -93,7 +93,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
                 _ => "far to the left",
             }
         );
-        let setup = setup(&scene_path, Some(args.out.join("cache")))?;
+        let setup = setup(&scene_path, Some(args.out.join("cache")), &[])?;
         let plan_args = PlanArgs {
             scene: scene_path.clone(),
             out: None,
@@ -101,6 +101,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
             strategy: None,
             no_timings: false,
             cache: None,
+            package_dirs: Vec::new(),
         };
         let plan = match plan_setup(&setup, &plan_args)? {
             Outcome::Planned(plan) => plan,
@@ -127,7 +128,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
             }
         }
         let view_dir = args.out.join(format!("view-{case}"));
-        let pictures = crate::view::write_view(&setup.scene, &plan, &view_dir)?;
+        let pictures = crate::view::write_view(&setup.scene, &scene_path, &plan, &view_dir)?;
         eprintln!(
             "  pictures: {} (animated glTF) and {} key-pose PNGs",
             pictures

@@ -58,13 +58,22 @@ pub struct PlanArgs {
     /// target/pickplace-cache).
     #[arg(long)]
     pub cache: Option<PathBuf>,
+    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
+    /// `package_dirs`, before ROS_PACKAGE_PATH).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    pub package_dirs: Vec<PathBuf>,
 }
 
 /// Loads a scene with progress on stderr.
-pub fn setup(scene: &Path, cache: Option<PathBuf>) -> anyhow::Result<Setup> {
+pub fn setup(
+    scene: &Path,
+    cache: Option<PathBuf>,
+    package_dirs: &[PathBuf],
+) -> anyhow::Result<Setup> {
     let t = Instant::now();
     let options = SetupOptions {
         cache_dir: Some(cache.unwrap_or_else(default_cache_dir)),
+        package_dirs: package_dirs.to_vec(),
     };
     let setup = Setup::load(scene, &options)?;
     for line in &setup.log {
@@ -125,7 +134,7 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
 /// Runs `pickplace plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     eprintln!("pickplace plan {}", args.scene.display());
-    let setup = setup(&args.scene, args.cache.clone())?;
+    let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {
             let json = plan.to_json();
@@ -154,6 +163,10 @@ pub struct ValidateArgs {
     /// target/pickplace-cache).
     #[arg(long)]
     pub cache: Option<PathBuf>,
+    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
+    /// `package_dirs`, before ROS_PACKAGE_PATH).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    pub package_dirs: Vec<PathBuf>,
     /// Print the report as JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -170,7 +183,7 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
     let plan = Plan::from_json(&text)
         .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
-    let setup = setup(&args.scene, args.cache.clone())?;
+    let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
     let t = Instant::now();
     let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
     eprintln!(

@@ -6,10 +6,9 @@
 //! file is written atomically, so bad input never leaves a partial output behind.
 
 use anyhow::{Context, Result, bail};
-use pickplace::{Plan, Scene};
+use pickplace::{Plan, RobotSetup, Scene};
 use pickplace_geometry::math::Isometry3;
 use pickplace_geometry::mesh::{self, MeshOptions};
-use pickplace_robot::{LoadOptions, RobotModel};
 use pickplace_view::{
     Colour, Geometry, Grip, Motion, PlanView, Prop, RenderOptions, RobotGeometry,
     RobotGeometryOptions,
@@ -32,6 +31,10 @@ pub struct ViewArgs {
     /// Size of the key-pose pictures, WIDTHxHEIGHT in pixels.
     #[arg(long, value_name = "WxH", default_value = "800x600")]
     pub size: String,
+    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
+    /// `package_dirs`, before ROS_PACKAGE_PATH).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    pub package_dirs: Vec<PathBuf>,
 }
 
 /// Default size of the key-pose pictures written by [`write_view`] (pixels).
@@ -66,8 +69,11 @@ pub fn run(args: &ViewArgs) -> Result<ExitCode> {
         .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
     let plan = Plan::from_json(&text)
         .map_err(|e| anyhow::anyhow!("{}: not a valid plan: {e}", args.plan.display()))?;
-    let scene = Scene::load(&args.scene)?;
-    let written = write_view_sized(&scene, &plan, &args.out, size)
+    let mut scene = Scene::load(&args.scene)?;
+    for robot in &mut scene.robots {
+        robot.package_dirs.extend(args.package_dirs.iter().cloned());
+    }
+    let written = write_view_sized(&scene, &args.scene, &plan, &args.out, size)
         .with_context(|| format!("{}", args.plan.display()))?;
     for path in &written {
         println!("{}", path.display());
@@ -82,18 +88,24 @@ pub fn run(args: &ViewArgs) -> Result<ExitCode> {
 /// Unreadable robot or meshes (naming the file), a plan whose joint names are not the robot's
 /// actuated joints, events naming unknown links, or a write failure. Nothing is written
 /// unless everything could be computed.
-pub fn write_view(scene: &Scene, plan: &Plan, out: &Path) -> Result<Vec<PathBuf>> {
-    write_view_sized(scene, plan, out, DEFAULT_SIZE)
+pub fn write_view(
+    scene: &Scene,
+    scene_path: &Path,
+    plan: &Plan,
+    out: &Path,
+) -> Result<Vec<PathBuf>> {
+    write_view_sized(scene, scene_path, plan, out, DEFAULT_SIZE)
 }
 
 /// As [`write_view`], with pictures of `size` (width, height) pixels.
 pub fn write_view_sized(
     scene: &Scene,
+    scene_path: &Path,
     plan: &Plan,
     out: &Path,
     size: (u32, u32),
 ) -> Result<Vec<PathBuf>> {
-    let view = plan_view(scene, plan)?;
+    let view = plan_view(scene, scene_path, plan)?;
     // Compute and encode everything before writing anything.
     let glb = view
         .gltf("plan")
@@ -144,13 +156,11 @@ const ENVIRONMENT_COLOURS: [Colour; 4] = [
 ];
 
 /// The plan evaluated in the scene: robot loaded, joints mapped, grips from the events.
-pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
-    let robot = RobotModel::from_urdf_file(&scene.robot.urdf, &LoadOptions::default())?;
-    let world_from_root = scene
-        .robot
-        .base_pose
-        .to_isometry()
-        .map_err(|e| anyhow::anyhow!("robot.base_pose: {e}"))?;
+pub fn plan_view(scene: &Scene, scene_path: &Path, plan: &Plan) -> Result<PlanView> {
+    // The robot as the planner saw it (combined robots, tool links).
+    let setup = RobotSetup::load(scene, scene_path, &[])?;
+    let robot = setup.model;
+    let world_from_root = setup.world_from_root;
 
     // Plan columns -> robot variables; the names must be exactly the robot's variables.
     let robot_names: Vec<&str> = robot.variable_names().collect();
@@ -158,7 +168,7 @@ pub fn plan_view(scene: &Scene, plan: &Plan) -> Result<PlanView> {
         anyhow::anyhow!(
             "the plan's joint names do not match the robot {} ({}): {e}",
             robot.name(),
-            scene.robot.urdf.display()
+            scene.robots[0].urdf.display()
         )
     })?;
     let times: Vec<f64> = plan.trajectory.iter().map(|p| p.time_from_start).collect();

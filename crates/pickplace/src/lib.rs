@@ -12,7 +12,10 @@
 //!
 //! let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
 //! // Cluster databases and arm roadmaps are cached; the first setup builds them.
-//! let options = SetupOptions { cache_dir: Some(root.join("target/pickplace-cache")) };
+//! let options = SetupOptions {
+//!     cache_dir: Some(root.join("target/pickplace-cache")),
+//!     ..SetupOptions::default()
+//! };
 //! let setup = Setup::load(&root.join("scenes/fig9-near.toml"), &options)?;
 //! let plan = match pickplace::plan(&setup, &PlanOptions::for_setup(&setup))? {
 //!     Outcome::Planned(plan) => plan,
@@ -43,6 +46,7 @@ pub mod plan;
 pub mod planner;
 pub mod precompute;
 pub mod roadmaps;
+pub mod robot_setup;
 pub mod scene;
 pub mod setup;
 pub mod strategy;
@@ -60,5 +64,6 @@ pub use pickplace_robot as robot;
 pub use plan::{PLAN_FORMAT, Plan};
 pub use planner::{Outcome, PlanOptions, plan};
 pub use scene::{Scene, SceneError};
+pub use robot_setup::RobotSetup;
 pub use setup::{Setup, SetupOptions};
 pub use strategy::{Arm, Strategy};

@@ -80,8 +80,13 @@ pub struct Scene {
     /// Scene format version (default: the current one). A newer version is an error.
     #[serde(default = "current_format")]
     pub format: u32,
-    /// The robot.
-    pub robot: RobotSpec,
+    /// The robot, as `[robot]`; after reading, it is the only element of `robots`.
+    #[serde(default, skip_serializing)]
+    pub robot: Option<RobotSpec>,
+    /// The robots, as `[[robots]]` (two single-arm robots side by side, each with its own
+    /// `prefix`), or the one `[robot]`. Never empty after reading.
+    #[serde(default)]
+    pub robots: Vec<RobotSpec>,
     /// The object to move.
     pub object: ObjectSpec,
     /// Static environment meshes.
@@ -104,17 +109,49 @@ fn current_format() -> u32 {
 pub struct RobotSpec {
     /// URDF file.
     pub urdf: PathBuf,
-    /// SRDF file (groups, end effectors, named states, allowed collisions).
-    pub srdf: PathBuf,
-    /// Gripper parameters (TOML).
-    pub gripper: PathBuf,
+    /// SRDF file (groups, end effectors, named states, allowed collisions) (default: none;
+    /// the arms and grippers are then found in the URDF).
+    #[serde(default)]
+    pub srdf: Option<PathBuf>,
+    /// Gripper overrides (TOML; every field optional): `squeeze`, `pad_width`, `pad_depth`,
+    /// `opening_max`, `tool_offset`, and the grasp planner's gripper model (default: everything
+    /// measured on the URDF).
+    #[serde(default)]
+    pub gripper: Option<PathBuf>,
+    /// Folders searched for `package://NAME/…` mesh paths (relative to the scene), before
+    /// the command line's `--package-dir` and `ROS_PACKAGE_PATH`.
+    #[serde(default)]
+    pub package_dirs: Vec<PathBuf>,
     /// Pose of the URDF root link in the world (default: identity).
     #[serde(default = "identity_pose")]
     pub base_pose: PoseSpec,
     /// Start joint values by name (rad or m); joints not named take the SRDF's `home` state,
-    /// or zero.
+    /// or zero. With `[[robots]]`, names carry the robot's prefix.
     #[serde(default)]
     pub start_state: BTreeMap<String, Real>,
+    /// With `[[robots]]`: prepended to every link, joint and group name of this robot, so that
+    /// two copies of one robot can share a scene (e.g. `right_` and `left_`).
+    #[serde(default)]
+    pub prefix: String,
+    /// Planning groups the SRDF lacks (for example which chain is an arm), by name.
+    #[serde(default)]
+    pub groups: BTreeMap<String, GroupSpecToml>,
+}
+
+/// A planning group written in a scene: a chain from `base_link` to `tip_link`, or a list of
+/// joints.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupSpecToml {
+    /// First link of the chain.
+    #[serde(default)]
+    pub base_link: Option<String>,
+    /// Last link of the chain.
+    #[serde(default)]
+    pub tip_link: Option<String>,
+    /// Joints of the group.
+    #[serde(default)]
+    pub joints: Vec<String>,
 }
 
 fn identity_pose() -> PoseSpec {
@@ -199,10 +236,13 @@ pub struct PlannerOptions {
     pub time_budget: Real,
     /// Strategy (default: auto).
     pub strategy: StrategyChoice,
-    /// SRDF group of the right arm; its end effector is the right hand (default: `right_arm`).
-    pub right_arm: String,
-    /// SRDF group of the left arm (default: `left_arm`).
-    pub left_arm: String,
+    /// SRDF group of the right arm (default: the group `right_arm` when there is one; else
+    /// the arms found in the URDF, the one whose hand is on the robot's right). An empty name:
+    /// no right arm.
+    pub right_arm: Option<String>,
+    /// SRDF group of the left arm (default: as `right_arm`, with `left_arm`). An empty name:
+    /// no left arm (a single-arm robot plans with its one arm only).
+    pub left_arm: Option<String>,
 }
 
 impl Default for PlannerOptions {
@@ -213,8 +253,8 @@ impl Default for PlannerOptions {
             h_max_finger: 0.005,
             time_budget: 10.0,
             strategy: StrategyChoice::Auto,
-            right_arm: "right_arm".to_owned(),
-            left_arm: "left_arm".to_owned(),
+            right_arm: None,
+            left_arm: None,
         }
     }
 }
@@ -294,19 +334,63 @@ impl Scene {
                 .map(|_| ())
                 .map_err(|r| invalid(field, r.into()))
         };
-        pose("robot.base_pose", &scene.robot.base_pose)?;
+        match (scene.robot.take(), scene.robots.is_empty()) {
+            (Some(robot), true) => scene.robots.push(robot),
+            (Some(_), false) => {
+                return Err(invalid(
+                    "robots",
+                    "give either [robot] or [[robots]], not both".into(),
+                ));
+            }
+            (None, true) => {
+                return Err(invalid(
+                    "robot",
+                    "missing: give [robot] (or [[robots]] for several)".into(),
+                ));
+            }
+            (None, false) => {}
+        }
+        let several = scene.robots.len() > 1;
+        let mut prefixes = std::collections::BTreeSet::new();
+        for (i, robot) in scene.robots.iter().enumerate() {
+            let field = |f: &str| {
+                if several {
+                    format!("robots[{i}].{f}")
+                } else {
+                    format!("robot.{f}")
+                }
+            };
+            pose(&field("base_pose"), &robot.base_pose)?;
+            for (name, value) in &robot.start_state {
+                if !value.is_finite() {
+                    return Err(invalid(
+                        &field(&format!("start_state.{name}")),
+                        "not a finite number".into(),
+                    ));
+                }
+            }
+            if several && !prefixes.insert(robot.prefix.clone()) {
+                return Err(invalid(
+                    &field("prefix"),
+                    format!(
+                        "two robots have the prefix {:?}: each needs its own, e.g. \"right_\" and \"left_\"",
+                        robot.prefix
+                    ),
+                ));
+            }
+            for (name, g) in &robot.groups {
+                if g.joints.is_empty() && (g.base_link.is_none() || g.tip_link.is_none()) {
+                    return Err(invalid(
+                        &field(&format!("groups.{name}")),
+                        "give base_link and tip_link (a chain), or joints".into(),
+                    ));
+                }
+            }
+        }
         pose("object.start_pose", &scene.object.start_pose)?;
         for (i, env) in scene.environment.iter().enumerate() {
             pose(&format!("environment[{i}].pose"), &env.pose)?;
             positive(env.scale).map_err(|r| invalid(&format!("environment[{i}].scale"), r))?;
-        }
-        for (name, value) in &scene.robot.start_state {
-            if !value.is_finite() {
-                return Err(invalid(
-                    &format!("robot.start_state.{name}"),
-                    "not a finite number".into(),
-                ));
-            }
         }
         positive(scene.object.scale).map_err(|r| invalid("object.scale", r))?;
         if let Some(m) = scene.object.mass {
@@ -342,9 +426,18 @@ impl Scene {
                 *p = base.join(&*p);
             }
         };
-        resolve(&mut scene.robot.urdf);
-        resolve(&mut scene.robot.srdf);
-        resolve(&mut scene.robot.gripper);
+        for robot in &mut scene.robots {
+            resolve(&mut robot.urdf);
+            if let Some(p) = robot.srdf.as_mut() {
+                resolve(p);
+            }
+            if let Some(p) = robot.gripper.as_mut() {
+                resolve(p);
+            }
+            for p in &mut robot.package_dirs {
+                resolve(p);
+            }
+        }
         resolve(&mut scene.object.mesh);
         for env in &mut scene.environment {
             resolve(&mut env.mesh);
@@ -392,7 +485,9 @@ point = [0.45, 0.1, 0.02]
     #[test]
     fn minimal_scene_gets_defaults_and_resolved_paths() {
         let s = parse(MINIMAL).expect("valid");
-        assert_eq!(s.robot.urdf, PathBuf::from("/scenes/robot.urdf"));
+        assert_eq!(s.robots[0].urdf, PathBuf::from("/scenes/robot.urdf"));
+        assert_eq!(s.robots.len(), 1);
+        assert!(s.robot.is_none());
         assert_eq!(s.environment[0].mesh, PathBuf::from("/abs/pallet.stl"));
         assert_eq!(s.planner, PlannerOptions::default());
         assert_eq!(s.object.start_pose.orientation, [0.0, 0.0, 0.0, 1.0]);

@@ -19,7 +19,9 @@ use pickplace_grasp::collide::ObjectCollider;
 use pickplace_placement::{EnvironmentModel, ObjectModel};
 use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
-use pickplace_robot::{IkSolver, LoadOptions, RobotModel, Semantics};
+use crate::robot_setup::{RobotArm, RobotSetup};
+use pickplace_robot::gripper::Gripper;
+use pickplace_robot::{IkSolver, RobotModel, Semantics};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -29,6 +31,9 @@ pub struct SetupOptions {
     /// Folder of cluster databases and roadmaps (default: none, everything is built in
     /// memory). The CLI passes `$PICKPLACE_CACHE`, else `target/pickplace-cache`.
     pub cache_dir: Option<PathBuf>,
+    /// Folders searched for `package://` mesh paths after the scene's own (the CLI's
+    /// `--package-dir`); `ROS_PACKAGE_PATH` comes last.
+    pub package_dirs: Vec<PathBuf>,
 }
 
 /// One arm of the robot as the planner uses it.
@@ -48,13 +53,15 @@ pub struct ArmSetup {
     pub roadmap: Roadmap,
     /// Whether the roadmap came from the cache.
     pub roadmap_source: RoadmapSource,
-    /// The TCP link (the end effector's parent link).
+    /// The tool link: added at the gripper's tool point (midway between the pads).
     pub tcp_link: usize,
     /// Its name.
     pub tcp_name: String,
-    /// The gripper's actuated variables (the finger joint value is half the opening).
+    /// The gripper, measured on the URDF: its drives, fingers, opening and closing command.
+    pub gripper: Gripper,
+    /// The gripper's actuated variables (its drives; mimic joints follow them).
     pub finger_variables: Vec<usize>,
-    /// Links of the gripper (they may touch a grasped object).
+    /// Links of the hand (they may touch a grasped object).
     pub finger_links: Vec<String>,
     /// The arm's base (its first joint's position), world frame: the paper's "which hand is
     /// closer" is measured from here.
@@ -89,14 +96,15 @@ pub struct Setup {
     pub model: RobotModel,
     /// Its SRDF.
     pub semantics: Semantics,
-    /// The gripper.
+    /// The grasp planner's gripper model (the right arm's, or the one arm's; grasps are
+    /// planned once for both hands).
     pub gripper: GripperParams,
     /// `world_from_root` of the robot.
     pub world_from_root: Isometry3,
     /// The start configuration (every variable).
     pub start: Vec<Real>,
-    /// The right and left arm.
-    pub arms: [ArmSetup; 2],
+    /// The arms the robot has: right then left, or its one arm. Never empty.
+    pub arms: Vec<ArmSetup>,
     /// The object's mesh (object frame).
     pub object_mesh: TriMesh,
     /// The object's environment-contact clusters.
@@ -152,20 +160,14 @@ impl Setup {
             reason,
         };
         let t = Instant::now();
-        let urdf_path = &scene.robot.urdf;
-        let model = RobotModel::from_urdf_file(urdf_path, &LoadOptions::default())
-            .map_err(robot_err(urdf_path))?;
-        let srdf_path = &scene.robot.srdf;
-        let semantics = Semantics::from_file(&model, srdf_path).map_err(robot_err(srdf_path))?;
-        let gripper =
-            GripperParams::load(&scene.robot.gripper).map_err(|source| Error::Gripper {
-                source: Box::new(source),
-            })?;
-        let world_from_root = scene
-            .robot
-            .base_pose
-            .to_isometry()
-            .map_err(|r| invalid("robot.base_pose", r.into()))?;
+        let robot = RobotSetup::load(&scene, scene_path, &options.package_dirs)?;
+        log.extend(robot.notes.iter().cloned());
+        let model = robot.model.clone();
+        let semantics = robot.semantics.clone();
+        let world_from_root = robot.world_from_root;
+        let urdf_path = scene.robots[0].urdf.clone();
+        let srdf_path = scene.robots[0].srdf.clone().unwrap_or_else(|| urdf_path.clone());
+        let gripper = robot.arms[0].gripper_params;
 
         // Start state: zeros, the SRDF's `home` when it has one, then the scene's values.
         let mut start = model.zero_configuration();
@@ -177,42 +179,69 @@ impl Setup {
         {
             semantics
                 .apply_state(&model, "home", &mut start)
-                .map_err(robot_err(srdf_path))?;
+                .map_err(robot_err(&srdf_path))?;
         }
-        for (name, &value) in &scene.robot.start_state {
-            let v = model.variable_index(name).ok_or_else(|| {
-                invalid(
-                    &format!("robot.start_state.{name}"),
-                    format!(
-                        "the robot {:?} has no actuated joint of that name",
-                        model.name()
-                    ),
-                )
-            })?;
-            let limits = model.variable_joint(v).limits;
-            if !limits.contains(value, 1e-9) {
-                return Err(invalid(
-                    &format!("robot.start_state.{name}"),
-                    format!(
-                        "{value} is outside the joint's limits [{}, {}]",
-                        limits.lower, limits.upper
-                    ),
-                ));
+        let several = scene.robots.len() > 1;
+        for (i, spec) in scene.robots.iter().enumerate() {
+            for (name, &value) in &spec.start_state {
+                let field = if several {
+                    format!("robots[{i}].start_state.{name}")
+                } else {
+                    format!("robot.start_state.{name}")
+                };
+                let full = format!("{}{name}", if several { spec.prefix.as_str() } else { "" });
+                let v = model.variable_index(&full).ok_or_else(|| {
+                    invalid(
+                        &field,
+                        format!(
+                            "the robot {:?} has no actuated joint of that name",
+                            model.name()
+                        ),
+                    )
+                })?;
+                let limits = model.variable_joint(v).limits;
+                if !limits.contains(value, 1e-9) {
+                    return Err(invalid(
+                        &field,
+                        format!(
+                            "{value} is outside the joint's limits [{}, {}]",
+                            limits.lower, limits.upper
+                        ),
+                    ));
+                }
+                start[v] = value;
             }
-            start[v] = value;
+        }
+        // An arm whose fingers start outside their stroke is opened (the planner commands
+        // them anyway).
+        if let Some(strategy_arms) = missing_arm(&scene, &robot) {
+            return Err(invalid("planner.strategy", strategy_arms));
         }
         log.push(format!(
-            "robot {:?}: {} links, {} joints ({} actuated) in {:.1} ms",
+            "robot {:?}: {} links, {} joints ({} actuated), {} arm(s) in {:.1} ms",
             model.name(),
             model.links().len(),
             model.joints().len(),
             model.variable_count(),
+            robot.arms.len(),
             ms(t)
         ));
+        for a in &robot.arms {
+            let (lo, hi) = a.gripper.opening_range();
+            log.push(format!(
+                "{} arm ({}): {} joints, gripper opening {:.1}-{:.1} mm, tool link {:?}",
+                a.arm,
+                a.group,
+                a.variables.len(),
+                lo * 1e3,
+                hi * 1e3,
+                a.tcp_name
+            ));
+        }
 
         // The collision world: robot, SRDF's disabled pairs, environment meshes.
         let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
-        let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(urdf_path))?;
+        let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(&urdf_path))?;
         self_world.set_world_from_root(world_from_root);
         let mut world = self_world.clone();
 
@@ -292,37 +321,28 @@ impl Setup {
             CollisionShape::mesh(&object_mesh).map_err(robot_err(&scene.object.mesh))?;
 
         // The arms.
-        let mut arms = Vec::with_capacity(2);
-        let urdf_text = std::fs::read_to_string(urdf_path).unwrap_or_default();
-        let srdf_text = std::fs::read_to_string(srdf_path).unwrap_or_default();
-        for (arm, group, field) in [
-            (Arm::Right, &scene.planner.right_arm, "planner.right_arm"),
-            (Arm::Left, &scene.planner.left_arm, "planner.left_arm"),
-        ] {
+        let mut arms = Vec::with_capacity(robot.arms.len());
+        for robot_arm in &robot.arms {
             let t = Instant::now();
             let arm_setup = arm_setup(
                 &model,
-                &semantics,
                 &self_world,
                 &start,
                 &world_from_root,
-                arm,
-                group,
+                robot_arm,
                 cache.map(|dir| {
                     roadmaps::roadmap_path(
                         dir,
                         model.name(),
-                        group,
-                        roadmaps::roadmap_key(&urdf_text, &srdf_text, group),
+                        &robot_arm.group,
+                        roadmaps::roadmap_key(&robot.key_text, "", &robot_arm.group),
                     )
                 }),
-            )
-            .map_err(|e| match e {
-                Error::Robot { source, .. } => invalid(field, source.to_string()),
-                e => e,
-            })?;
+            )?;
             log.push(format!(
-                "{arm} arm ({group}): roadmap {} nodes {} in {:.1} ms",
+                "{} arm ({}): roadmap {} nodes {} in {:.1} ms",
+                robot_arm.arm,
+                robot_arm.group,
                 arm_setup.roadmap.node_count(),
                 match arm_setup.roadmap_source {
                     RoadmapSource::Loaded => "loaded from the cache",
@@ -332,9 +352,6 @@ impl Setup {
             ));
             arms.push(arm_setup);
         }
-        let [right, left]: [ArmSetup; 2] = arms
-            .try_into()
-            .map_err(|_| crate::error::internal("arms")("two arms expected"))?;
         Ok(Self {
             scene_path: scene_path.to_path_buf(),
             scene,
@@ -343,7 +360,7 @@ impl Setup {
             gripper,
             world_from_root,
             start,
-            arms: [right, left],
+            arms,
             object_mesh,
             object_env,
             object_finger,
@@ -358,9 +375,19 @@ impl Setup {
         })
     }
 
-    /// The arm's setup.
+    /// The arm's setup. A single-arm robot has only one: every strategy that needs the other
+    /// is filtered out before planning ([`Setup::has_arm`]), and this returns the one arm.
     pub fn arm(&self, arm: Arm) -> &ArmSetup {
-        &self.arms[arm.index()]
+        let one = self.arms.iter().find(|a| a.arm == arm);
+        match one {
+            Some(a) => a,
+            None => &self.arms[0],
+        }
+    }
+
+    /// Whether the robot has this arm.
+    pub fn has_arm(&self, arm: Arm) -> bool {
+        self.arms.iter().any(|a| a.arm == arm)
     }
 
     /// The environment mesh a placement region (numbered across meshes) belongs to, and the
@@ -438,46 +465,25 @@ fn clusters(
 
 fn arm_setup(
     model: &RobotModel,
-    semantics: &Semantics,
     self_world: &CollisionWorld,
     start: &[Real],
     world_from_root: &Isometry3,
-    arm: Arm,
-    group: &str,
+    robot_arm: &RobotArm,
     cache: Option<PathBuf>,
 ) -> Result<ArmSetup> {
-    let srdf = semantics.source().to_path_buf();
-    semantics.group(group).map_err(robot_err(&srdf))?;
-    let ik = IkSolver::for_group(model, semantics, group).map_err(robot_err(&srdf))?;
-    let variables = ik.chain().variables().to_vec();
-    let tcp_link = ik.chain().tip_link();
-    let end_effector = semantics
-        .end_effectors()
+    let arm = robot_arm.arm;
+    let group = robot_arm.group.as_str();
+    let ik = IkSolver::new(model, robot_arm.chain(model)?);
+    let variables = robot_arm.variables.clone();
+    let tcp_link = robot_arm.tcp_link;
+    let gripper = robot_arm.gripper.clone();
+    let finger_variables: Vec<usize> = gripper.drives().iter().map(|d| d.variable).collect();
+    let finger_links: Vec<String> = gripper
+        .hand_links()
         .iter()
-        .find(|e| e.parent_group.as_deref() == Some(group) || e.parent_link == tcp_link)
-        .ok_or_else(|| Error::Robot {
-            path: srdf.clone(),
-            source: Box::new(pickplace_robot::Error::UnknownGroup {
-                name: format!("end effector of {group}"),
-            }),
-        })?;
-    let hand = semantics
-        .group(&end_effector.group)
-        .map_err(robot_err(&srdf))?;
-    let finger_variables = hand.variables.clone();
-    let mut finger_links: Vec<String> = hand
-        .links
-        .iter()
+        .chain(std::iter::once(&tcp_link))
         .map(|&l| model.links()[l].name.clone())
         .collect();
-    finger_links.push(model.links()[tcp_link].name.clone());
-    if let Some(&last) = variables.last() {
-        let parent = model.joints()[model.variable_joints()[last]].child_link;
-        let name = model.links()[parent].name.clone();
-        if !finger_links.contains(&name) {
-            finger_links.push(name);
-        }
-    }
     let space = roadmaps::arm_space(model, &variables)?;
     let (roadmap, roadmap_source) = roadmaps::load_or_build(
         model,
@@ -514,9 +520,32 @@ fn arm_setup(
         roadmap_source,
         tcp_link,
         tcp_name: model.links()[tcp_link].name.clone(),
+        gripper,
         finger_variables,
         finger_links,
         shoulder,
         reach: reach * 1.02,
+    })
+}
+
+/// Why the scene's strategy needs an arm the robot does not have, if it does.
+fn missing_arm(scene: &Scene, robot: &RobotSetup) -> Option<String> {
+    use crate::scene::StrategyChoice;
+    let needs: &[Arm] = match scene.planner.strategy {
+        StrategyChoice::Auto => &[],
+        StrategyChoice::RightRight => &[Arm::Right],
+        StrategyChoice::LeftLeft => &[Arm::Left],
+        StrategyChoice::RightLeft | StrategyChoice::LeftRight => &[Arm::Right, Arm::Left],
+    };
+    needs.iter().find(|&&a| robot.arm(a).is_none()).map(|a| {
+        format!(
+            "the strategy needs the {a} arm, and the robot has {}",
+            robot
+                .arms
+                .iter()
+                .map(|x| format!("{} ({})", x.arm, x.group))
+                .collect::<Vec<_>>()
+                .join(" and ")
+        )
     })
 }

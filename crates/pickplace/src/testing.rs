@@ -16,6 +16,7 @@ pub(crate) fn setup(name: &str) -> &'static Setup {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let options = SetupOptions {
             cache_dir: Some(root.join("target/pickplace-test-cache")),
+            ..SetupOptions::default()
         };
         let setup = Setup::load(&root.join("scenes").join(name), &options)
             .unwrap_or_else(|e| panic!("{name}: {e}"));

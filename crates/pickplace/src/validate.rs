@@ -86,9 +86,11 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     let mut events = plan.events.clone();
     events.sort_by(|a, b| a.time.total_cmp(&b.time));
     let arm_of_link = |link: &str| -> Option<Arm> {
-        Arm::BOTH
-            .into_iter()
-            .find(|&a| setup.arm(a).tcp_name == link)
+        setup
+            .arms
+            .iter()
+            .find(|a| a.tcp_name == link)
+            .map(|a| a.arm)
     };
     for e in &events {
         if arm_of_link(&e.link).is_none() {
@@ -212,8 +214,10 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             .zip(&n_next.positions)
             .map(|(a, b)| (b - a).abs())
             .fold(0.0, Real::max);
-        let tcp_move = Arm::BOTH
-            .into_iter()
+        let tcp_move = setup
+            .arms
+            .iter()
+            .map(|a| a.arm)
             .map(|a| {
                 (v.tcp(a, &n_next.positions).translation.vector
                     - v.tcp(a, &p.positions).translation.vector)

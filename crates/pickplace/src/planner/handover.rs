@@ -78,7 +78,7 @@ impl Ctx<'_> {
                 regrasp.reject(Rejection::HandsOverlap.to_string());
                 continue;
             }
-            let seed = self.with_fingers(b, &q_a, self.open_half());
+            let seed = self.opened(b, &q_a);
             let q_b = match split(self.free_ik(
                 b,
                 &pose_b,
@@ -106,9 +106,9 @@ impl Ctx<'_> {
                     }
                 };
             // Both hold: B closes, then A opens and retreats with B holding.
-            let both = self.with_fingers(b, &q_b, grasp2.width / 2.0);
+            let both = self.gripping(b, &q_b, grasp2.width);
             let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
-            let a_open = self.with_fingers(a, &both, self.open_half());
+            let a_open = self.opened(a, &both);
             if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
                 regrasp.reject(
                     Rejection::Collision(c)
@@ -184,7 +184,7 @@ pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Gra
 /// forward, forward and inward, forward and down, and down, each rolled in 90° steps. Each
 /// feasible one is scored by both arms' reach margin and the robot's clearance.
 pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Isometry3> {
-    let [r, l] = [setup.arms[0].shoulder, setup.arms[1].shoulder];
+    let [r, l] = [setup.arm(Arm::Right).shoulder, setup.arm(Arm::Left).shoulder];
     let mid = Point3::from((r.coords + l.coords) / 2.0);
     let forward = setup.world_from_root.rotation * Vector3::x();
     let left = setup.world_from_root.rotation * Vector3::y();

@@ -100,19 +100,29 @@ impl Ctx<'_> {
         self.setup.world_from_root * self.setup.arm(arm).ik.chain().pose(q)
     }
 
-    /// `q` with the arm's fingers at half-opening `half`.
-    pub(super) fn with_fingers(&self, arm: Arm, q: &[Real], half: Real) -> Vec<Real> {
+    /// `q` with the arm's pads `opening` apart (clamped into the gripper's range): the joint
+    /// values come from the gripper measured on the URDF (revolute fingers, fingers closed at
+    /// their upper limit and mimic chains alike).
+    #[cfg(test)]
+    pub(super) fn with_fingers(&self, arm: Arm, q: &[Real], opening: Real) -> Vec<Real> {
         let mut q = q.to_vec();
-        for &v in &self.setup.arm(arm).finger_variables {
-            let l = self.setup.model.variable_joint(v).limits;
-            q[v] = half.clamp(l.lower, l.upper);
-        }
+        self.setup.arm(arm).gripper.set_opening(&mut q, opening);
         q
     }
 
-    /// Half the gripper's largest opening: the finger value of an open hand.
-    pub(super) fn open_half(&self) -> Real {
-        self.setup.gripper.opening_max / 2.0
+    /// `q` with the arm's fingers closed on a grasp `width` wide (the pads at the width less
+    /// the gripper's squeeze).
+    pub(super) fn gripping(&self, arm: Arm, q: &[Real], width: Real) -> Vec<Real> {
+        let mut q = q.to_vec();
+        self.setup.arm(arm).gripper.set_grasp(&mut q, width);
+        q
+    }
+
+    /// `q` with the arm's hand open.
+    pub(super) fn opened(&self, arm: Arm, q: &[Real]) -> Vec<Real> {
+        let mut q = q.to_vec();
+        self.setup.arm(arm).gripper.set_open(&mut q);
+        q
     }
 
     /// The gripper's approach direction in its tool frame.
@@ -239,7 +249,7 @@ impl Ctx<'_> {
             return Err(r.into());
         }
         let salt = (gi as u64) << 8 | arm.index() as u64;
-        let open = self.with_fingers(arm, start, self.open_half());
+        let open = self.opened(arm, start);
         let free = self.world_with_object_at(&self.setup.object_start);
         let q_grasp = self
             .free_ik(arm, &grasp_pose, &open, salt, &free)
@@ -250,7 +260,7 @@ impl Ctx<'_> {
             .cartesian(arm, &q_grasp, &pre_pose, &|_, _| &free, salt ^ 0x11)
             .map_err(|f| f.at(Step::Approach))?;
         approach.reverse();
-        let closed = self.with_fingers(arm, &q_grasp, g.width / 2.0);
+        let closed = self.gripping(arm, &q_grasp, g.width);
         let [holding, holding_contact] =
             self.contact_worlds(arm, &g.object_from_tcp, &self.start_supports)?;
         let lift_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * grasp_pose;
@@ -279,7 +289,7 @@ impl Ctx<'_> {
             return Err(r.into());
         }
         let salt = (pi as u64) << 20 | (gi as u64) << 8 | 0x80 | arm.index() as u64;
-        let closed_seed = self.with_fingers(arm, seed, g.width / 2.0);
+        let closed_seed = self.gripping(arm, seed, g.width);
         let supports =
             self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
         let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
@@ -292,7 +302,7 @@ impl Ctx<'_> {
             .cartesian(arm, &q_place, &pre_pose, &world_at, salt ^ 0x33)
             .map_err(|f| f.at(Step::Lower))?;
         lower.reverse();
-        let opened = self.with_fingers(arm, &q_place, self.open_half());
+        let opened = self.opened(arm, &q_place);
         let left = self.world_with_object_at(&p.world_from_object);
         if let Some(c) = self.collision(&left, &opened, 0.0)? {
             return Err(Rejection::Collision(c).at(Step::Release).into());
@@ -344,12 +354,18 @@ mod tests {
     }
 
     #[test]
-    fn fingers_are_clamped_to_their_limits() {
+    fn fingers_are_clamped_to_their_limits_and_grip_below_the_width() {
         let ctx = ctx("fig9-near.toml");
         let setup = ctx.setup;
         let wide = ctx.with_fingers(Arm::Right, &setup.start, 10.0);
         for &v in &setup.arm(Arm::Right).finger_variables {
             assert_eq!(wide[v], setup.model.variable_joint(v).limits.upper);
+        }
+        // NX-HIRO's prismatic fingers each move half the opening; a grip squeezes.
+        let g = &setup.arm(Arm::Right).gripper;
+        let gripping = ctx.gripping(Arm::Right, &setup.start, 0.05);
+        for &v in &setup.arm(Arm::Right).finger_variables {
+            assert!((gripping[v] - (0.05 - g.squeeze()) / 2.0).abs() < 1e-6, "{}", gripping[v]);
         }
         // The other arm's fingers and every arm joint are untouched.
         for &v in &setup.arm(Arm::Left).finger_variables {

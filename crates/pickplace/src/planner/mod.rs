@@ -33,7 +33,7 @@ use crate::error::{Error, Result};
 use crate::plan::{Stats, StrategyReport};
 use crate::scene::StrategyChoice;
 use crate::setup::Setup;
-use crate::strategy::Strategy;
+use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::Real;
 use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet};
 use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
@@ -293,9 +293,23 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         ctx.finish_stats(&mut stats, t_all);
         return Ok(Outcome::NoPlan(Failure { reasons, stats }));
     }
-    let shoulders = [setup.arms[0].shoulder, setup.arms[1].shoulder];
+    let shoulders = [setup.arm(Arm::Right).shoulder, setup.arm(Arm::Left).shoulder];
     let start_point = setup.object_start * setup.cog;
     let order = Strategy::order(options.strategy, shoulders, &start_point, &target);
+    // A single-arm robot: the strategies that need the other arm do not apply.
+    let (order, skipped): (Vec<Strategy>, Vec<Strategy>) = order
+        .into_iter()
+        .partition(|s| setup.has_arm(s.pick_arm()) && setup.has_arm(s.place_arm()));
+    for strategy in skipped {
+        let missing = [strategy.pick_arm(), strategy.place_arm()]
+            .into_iter()
+            .find(|&a| !setup.has_arm(a))
+            .unwrap_or(strategy.pick_arm());
+        reasons.push(format!(
+            "{strategy}: does not apply: the robot has no {missing} arm (it has one arm, {} {:?})",
+            setup.arms[0].arm, setup.arms[0].group
+        ));
+    }
     for strategy in order {
         if ctx.out_of_time() {
             reasons.push(format!(

@@ -160,7 +160,7 @@ impl Ctx<'_> {
         let p = &self.placements[pi];
         let salt = (pi as u64) << 20 | (gi as u64) << 8 | arm.index() as u64;
         let mut segments = Vec::new();
-        let open_start = self.with_fingers(arm, start, self.open_half());
+        let open_start = self.opened(arm, start);
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
@@ -172,7 +172,7 @@ impl Ctx<'_> {
         segments.push(Segment::reach("pre-grasp", arm, to_pre));
         segments.push(Segment::reach("grasp", arm, pick.approach.clone()));
         let q_grasp = super::end_of(&pick.approach)?;
-        let closed = self.with_fingers(arm, q_grasp, g.width / 2.0);
+        let closed = self.gripping(arm, q_grasp, g.width);
         segments.push(Segment::event(
             vec![q_grasp.clone(), closed],
             None,
@@ -187,7 +187,7 @@ impl Ctx<'_> {
         segments.push(Segment::reach("pre-place", arm, carry));
         segments.push(Segment::reach("place", arm, place.lower.clone()));
         let q_place = super::end_of(&place.lower)?;
-        let opened = self.with_fingers(arm, q_place, self.open_half());
+        let opened = self.opened(arm, q_place);
         segments.push(Segment::event(
             vec![q_place.clone(), opened],
             Some(("release", arm)),
@@ -220,11 +220,7 @@ impl Ctx<'_> {
         let salt = (pi as u64) << 20 | (h.g1 as u64) << 8 | (h.g2 as u64) << 32;
         let mut segments = Vec::new();
         // Both hands open at the start.
-        let open_start = self.with_fingers(
-            b,
-            &self.with_fingers(a, start, self.open_half()),
-            self.open_half(),
-        );
+        let open_start = self.opened(b, &self.opened(a, start));
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
@@ -247,7 +243,7 @@ impl Ctx<'_> {
             .collect();
         segments.push(Segment::reach("grasp", a, approach.clone()));
         let q = here(&approach)?;
-        let closed = self.with_fingers(a, &q, g1.width / 2.0);
+        let closed = self.gripping(a, &q, g1.width);
         segments.push(Segment::event(
             vec![q, closed],
             None,
@@ -279,13 +275,13 @@ impl Ctx<'_> {
             .collect();
         segments.push(Segment::reach("regrasp", b, b_approach.clone()));
         let q = here(&b_approach)?;
-        let b_closed = self.with_fingers(b, &q, g2.width / 2.0);
+        let b_closed = self.gripping(b, &q, g2.width);
         segments.push(Segment::event(
             vec![q, b_closed.clone()],
             None,
             (EventKind::Grasp, b, g2.object_from_tcp.inverse()),
         ));
-        let a_open = self.with_fingers(a, &b_closed, self.open_half());
+        let a_open = self.opened(a, &b_closed);
         segments.push(Segment::event(
             vec![b_closed, a_open.clone()],
             Some(("release-first", a)),
@@ -316,7 +312,7 @@ impl Ctx<'_> {
         segments.push(Segment::reach("pre-place", b, to_place));
         segments.push(Segment::reach("place", b, lower.clone()));
         let q = here(&lower)?;
-        let opened = self.with_fingers(b, &q, self.open_half());
+        let opened = self.opened(b, &q);
         segments.push(Segment::event(
             vec![q, opened.clone()],
             Some(("release", b)),

@@ -13,6 +13,7 @@ fn root() -> PathBuf {
 fn setup(scene: &str) -> Setup {
     let options = SetupOptions {
         cache_dir: Some(Path::new(env!("CARGO_TARGET_TMPDIR")).join("facade-cache")),
+        ..SetupOptions::default()
     };
     Setup::load(&root().join("scenes").join(scene), &options).expect("shipped scene sets up")
 }

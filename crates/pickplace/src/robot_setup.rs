@@ -1,0 +1,418 @@
+//! The robot of a scene as the planner uses it: one model (several URDFs side by side are
+//! combined under prefixes), its SRDF completed from the scene and from the URDF, and one or
+//! two arms, each with the parallel gripper measured on the URDF
+//! ([`pickplace_robot::gripper`]) and a tool link added at the gripper's tool point.
+//!
+//! What the files lack is completed, and said once in [`RobotSetup::notes`]: arms found in
+//! the URDF when the SRDF names none, a single arm when only one is found.
+
+use crate::error::{Error, Result};
+use crate::scene::{GroupSpecToml, RobotSpec, Scene};
+use crate::strategy::Arm;
+use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
+use pickplace_grasp::GripperParams;
+use pickplace_grasp::gripper::PalmBox;
+use pickplace_robot::gripper::{Gripper, GripperOptions, find_arms};
+use pickplace_robot::srdf::{ChainSpec, GroupSpec};
+use pickplace_robot::{KinematicChain, LoadOptions, RobotModel, Semantics, Srdf};
+use std::path::{Path, PathBuf};
+
+/// The fewest actuated joints of an arm found in the URDF.
+const MIN_ARM_JOINTS: usize = 4;
+
+/// One arm as the planner sees it.
+#[derive(Debug, Clone)]
+pub struct RobotArm {
+    /// Which arm.
+    pub arm: Arm,
+    /// Its group (SRDF, scene, or `arm_<tip link>` when found in the URDF).
+    pub group: String,
+    /// Its variables (model order is the chain's order, root side first).
+    pub variables: Vec<usize>,
+    /// The gripper at its end.
+    pub gripper: Gripper,
+    /// The grasp planner's model of that gripper (measured, then the overrides file).
+    pub gripper_params: GripperParams,
+    /// The tool link added at the gripper's tool point.
+    pub tcp_link: usize,
+    /// Its name.
+    pub tcp_name: String,
+}
+
+impl RobotArm {
+    /// The chain from the root to the tool link over the arm's variables.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] for indices the model does not have (a defect).
+    pub fn chain(&self, model: &RobotModel) -> Result<KinematicChain> {
+        KinematicChain::new(model, self.tcp_link, Isometry3::identity(), &self.variables)
+            .map_err(crate::error::internal("arm chain"))
+    }
+}
+
+/// Gripper overrides (the scene's `robot.gripper` file; every field optional).
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GripperOverrides {
+    /// Squeeze (m): how much narrower than the grasp width the pads are commanded.
+    pub squeeze: Option<Real>,
+    /// Largest opening used (m).
+    pub opening_max: Option<Real>,
+    /// Smallest opening the grasp planner uses (m).
+    pub opening_min: Option<Real>,
+    /// Pad size across the finger (m).
+    pub pad_width: Option<Real>,
+    /// Pad size along the approach axis (m): the distal part of the fingers.
+    pub pad_depth: Option<Real>,
+    /// Finger length for the grasp planner's model (m).
+    pub finger_length: Option<Real>,
+    /// Finger thickness for the grasp planner's model (m).
+    pub finger_thickness: Option<Real>,
+    /// The tool point's offset in the measured tool frame (m).
+    pub tool_offset: Option<[Real; 3]>,
+    /// Must be `[0, 0, 1]` when given: the tool frame's z is the approach direction.
+    pub approach_axis: Option<[Real; 3]>,
+    /// Must be `[0, 1, 0]` when given: the tool frame's y is the closing direction.
+    pub closing_axis: Option<[Real; 3]>,
+    /// The palm box for the grasp planner, in the tool frame.
+    pub palm: Option<PalmBox>,
+}
+
+impl GripperOverrides {
+    /// Reads an overrides file.
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming the file and the field.
+    pub fn load(path: &Path) -> Result<Self> {
+        let invalid = |field: &str, reason: String| Error::Invalid {
+            path: path.to_path_buf(),
+            field: field.to_owned(),
+            reason,
+        };
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
+        let o: Self = toml::from_str(&text)
+            .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
+        let axis = |field: &str, given: Option<[Real; 3]>, want: [Real; 3]| -> Result<()> {
+            match given {
+                Some(a)
+                    if (Vector3::from(a).normalize() - Vector3::from(want)).norm() > 1e-9 =>
+                {
+                    Err(invalid(
+                        field,
+                        format!(
+                            "the tool frame is measured on the fingers with {field} = {want:?}; use tool_offset to move the tool point"
+                        ),
+                    ))
+                }
+                _ => Ok(()),
+            }
+        };
+        axis("approach_axis", o.approach_axis, [0.0, 0.0, 1.0])?;
+        axis("closing_axis", o.closing_axis, [0.0, 1.0, 0.0])?;
+        Ok(o)
+    }
+
+    fn options(&self) -> GripperOptions {
+        let d = GripperOptions::default();
+        GripperOptions {
+            squeeze: self.squeeze.unwrap_or(d.squeeze),
+            pad_depth: self.pad_depth,
+            pad_width: self.pad_width,
+            opening_max: self.opening_max,
+            tool_offset: self.tool_offset.map_or(d.tool_offset, Vector3::from),
+        }
+    }
+}
+
+/// The robot of a scene, ready for planning.
+#[derive(Debug, Clone)]
+pub struct RobotSetup {
+    /// The model, with a tool link per arm.
+    pub model: RobotModel,
+    /// Its semantics (SRDF, completed by the scene's groups).
+    pub semantics: Semantics,
+    /// The semantic description as merged (for hashing and the allowed-collision matrix).
+    pub srdf: Srdf,
+    /// `world_from_root`.
+    pub world_from_root: Isometry3,
+    /// The arms present: the right first.
+    pub arms: Vec<RobotArm>,
+    /// What was completed or skipped, one line each (said once).
+    pub notes: Vec<String>,
+    /// Every input that defines the robot, for cache keys.
+    pub key_text: String,
+}
+
+/// The file a robot error names: the URDF.
+fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
+    move |source| Error::Robot {
+        path: path.to_path_buf(),
+        source: Box::new(source),
+    }
+}
+
+impl RobotSetup {
+    /// Loads the scene's robot(s). `package_dirs` come after the scene's own.
+    ///
+    /// # Errors
+    /// [`Error::Robot`] for the URDF or SRDF (naming the file), [`Error::Invalid`] for a scene
+    /// value that does not fit the robot (an arm group that does not exist, a gripper that
+    /// cannot open or close), naming the field.
+    pub fn load(scene: &Scene, scene_path: &Path, package_dirs: &[PathBuf]) -> Result<Self> {
+        let invalid = |field: &str, reason: String| Error::Invalid {
+            path: scene_path.to_path_buf(),
+            field: field.to_owned(),
+            reason,
+        };
+        let several = scene.robots.len() > 1;
+        let field = |i: usize, f: &str| {
+            if several {
+                format!("robots[{i}].{f}")
+            } else {
+                format!("robot.{f}")
+            }
+        };
+        let mut notes = Vec::new();
+        let mut key_text = String::new();
+        let mut parts: Vec<(RobotModel, Srdf, Isometry3, &RobotSpec)> = Vec::new();
+        for (i, spec) in scene.robots.iter().enumerate() {
+            let mut dirs = spec.package_dirs.clone();
+            dirs.extend(package_dirs.iter().cloned());
+            let options = LoadOptions {
+                package_dirs: dirs,
+                ..LoadOptions::default()
+            };
+            let model =
+                RobotModel::from_urdf_file(&spec.urdf, &options).map_err(robot_err(&spec.urdf))?;
+            for w in model.warnings() {
+                notes.push(format!("{}: {w}", spec.urdf.display()));
+            }
+            let mut srdf = match &spec.srdf {
+                Some(path) => Srdf::from_file(path).map_err(robot_err(path))?,
+                None => Srdf::default(),
+            };
+            for (name, g) in &spec.groups {
+                srdf.groups.retain(|x| &x.name != name);
+                srdf.groups.push(group_spec(name, g));
+            }
+            let world_from_root = spec
+                .base_pose
+                .to_isometry()
+                .map_err(|r| invalid(&field(i, "base_pose"), r.into()))?;
+            key_text.push_str(&read_text(&spec.urdf));
+            if let Some(p) = &spec.srdf {
+                key_text.push_str(&read_text(p));
+            }
+            key_text.push_str(&format!("{:?}{:?}", spec.prefix, spec.groups));
+            parts.push((model, srdf, world_from_root, spec));
+        }
+        let (model, srdf, world_from_root, srdf_path) = match parts.len() {
+            1 => {
+                let (model, srdf, pose, spec) = parts.remove(0);
+                let path = spec.srdf.clone().unwrap_or_else(|| spec.urdf.clone());
+                (model, srdf, pose, path)
+            }
+            _ => combine(parts, &mut notes)?,
+        };
+        let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
+
+        // The arms: the scene's groups, else `right_arm` / `left_arm`, else found in the URDF.
+        let overrides = match scene.robots.iter().find_map(|r| r.gripper.as_ref()) {
+            Some(path) => GripperOverrides::load(path)?,
+            None => GripperOverrides::default(),
+        };
+        let has_group = |name: &str| semantics.group(name).is_ok();
+        let pick = |given: &Option<String>, default: &str| -> Option<String> {
+            match given {
+                Some(g) if g.is_empty() => None,
+                Some(g) => Some(g.clone()),
+                None => has_group(default).then(|| default.to_owned()),
+            }
+        };
+        let p = &scene.planner;
+        let mut chosen: Vec<(Arm, String, Vec<usize>, &'static str)> = Vec::new();
+        for (arm, given, default, f) in [
+            (Arm::Right, &p.right_arm, "right_arm", "planner.right_arm"),
+            (Arm::Left, &p.left_arm, "left_arm", "planner.left_arm"),
+        ] {
+            if let Some(group) = pick(given, default) {
+                let g = semantics.group(&group).map_err(|e| {
+                    invalid(
+                        f,
+                        format!(
+                            "{e} (groups: {})",
+                            semantics
+                                .groups()
+                                .iter()
+                                .map(|g| g.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    )
+                })?;
+                if g.variables.is_empty() {
+                    return Err(invalid(f, format!("group {group:?} has no actuated joint")));
+                }
+                chosen.push((arm, group, g.variables.clone(), f));
+            }
+        }
+        let explicit = p.right_arm.is_some() || p.left_arm.is_some();
+        if chosen.is_empty() && !explicit {
+            let found = find_arms(&model, MIN_ARM_JOINTS);
+            if found.is_empty() {
+                return Err(invalid(
+                    "planner.right_arm",
+                    format!(
+                        "the SRDF has no group right_arm or left_arm and no arm ending in a parallel gripper was found in {}; name the arm groups",
+                        scene.robots[0].urdf.display()
+                    ),
+                ));
+            }
+            // Which is right: the hand farther to the robot's right (−y of the root frame) at
+            // the zero configuration.
+            let q = model.zero_configuration();
+            let poses = model
+                .link_poses(&q)
+                .map_err(crate::error::internal("forward kinematics"))?;
+            let mut by_side: Vec<_> = found
+                .into_iter()
+                .map(|a| (poses[a.tip_link].translation.vector.y, a))
+                .collect();
+            by_side.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (k, (_, a)) in by_side.into_iter().take(2).enumerate() {
+                let arm = if k == 0 { Arm::Right } else { Arm::Left };
+                let group = format!("arm_{}", model.links()[a.tip_link].name);
+                notes.push(format!(
+                    "{arm} arm found in the URDF: {} joints from {:?} to {:?} (name it with planner.{arm}_arm)",
+                    a.variables.len(),
+                    model.links()[a.base_link].name,
+                    model.links()[a.tip_link].name
+                ));
+                chosen.push((arm, group, a.variables, "planner.right_arm"));
+            }
+        }
+        if chosen.len() == 1 {
+            let (arm, group, ..) = &chosen[0];
+            notes.push(format!(
+                "one arm ({arm}: {group}): single-arm strategies only; a handover needs two arms"
+            ));
+        }
+        if chosen.is_empty() {
+            return Err(invalid("planner.right_arm", "no arm: both arm groups are empty".into()));
+        }
+
+        // Grippers and tool links.
+        let options = overrides.options();
+        let mut model = model;
+        let mut arms = Vec::with_capacity(chosen.len());
+        for (arm, group, variables, f) in chosen {
+            let gripper = Gripper::derive(&model, &variables, &options)
+                .map_err(|e| invalid(f, format!("arm {group:?}: {e}")))?;
+            let mut name = format!("{group}_tool");
+            while model.link_index(&name).is_some() {
+                name.push('_');
+            }
+            model = model
+                .with_fixed_link(&name, gripper.arm_tip(), *gripper.tip_from_tcp())
+                .map_err(crate::error::internal("tool link"))?;
+            let tcp_link = model
+                .link_index(&name)
+                .ok_or_else(|| crate::error::internal("tool link")("missing"))?;
+            let gripper_params = grasp_model(&gripper, &overrides)
+                .map_err(|e| invalid(f, format!("arm {group:?}: gripper: {e}")))?;
+            arms.push(RobotArm {
+                arm,
+                group,
+                variables,
+                gripper,
+                gripper_params,
+                tcp_link,
+                tcp_name: name,
+            });
+        }
+        key_text.push_str(&format!("{overrides:?}"));
+        // Semantics again, on the model with the tool links.
+        let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
+        Ok(Self {
+            model,
+            semantics,
+            srdf,
+            world_from_root,
+            arms,
+            notes,
+            key_text,
+        })
+    }
+
+    /// The arm, if the robot has it.
+    pub fn arm(&self, arm: Arm) -> Option<&RobotArm> {
+        self.arms.iter().find(|a| a.arm == arm)
+    }
+}
+
+/// The grasp planner's gripper model: measured, then overridden.
+fn grasp_model(
+    gripper: &Gripper,
+    o: &GripperOverrides,
+) -> std::result::Result<GripperParams, pickplace_grasp::Error> {
+    let (lo, hi) = gripper.opening_range();
+    let (pad_width, pad_depth) = gripper.pad_size();
+    let (finger_length, finger_thickness) = gripper.finger_size();
+    let (pmin, pmax) = gripper.palm_box();
+    let params = GripperParams {
+        opening_min: o.opening_min.unwrap_or(lo),
+        opening_max: o.opening_max.map_or(hi, |m| m.min(hi)),
+        pad_width: o.pad_width.unwrap_or(pad_width),
+        pad_depth: o.pad_depth.unwrap_or(pad_depth),
+        finger_length: o.finger_length.unwrap_or(finger_length),
+        finger_thickness: o.finger_thickness.unwrap_or(finger_thickness),
+        approach_axis: Vector3::z(),
+        closing_axis: Vector3::y(),
+        palm: o.palm.unwrap_or(PalmBox {
+            min: Point3::from(pmin.coords),
+            max: Point3::from(pmax.coords),
+        }),
+    };
+    params.validate()?;
+    Ok(params)
+}
+
+fn group_spec(name: &str, g: &GroupSpecToml) -> GroupSpec {
+    GroupSpec {
+        name: name.to_owned(),
+        chains: match (&g.base_link, &g.tip_link) {
+            (Some(b), Some(t)) => vec![ChainSpec {
+                base_link: b.clone(),
+                tip_link: t.clone(),
+            }],
+            _ => Vec::new(),
+        },
+        joints: g.joints.clone(),
+        links: Vec::new(),
+        subgroups: Vec::new(),
+    }
+}
+
+fn read_text(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_default()
+}
+
+/// Several robots as one model under a `world` root, names prefixed.
+fn combine(
+    parts: Vec<(RobotModel, Srdf, Isometry3, &RobotSpec)>,
+    notes: &mut Vec<String>,
+) -> Result<(RobotModel, Srdf, Isometry3, PathBuf)> {
+    // Combining is the robot crate's `RobotModel::combine` (landing with the loader work).
+    let _ = notes;
+    let first = parts
+        .first()
+        .map(|p| p.3.urdf.clone())
+        .unwrap_or_default();
+    Err(Error::Robot {
+        path: first,
+        source: Box::new(pickplace_robot::Error::UnknownGroup {
+            name: "several robots in one scene are not supported yet".into(),
+        }),
+    })
+}
