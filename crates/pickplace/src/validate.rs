@@ -20,6 +20,7 @@ use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
 use pickplace_placement::stability::SupportHull;
 use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, CollisionWorld};
+use pickplace_robot::gripper::GripObject;
 use pickplace_robot::srdf::DisableReason;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -48,6 +49,12 @@ pub struct ValidationReport {
     /// Every problem, in time order (empty: the plan is valid).
     pub problems: Vec<String>,
 }
+
+/// The largest gap (m) between a holding hand's finger pad and the object.
+pub const GRIP_GAP: Real = 0.002;
+/// Penetration (m) tolerated beyond the gripper's squeeze (the pads are convex hulls, the
+/// object a triangle mesh).
+pub const GRIP_TOLERANCE: Real = 0.0005;
 
 /// Checks `plan` against `setup`'s scene. `plan_path` names the plan in errors.
 ///
@@ -109,8 +116,12 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         .to_isometry()
         .map_err(|r| bad(format!("object.placed_pose: {r}")))?;
 
+    let grip_object =
+        GripObject::new(&setup.object_mesh).map_err(crate::error::internal("grip check"))?;
     let mut v = Validator {
         setup,
+        grip_object,
+        grip_reported: Vec::new(),
         problems: Vec::new(),
         worlds: BTreeMap::new(),
         scratch: CollisionScratch::default(),
@@ -135,6 +146,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     let mut object = setup.object_start;
     // Holders: arm and link_from_object.
     let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
+    let mut last_object: Option<Isometry3> = None;
     let mut next_event = 0;
     for i in 0..plan.trajectory.len() {
         let p = &plan.trajectory[i];
@@ -168,6 +180,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     }
                     holders.retain(|(h, _)| *h != arm);
                     holders.push((arm, link_from_object));
+                    v.grip_reported.retain(|&h| h != arm);
                 }
                 EventKind::Release => {
                     if !holders.iter().any(|(h, _)| *h == arm) {
@@ -250,6 +263,16 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                 }
             }
             v.check_state(t + f * dt, &q, &holders, &obj);
+            // The grip is checked while the held object moves (the fingers open and close
+            // with the hand at rest).
+            let moved = last_object.is_some_and(|l: Isometry3| {
+                (l.translation.vector - obj.translation.vector).norm() > 1e-6
+                    || l.rotation.angle_to(&obj.rotation) > 1e-6
+            });
+            if moved {
+                v.check_grip(t + f * dt, &q, &holders, &obj)?;
+            }
+            last_object = Some(obj);
         }
     }
     if !holders.is_empty() {
@@ -292,6 +315,10 @@ enum WorldKey {
 
 struct Validator<'a> {
     setup: &'a Setup,
+    /// The object for the fingers' gaps.
+    grip_object: GripObject,
+    /// Arms whose grip problem is reported already (once per hold).
+    grip_reported: Vec<Arm>,
     problems: Vec<String>,
     worlds: BTreeMap<WorldKey, CollisionWorld>,
     scratch: CollisionScratch,
@@ -304,6 +331,66 @@ struct Validator<'a> {
 impl Validator<'_> {
     fn problem(&mut self, t: Real, what: String) {
         self.problems.push(format!("t = {t:.3} s: {what}"));
+    }
+
+    /// The grip (issue: fingers that never close): while an arm holds the object, both of
+    /// its finger pads touch it, no more than [`GRIP_GAP`] away and no deeper than the
+    /// gripper's squeeze (and [`GRIP_TOLERANCE`]). Reported once per hold.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] when the collision library cannot measure a finger.
+    fn check_grip(
+        &mut self,
+        t: Real,
+        q: &[Real],
+        holders: &[(Arm, Isometry3)],
+        object: &Isometry3,
+    ) -> Result<()> {
+        if holders.iter().all(|(a, _)| self.grip_reported.contains(a)) {
+            return Ok(());
+        }
+        let setup = self.setup;
+        let poses: Vec<Isometry3> = setup
+            .model
+            .link_poses(q)
+            .map_err(crate::error::internal("grip check"))?
+            .into_iter()
+            .map(|p| setup.world_from_root * p)
+            .collect();
+        for &(arm, _) in holders {
+            if self.grip_reported.contains(&arm) {
+                continue;
+            }
+            let gripper = &setup.arm(arm).gripper;
+            let gaps = gripper
+                .finger_gaps(&poses, &self.grip_object, object)
+                .map_err(crate::error::internal("grip check"))?;
+            for (pad, &gap) in gaps.iter().enumerate() {
+                let problem = if gap > GRIP_GAP {
+                    Some(format!(
+                        "the {arm} hand holds the object but its finger pad {} is {:.1} mm from it (at most {:.0} mm): the grip does not close",
+                        pad + 1,
+                        gap * 1e3,
+                        GRIP_GAP * 1e3
+                    ))
+                } else if -gap > gripper.squeeze() + GRIP_TOLERANCE {
+                    Some(format!(
+                        "the {arm} hand's finger pad {} is {:.1} mm inside the object (the squeeze is {:.1} mm)",
+                        pad + 1,
+                        -gap * 1e3,
+                        gripper.squeeze() * 1e3
+                    ))
+                } else {
+                    None
+                };
+                if let Some(p) = problem {
+                    self.problem(t, p);
+                    self.grip_reported.push(arm);
+                    break;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn tcp(&self, arm: Arm, q: &[Real]) -> Isometry3 {

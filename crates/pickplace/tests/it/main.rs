@@ -77,6 +77,57 @@ fn the_validator_catches_a_plan_that_skips_the_grasp() {
 }
 
 #[test]
+fn the_validator_refuses_a_plan_whose_fingers_do_not_close() {
+    let setup = setup("fig9-near.toml");
+    let plan = plan_with_threads(&setup, 1);
+    let valid = pickplace::validate::validate(&setup, &plan, Path::new("plan.json")).expect("fits");
+    assert!(valid.problems.is_empty(), "{:?}", valid.problems);
+    // The old command (each finger joint at half the opening, clamped) is right for NX-HIRO's
+    // prismatic fingers; a gripper whose fingers stay open while the object moves is the
+    // defect the grip check exists for: keep the fingers at their open value throughout.
+    let arm = setup.arm(Arm::Right);
+    let mut open = setup.start.clone();
+    arm.gripper.set_open(&mut open);
+    let mut broken = plan.clone();
+    for p in &mut broken.trajectory {
+        for &v in &arm.finger_variables {
+            p.positions[v] = open[v];
+        }
+    }
+    let report =
+        pickplace::validate::validate(&setup, &broken, Path::new("plan.json")).expect("fits");
+    assert!(
+        report
+            .problems
+            .iter()
+            .any(|p| p.contains("the grip does not close")),
+        "{:?}",
+        report.problems
+    );
+    // Fingers squeezed 3 mm into the object are refused too.
+    let mut crushing = plan.clone();
+    let width = plan.grasps[0].width;
+    let mut tight = setup.start.clone();
+    arm.gripper.set_opening(&mut tight, width - 0.006);
+    let grasp_time = plan.events[0].time;
+    let release_time = plan.events[1].time;
+    for p in &mut crushing.trajectory {
+        if p.time_from_start > grasp_time && p.time_from_start < release_time {
+            for &v in &arm.finger_variables {
+                p.positions[v] = tight[v];
+            }
+        }
+    }
+    let report =
+        pickplace::validate::validate(&setup, &crushing, Path::new("plan.json")).expect("fits");
+    assert!(
+        report.problems.iter().any(|p| p.contains("inside the object")),
+        "{:?}",
+        report.problems
+    );
+}
+
+#[test]
 fn handover_poses_are_in_front_of_the_torso_between_the_shoulders() {
     let setup = setup("fig9-near.toml");
     let [r, l] = [setup.arms[0].shoulder, setup.arms[1].shoulder];
