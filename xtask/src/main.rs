@@ -6,6 +6,7 @@ mod fuzz;
 mod gen_meshes;
 mod precompute;
 mod roadmaps;
+mod test;
 
 use std::path::PathBuf;
 
@@ -17,6 +18,7 @@ fn main() -> anyhow::Result<()> {
         Some("bench") => bench::run(&repo_root(), &rest_args()),
         Some("fuzz") => fuzz::run(&repo_root(), &rest_args()),
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
+        Some("test") => test::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -45,7 +47,9 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      the figures of the document and rewrites its text\n  \
      fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
      (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
-     fuzz-seeds   write the generated seed corpora under fuzz/seeds/";
+     fuzz-seeds   write the generated seed corpora under fuzz/seeds/\n  \
+     test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
+     from PyPI into target/robots-venv, once) and run cargo test --workspace";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
@@ -74,7 +78,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 6, "{tasks:?}");
+        assert_eq!(tasks.len(), 7, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

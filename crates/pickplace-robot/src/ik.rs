@@ -359,7 +359,13 @@ impl IkSolver {
             }
             for (c, &v) in self.chain.variables().iter().enumerate() {
                 let (lower, upper) = self.limits[c];
-                q[v] = (q[v] + dq[c]).clamp(lower, upper);
+                q[v] = if lower.is_finite() || upper.is_finite() {
+                    (q[v] + dq[c]).clamp(lower, upper)
+                } else {
+                    // A continuous joint: the angle wrapped into [−π, π), where the motion
+                    // planner's joint space is.
+                    wrap_angle(q[v] + dq[c])
+                };
             }
             tcp = self.chain.pose_and_jacobian(q, &mut workspace.jacobian);
             (e, pe, oe, axis_now) = self.error(&tcp, target, options);
@@ -388,4 +394,11 @@ const MAX_STEP: Real = 0.5;
 #[derive(Debug)]
 struct Workspace {
     jacobian: Jacobian,
+}
+
+/// `angle` wrapped into [−π, π).
+fn wrap_angle(angle: Real) -> Real {
+    let tau = std::f64::consts::TAU;
+    let wrapped = (angle + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI;
+    if wrapped.is_finite() { wrapped } else { 0.0 }
 }

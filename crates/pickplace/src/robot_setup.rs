@@ -142,6 +142,10 @@ pub struct RobotSetup {
     pub notes: Vec<String>,
     /// Every input that defines the robot, for cache keys.
     pub key_text: String,
+    /// The (first) URDF file, resolved.
+    pub urdf_path: PathBuf,
+    /// The file that named the groups: the SRDF, or the URDF when there is none.
+    pub srdf_path: PathBuf,
 }
 
 /// The file a robot error names: the URDF.
@@ -175,10 +179,34 @@ impl RobotSetup {
         };
         let mut notes = Vec::new();
         let mut key_text = String::new();
-        let mut parts: Vec<(RobotModel, Srdf, Isometry3, &RobotSpec)> = Vec::new();
+        let mut parts: Vec<(RobotModel, Srdf, Isometry3, RobotSpec)> = Vec::new();
         for (i, spec) in scene.robots.iter().enumerate() {
             let mut dirs = spec.package_dirs.clone();
             dirs.extend(package_dirs.iter().cloned());
+            let resolve = |p: &Path, f: &str| -> Result<PathBuf> {
+                let text = p.to_string_lossy();
+                if text.starts_with("package://") {
+                    pickplace_robot::model::resolve_uri(&text, Path::new(""), &dirs).map_err(|e| {
+                        invalid(
+                            &field(i, f),
+                            format!(
+                                "{text}: {e} (searched: the scene's package_dirs, --package-dir, ROS_PACKAGE_PATH)"
+                            ),
+                        )
+                    })
+                } else {
+                    Ok(p.to_path_buf())
+                }
+            };
+            let mut resolved = spec.clone();
+            resolved.urdf = resolve(&spec.urdf, "urdf")?;
+            resolved.srdf = spec.srdf.as_deref().map(|p| resolve(p, "srdf")).transpose()?;
+            resolved.gripper = spec
+                .gripper
+                .as_deref()
+                .map(|p| resolve(p, "gripper"))
+                .transpose()?;
+            let spec = resolved;
             let options = LoadOptions {
                 package_dirs: dirs,
                 ..LoadOptions::default()
@@ -207,6 +235,8 @@ impl RobotSetup {
             key_text.push_str(&format!("{:?}{:?}", spec.prefix, spec.groups));
             parts.push((model, srdf, world_from_root, spec));
         }
+        let gripper_file = parts.iter().find_map(|p| p.3.gripper.clone());
+        let first_urdf = parts.first().map(|p| p.3.urdf.clone()).unwrap_or_default();
         let (model, srdf, world_from_root, srdf_path) = match parts.len() {
             1 => {
                 let (model, srdf, pose, spec) = parts.remove(0);
@@ -218,7 +248,7 @@ impl RobotSetup {
         let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
 
         // The arms: the scene's groups, else `right_arm` / `left_arm`, else found in the URDF.
-        let overrides = match scene.robots.iter().find_map(|r| r.gripper.as_ref()) {
+        let overrides = match gripper_file.as_ref() {
             Some(path) => GripperOverrides::load(path)?,
             None => GripperOverrides::default(),
         };
@@ -265,7 +295,7 @@ impl RobotSetup {
                     "planner.right_arm",
                     format!(
                         "the SRDF has no group right_arm or left_arm and no arm ending in a parallel gripper was found in {}; name the arm groups",
-                        scene.robots[0].urdf.display()
+                        first_urdf.display()
                     ),
                 ));
             }
@@ -342,6 +372,8 @@ impl RobotSetup {
             arms,
             notes,
             key_text,
+            urdf_path: first_urdf,
+            srdf_path,
         })
     }
 
@@ -400,7 +432,7 @@ fn read_text(path: &Path) -> String {
 
 /// Several robots as one model under a `world` root, names prefixed.
 fn combine(
-    parts: Vec<(RobotModel, Srdf, Isometry3, &RobotSpec)>,
+    parts: Vec<(RobotModel, Srdf, Isometry3, RobotSpec)>,
     notes: &mut Vec<String>,
 ) -> Result<(RobotModel, Srdf, Isometry3, PathBuf)> {
     // Combining is the robot crate's `RobotModel::combine` (landing with the loader work).

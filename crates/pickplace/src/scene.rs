@@ -422,7 +422,8 @@ impl Scene {
         }
         // Resolve relative paths against the scene's folder.
         let resolve = |p: &mut PathBuf| {
-            if p.is_relative() {
+            // `package://NAME/…` is resolved when the robot is loaded (package folders).
+            if p.is_relative() && !p.to_string_lossy().starts_with("package://") {
                 *p = base.join(&*p);
             }
         };

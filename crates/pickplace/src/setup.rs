@@ -165,8 +165,8 @@ impl Setup {
         let model = robot.model.clone();
         let semantics = robot.semantics.clone();
         let world_from_root = robot.world_from_root;
-        let urdf_path = scene.robots[0].urdf.clone();
-        let srdf_path = scene.robots[0].srdf.clone().unwrap_or_else(|| urdf_path.clone());
+        let urdf_path = robot.urdf_path.clone();
+        let srdf_path = robot.srdf_path.clone();
         let gripper = robot.arms[0].gripper_params;
 
         // Start state: zeros, the SRDF's `home` when it has one, then the scene's values.
@@ -212,8 +212,14 @@ impl Setup {
                 start[v] = value;
             }
         }
-        // An arm whose fingers start outside their stroke is opened (the planner commands
-        // them anyway).
+        // Continuous joints start within [−π, π), where the motion planner's space is.
+        for (v, x) in start.iter_mut().enumerate() {
+            let l = model.variable_joint(v).limits;
+            if !l.lower.is_finite() && !l.upper.is_finite() {
+                *x = (*x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+            }
+        }
         if let Some(strategy_arms) = missing_arm(&scene, &robot) {
             return Err(invalid("planner.strategy", strategy_arms));
         }
@@ -240,7 +246,7 @@ impl Setup {
         }
 
         // The collision world: robot, SRDF's disabled pairs, environment meshes.
-        let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+        let acm = complete_acm(&model, &semantics, &start, &mut log).map_err(robot_err(&urdf_path))?;
         let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(&urdf_path))?;
         self_world.set_world_from_root(world_from_root);
         let mut world = self_world.clone();
@@ -548,4 +554,61 @@ fn missing_arm(scene: &Scene, robot: &RobotSetup) -> Option<String> {
                 .join(" and ")
         )
     })
+}
+
+/// The SRDF's allowed-collision matrix, completed: links joined by a joint may touch (the
+/// SRDF often lists them, not always); with no matrix in the SRDF at all, the link pairs that
+/// touch at the start state are allowed too (MoveIt's "Default" pairs), each said in the log,
+/// so that a robot without an SRDF can plan (`pickplace robot srdf` writes a sampled matrix
+/// to review).
+fn complete_acm(
+    model: &RobotModel,
+    semantics: &Semantics,
+    start: &[Real],
+    log: &mut Vec<String>,
+) -> std::result::Result<AllowedCollisionMatrix, pickplace_robot::Error> {
+    use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch};
+    use pickplace_robot::srdf::DisableReason;
+    let mut acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+    let adjacent = AllowedCollisionMatrix::adjacent_links(model);
+    let added = adjacent
+        .iter()
+        .filter(|(a, b, _)| !acm.is_allowed(a, b))
+        .count();
+    acm.merge(&adjacent);
+    if added > 0 {
+        log.push(format!(
+            "{added} pairs of links joined by a joint may touch (the SRDF does not list them)"
+        ));
+    }
+    if semantics.srdf().disabled_collisions.is_empty() {
+        let world = CollisionWorld::new(model, acm.clone())?;
+        let pairs = world.colliding_pairs(
+            model,
+            start,
+            &mut CollisionScratch::default(),
+            &CheckOptions::default(),
+        )?;
+        let mut names = Vec::new();
+        for (a, b) in pairs {
+            // Only within one chain (a link and one of its ancestors: geometry overlapping
+            // across a joint); two branches touching at the start is a collision, reported
+            // by the start check.
+            if let (BodyId::Link(a), BodyId::Link(b)) = (a, b)
+                && (model.is_ancestor(a, b) || model.is_ancestor(b, a))
+            {
+                let (a, b) = (&model.links()[a].name, &model.links()[b].name);
+                acm.allow(a, b, DisableReason::Default);
+                names.push(format!("{a} ~ {b}"));
+            }
+        }
+        if !names.is_empty() {
+            log.push(format!(
+                "no collision matrix in the SRDF: {} link pairs touching at the start state may touch ({}); `pickplace robot srdf` samples a full matrix",
+                names.len(),
+                names.join(", ")
+            ));
+        }
+    }
+    Ok(acm)
 }

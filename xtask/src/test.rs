@@ -1,0 +1,79 @@
+//! `cargo xtask test [-- CARGO_TEST_ARGS…]`: every test of the workspace, with what the tests
+//! need installed first.
+//!
+//! The robots-as-shipped tests plan with PR2, Baxter, TALOS and two Pandas from the public
+//! PyPI package `example-robot-data` (version pinned below). It is installed with a plain
+//! `pip install` into a virtual environment of its own, `target/robots-venv` (kept between
+//! runs: a second run installs nothing), and the tests find its files through
+//! `PICKPLACE_ROBOTS_PACKAGES` (the folder that holds `example-robot-data/`).
+
+use anyhow::{Context, bail};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The pinned release of `example-robot-data` on PyPI.
+pub const EXAMPLE_ROBOT_DATA: &str = "example-robot-data==6.0.0";
+
+/// Runs the workspace tests with the robot package installed.
+pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
+    let packages = install_robots(root)?;
+    eprintln!("xtask test: robots from {}", packages.display());
+    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .current_dir(root)
+        .args(["test", "--workspace"])
+        .args(args)
+        .env("PICKPLACE_ROBOTS_PACKAGES", &packages)
+        .status()
+        .context("cannot run cargo test")?;
+    if !status.success() {
+        bail!("cargo test failed ({status})");
+    }
+    Ok(())
+}
+
+/// Installs `example-robot-data` into `target/robots-venv` when it is not there yet, and
+/// returns the folder that holds `example-robot-data/`.
+pub fn install_robots(root: &Path) -> anyhow::Result<PathBuf> {
+    let venv = root.join("target/robots-venv");
+    if let Some(share) = find_share(&venv) {
+        return Ok(share);
+    }
+    std::fs::create_dir_all(root.join("target")).context("cannot create target/")?;
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    eprintln!("xtask test: creating {} with {python}", venv.display());
+    let status = Command::new(&python)
+        .args(["-m", "venv"])
+        .arg(&venv)
+        .status()
+        .with_context(|| format!("cannot run {python} (set PYTHON to a Python 3 interpreter)"))?;
+    if !status.success() {
+        bail!("{python} -m venv {} failed ({status})", venv.display());
+    }
+    let pip = venv.join("bin/pip");
+    eprintln!("xtask test: pip install {EXAMPLE_ROBOT_DATA}");
+    let status = Command::new(&pip)
+        .args(["install", "--quiet", "--disable-pip-version-check", EXAMPLE_ROBOT_DATA])
+        .status()
+        .with_context(|| format!("cannot run {}", pip.display()))?;
+    if !status.success() {
+        bail!("pip install {EXAMPLE_ROBOT_DATA} failed ({status})");
+    }
+    find_share(&venv).with_context(|| {
+        format!(
+            "{EXAMPLE_ROBOT_DATA} installed, but no cmeel.prefix/share/example-robot-data under {}",
+            venv.display()
+        )
+    })
+}
+
+/// `VENV/lib/pythonX.Y/site-packages/cmeel.prefix/share` when it holds the robots.
+fn find_share(venv: &Path) -> Option<PathBuf> {
+    let lib = std::fs::read_dir(venv.join("lib")).ok()?;
+    let mut found: Vec<PathBuf> = lib
+        .filter_map(|e| e.ok())
+        .map(|e| e.path().join("site-packages/cmeel.prefix/share"))
+        .filter(|p| p.join("example-robot-data/robots").is_dir())
+        .collect();
+    found.sort();
+    found.pop()
+}
