@@ -143,11 +143,13 @@ fn prefixed_warning(warning: &LoadWarning, prefix: &str) -> LoadWarning {
             usage,
             uri,
             reason,
+            fix,
         } => LoadWarning::SkippedMesh {
             link: format!("{prefix}{link}"),
             usage: *usage,
             uri: uri.clone(),
             reason: reason.clone(),
+            fix: fix.clone(),
         },
         LoadWarning::FrozenJoint { joint } => LoadWarning::FrozenJoint {
             joint: format!("{prefix}{joint}"),

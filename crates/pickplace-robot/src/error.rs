@@ -282,6 +282,30 @@ pub enum MeshProblem {
     Geometry(Box<pickplace_geometry::Error>),
 }
 
+impl MeshProblem {
+    /// What to do about it, in a sentence.
+    pub fn fix(&self) -> String {
+        match self {
+            Self::PackageNotFound { package } => format!(
+                "pass --package-dir DIR where DIR contains a folder {package:?} (or add it to ROS_PACKAGE_PATH)"
+            ),
+            Self::UnsupportedUri => {
+                "download the mesh and refer to it by a relative path or package://".to_owned()
+            }
+            Self::NotFound { path } => format!(
+                "the file {} is missing: install the mesh package or correct the filename",
+                path.display()
+            ),
+            Self::UnsupportedFormat { .. } => {
+                "convert the mesh to STL, OBJ, PLY or COLLADA (.dae)".to_owned()
+            }
+            Self::Geometry(_) => {
+                "the file is damaged or empty: export it again from its source".to_owned()
+            }
+        }
+    }
+}
+
 impl From<pickplace_geometry::Error> for MeshProblem {
     fn from(error: pickplace_geometry::Error) -> Self {
         Self::Geometry(Box::new(error))

@@ -52,6 +52,7 @@
 //!   ([`compose`]).
 #![warn(missing_docs)]
 
+pub mod assistant;
 pub mod collision;
 pub mod compose;
 pub mod error;

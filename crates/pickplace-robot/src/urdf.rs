@@ -449,6 +449,7 @@ fn convert_geometry(
                             usage,
                             uri: filename.clone(),
                             reason: problem.to_string(),
+                            fix: problem.fix(),
                         });
                         return Ok(None);
                     }
