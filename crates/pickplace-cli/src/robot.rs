@@ -267,7 +267,10 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         println!("  link {:?}: {:?}: {}", m.link, m.uri, m.reason);
         println!("    fix: {}", m.fix);
     }
-    println!("joints without limits: {}", report.joints_without_limits.len());
+    println!(
+        "joints without limits: {}",
+        report.joints_without_limits.len()
+    );
     for j in &report.joints_without_limits {
         println!("  {}: {}", j.joint, j.problem);
         println!("    fix: {}", j.fix);

@@ -117,20 +117,13 @@ pub fn detect_arms(model: &RobotModel) -> Vec<DetectedArm> {
 }
 
 /// Options of [`starting_srdf`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StarterOptions {
     /// The sampling of the collision matrix (default: [`AcmOptions::default`], 10 000
     /// samples, seed 0).
     pub acm: AcmOptions,
 }
 
-impl Default for StarterOptions {
-    fn default() -> Self {
-        Self {
-            acm: AcmOptions::default(),
-        }
-    }
-}
 
 /// What [`starting_srdf`] made.
 #[derive(Debug, Clone, PartialEq)]
@@ -274,12 +267,8 @@ pub fn always_close_pairs(
     let check = CheckOptions {
         margin: options.distance,
     };
-    let mut candidates = world.colliding_pairs(
-        model,
-        &model.zero_configuration(),
-        &mut scratch,
-        &check,
-    )?;
+    let mut candidates =
+        world.colliding_pairs(model, &model.zero_configuration(), &mut scratch, &check)?;
     let mut rng = Rng::new(options.seed);
     let limits: Vec<(Real, Real)> = model
         .variable_limits()
@@ -322,7 +311,8 @@ mod tests {
 
     /// A torso with two five-joint arms, each with a two-finger gripper, and a head.
     fn two_arms() -> String {
-        let mut links = String::from(r#"<link name="base"/><link name="torso"/><link name="head"/>"#);
+        let mut links =
+            String::from(r#"<link name="base"/><link name="torso"/><link name="head"/>"#);
         let mut joints = String::from(
             r#"<joint name="waist" type="revolute"><parent link="base"/><child link="torso"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
                <joint name="neck" type="revolute"><parent link="torso"/><child link="head"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>"#,
@@ -356,8 +346,15 @@ mod tests {
         let arms = detect_arms(&model);
         assert_eq!(arms.len(), 2);
         for (arm, side) in arms.iter().zip(["l", "r"]) {
-            let names: Vec<&str> = arm.joints.iter().map(|&j| model.joints()[j].name.as_str()).collect();
-            assert_eq!(names, (0..5).map(|k| format!("{side}_j{k}")).collect::<Vec<_>>());
+            let names: Vec<&str> = arm
+                .joints
+                .iter()
+                .map(|&j| model.joints()[j].name.as_str())
+                .collect();
+            assert_eq!(
+                names,
+                (0..5).map(|k| format!("{side}_j{k}")).collect::<Vec<_>>()
+            );
             assert_eq!(model.links()[arm.base_link].name, "torso");
             assert_eq!(model.links()[arm.tip_link].name, format!("{side}4"));
             assert_eq!(arm.finger_joints.len(), 1);
@@ -376,11 +373,15 @@ mod tests {
         assert!(xml.contains("seed 1") && xml.contains("arm_1"), "{xml}");
         // What was written resolves against the model, and each arm is a chain with a hand.
         let srdf = Srdf::from_xml_str(&xml).expect("parses");
-        let semantics = crate::Semantics::resolve(&model, &srdf, Path::new("x.srdf")).expect("resolves");
+        let semantics =
+            crate::Semantics::resolve(&model, &srdf, Path::new("x.srdf")).expect("resolves");
         assert!(semantics.warnings().is_empty());
         let chain = semantics.chain(&model, "arm_0").expect("chain");
         assert_eq!(chain.variables().len(), 5);
-        assert_eq!(semantics.end_effector_of("arm_1").map(|e| e.name.as_str()), Some("hand_1"));
+        assert_eq!(
+            semantics.end_effector_of("arm_1").map(|e| e.name.as_str()),
+            Some("hand_1")
+        );
     }
 
     #[test]

@@ -4,7 +4,9 @@
 //! [`Srdf::merge`](crate::Srdf::merge).
 
 use crate::error::{Error, ModelErrorKind, Result};
-use crate::model::{Joint, JointLimits, JointType, JointValueSource, Link, LoadWarning, RobotModel};
+use crate::model::{
+    Joint, JointLimits, JointType, JointValueSource, Link, LoadWarning, RobotModel,
+};
 use pickplace_geometry::math::{Isometry3, UnitVector3, Vector3};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -48,8 +50,16 @@ impl RobotModel {
         let mut warnings = Vec::new();
         let mut variable_offset = 0;
         for (prefix, model, world_from_root) in parts {
-            let finite = world_from_root.translation.vector.iter().all(|x| x.is_finite())
-                && world_from_root.rotation.coords.iter().all(|x| x.is_finite());
+            let finite = world_from_root
+                .translation
+                .vector
+                .iter()
+                .all(|x| x.is_finite())
+                && world_from_root
+                    .rotation
+                    .coords
+                    .iter()
+                    .all(|x| x.is_finite());
             let world_joint = format!("{prefix}world_joint");
             if !finite {
                 return Err(invalid(ModelErrorKind::NonFinite {
@@ -63,7 +73,9 @@ impl RobotModel {
             // before, so that joint `k` still moves link `k + 1`.
             let joint_offset = joints.len() + 1;
             if !joint_names.insert(world_joint.clone()) {
-                return Err(invalid(ModelErrorKind::DuplicateJoint { name: world_joint }));
+                return Err(invalid(ModelErrorKind::DuplicateJoint {
+                    name: world_joint,
+                }));
             }
             joints.push(Joint {
                 name: world_joint,
@@ -110,7 +122,9 @@ impl RobotModel {
                 }
                 joint.source = match joint.source {
                     JointValueSource::Fixed => JointValueSource::Fixed,
-                    JointValueSource::Variable(v) => JointValueSource::Variable(v + variable_offset),
+                    JointValueSource::Variable(v) => {
+                        JointValueSource::Variable(v + variable_offset)
+                    }
                     JointValueSource::Mimic {
                         variable,
                         multiplier,
@@ -207,7 +221,12 @@ mod tests {
         assert_eq!(both.variable_count(), 2 * model.variable_count());
         assert_eq!(
             both.variable_names().collect::<Vec<_>>(),
-            ["left/shoulder", "left/elbow", "right/shoulder", "right/elbow"]
+            [
+                "left/shoulder",
+                "left/elbow",
+                "right/shoulder",
+                "right/elbow"
+            ]
         );
         assert!(both.joint_index("left/world_joint").is_some());
         // Every link after its parent, joint k moves link k + 1.
@@ -230,9 +249,14 @@ mod tests {
         let still = model.link_poses(&model.zero_configuration()).expect("fk");
         for (l, link) in model.links().iter().enumerate() {
             for (prefix, place, single) in [("right/", right, &moved), ("left/", left, &still)] {
-                let combined = both.link_index(&format!("{prefix}{}", link.name)).expect("link");
+                let combined = both
+                    .link_index(&format!("{prefix}{}", link.name))
+                    .expect("link");
                 let expected = place * single[l];
-                assert!((poses[combined].translation.vector - expected.translation.vector).norm() < 1e-12);
+                assert!(
+                    (poses[combined].translation.vector - expected.translation.vector).norm()
+                        < 1e-12
+                );
                 assert!(poses[combined].rotation.angle_to(&expected.rotation) < 1e-12);
             }
         }
@@ -245,7 +269,9 @@ mod tests {
         let chain = semantics.chain(&both, "right/arm").expect("a chain");
         assert_eq!(both.links()[chain.tip_link()].name, "right/lower");
         assert_eq!(
-            semantics.end_effector_of("left/arm").map(|e| e.name.as_str()),
+            semantics
+                .end_effector_of("left/arm")
+                .map(|e| e.name.as_str()),
             Some("left/hand")
         );
         assert_eq!(pair.disabled_collisions[1].link1, "right/base");

@@ -380,7 +380,9 @@ pub enum SrdfErrorKind {
         group: String,
     },
     /// A group used as an arm whose moving joints do not form one serial chain.
-    #[error("group {group:?}: its joints are not one chain ({first:?} and {second:?} are on different branches)")]
+    #[error(
+        "group {group:?}: its joints are not one chain ({first:?} and {second:?} are on different branches)"
+    )]
     NotOneChain {
         /// The group.
         group: String,

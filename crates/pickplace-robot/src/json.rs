@@ -7,10 +7,10 @@
 
 use crate::assistant::{CloseOptions, always_close_pairs};
 use crate::collision::{AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld};
-use crate::model::{JointType, LoadWarning};
 use crate::error::Result;
 use crate::ik::IkSolution;
 use crate::model::RobotModel;
+use crate::model::{JointType, LoadWarning};
 use crate::srdf::Semantics;
 use pickplace_geometry::math::{Isometry3, Real};
 use std::collections::BTreeMap;
@@ -308,7 +308,8 @@ impl CheckJson {
                 joints_without_limits.push(issue(
                     name,
                     "no velocity limit",
-                    "give its <limit> a velocity attribute (rad/s or m/s): timing needs it".to_owned(),
+                    "give its <limit> a velocity attribute (rad/s or m/s): timing needs it"
+                        .to_owned(),
                 ));
             }
         }
@@ -388,7 +389,13 @@ impl CheckJson {
                 }
             }
             doc.srdf = Some(semantics.source().display().to_string());
-            doc.srdf_warnings = Some(semantics.warnings().iter().map(ToString::to_string).collect());
+            doc.srdf_warnings = Some(
+                semantics
+                    .warnings()
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect(),
+            );
             doc.always_close = Some(
                 always_close_pairs(model, &acm, close)?
                     .into_iter()

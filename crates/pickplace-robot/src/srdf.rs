@@ -269,12 +269,11 @@ impl Srdf {
         let mut stack: Vec<Context> = Vec::new();
         let mut saw_robot = false;
         loop {
-            let xml_error = |reader: &quick_xml::Reader<&[u8]>, err: quick_xml::Error| {
-                SrdfErrorKind::Xml {
+            let xml_error =
+                |reader: &quick_xml::Reader<&[u8]>, err: quick_xml::Error| SrdfErrorKind::Xml {
                     position: reader.error_position(),
                     detail: err.to_string(),
-                }
-            };
+                };
             let event = reader.read_event().map_err(|err| xml_error(&reader, err))?;
             let (e, is_empty) = match event {
                 Event::Start(e) => (e, false),
@@ -293,9 +292,7 @@ impl Srdf {
             };
             let parent = stack.last().copied();
             let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
-            let context = srdf
-                .element(&e, &name, parent)
-                .map_err(with_position)?;
+            let context = srdf.element(&e, &name, parent).map_err(with_position)?;
             match context {
                 Some(context) => {
                     if context == Context::Robot {
@@ -533,8 +530,10 @@ impl Srdf {
             out.end_effectors.extend(part.end_effectors.iter().cloned());
             out.disabled_collisions
                 .extend(part.disabled_collisions.iter().cloned());
-            out.passive_joints.extend(part.passive_joints.iter().cloned());
-            out.virtual_joints.extend(part.virtual_joints.iter().cloned());
+            out.passive_joints
+                .extend(part.passive_joints.iter().cloned());
+            out.virtual_joints
+                .extend(part.virtual_joints.iter().cloned());
             for (element, count) in &part.ignored_elements {
                 match out.ignored_elements.iter_mut().find(|(e, _)| e == element) {
                     Some((_, total)) => *total += count,
@@ -729,7 +728,10 @@ impl std::fmt::Display for SrdfWarning {
                 Ok(())
             }
             Self::IgnoredElement { element, count } => {
-                write!(f, "{count} <{element}> element(s) ignored (not read by pickplace)")
+                write!(
+                    f,
+                    "{count} <{element}> element(s) ignored (not read by pickplace)"
+                )
             }
             Self::StrippedPrefix { prefix, names } => write!(
                 f,
@@ -740,7 +742,7 @@ impl std::fmt::Display for SrdfWarning {
                 group,
             } => write!(
                 f,
-                "end effector {end_effector:?}: its group {group:?} moves its parent link (an arm, not a hand)"
+                "end effector {end_effector:?}: its group {group:?} moves its parent link: it is the limb the end effector hangs from, not a hand"
             ),
         }
     }
@@ -1328,7 +1330,9 @@ fn collect_group_joints<'a>(
                 kind: "group",
                 name: sub.clone(),
             })?;
-        collect_group_joints(model, by_name, sub_spec, is_virtual, joints, skipped, visiting)?;
+        collect_group_joints(
+            model, by_name, sub_spec, is_virtual, joints, skipped, visiting,
+        )?;
     }
     visiting.pop();
     Ok(())

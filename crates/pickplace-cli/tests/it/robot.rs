@@ -29,18 +29,49 @@ fn robot_srdf_writes_a_starting_srdf_that_check_accepts() {
     let urdf = dir.file("g.urdf", GRIPPER_ARM.as_bytes());
     let out = ok(&run_in(
         dir.path(),
-        args!["robot", "srdf", &urdf, "--samples", "200", "--seed", "3", "--out", "g.srdf"],
+        args![
+            "robot",
+            "srdf",
+            &urdf,
+            "--samples",
+            "200",
+            "--seed",
+            "3",
+            "--out",
+            "g.srdf"
+        ],
     ));
     assert!(out.contains("arm_0: 5 joints from base to l5"), "{out}");
     let text = std::fs::read_to_string(dir.join("g.srdf")).expect("written");
-    assert!(text.contains("seed 3") && text.contains(r#"reason="Adjacent""#), "{text}");
-    assert!(text.contains(r#"<end_effector name="hand_0" parent_link="l5" group="hand_0" parent_group="arm_0"/>"#), "{text}");
+    assert!(
+        text.contains("seed 3") && text.contains(r#"reason="Adjacent""#),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            r#"<end_effector name="hand_0" parent_link="l5" group="hand_0" parent_group="arm_0"/>"#
+        ),
+        "{text}"
+    );
     // Same seed, same file.
     ok(&run_in(
         dir.path(),
-        args!["robot", "srdf", &urdf, "--samples", "200", "--seed", "3", "--out", "again.srdf"],
+        args![
+            "robot",
+            "srdf",
+            &urdf,
+            "--samples",
+            "200",
+            "--seed",
+            "3",
+            "--out",
+            "again.srdf"
+        ],
     ));
-    assert_eq!(std::fs::read(dir.join("again.srdf")).expect("again"), text.as_bytes());
+    assert_eq!(
+        std::fs::read(dir.join("again.srdf")).expect("again"),
+        text.as_bytes()
+    );
 
     let json = ok(&run_in(
         dir.path(),
@@ -57,10 +88,16 @@ fn robot_srdf_writes_a_starting_srdf_that_check_accepts() {
 fn robot_srdf_bad_input_exits_2() {
     let dir = Scratch::new("robot-srdf-bad");
     let urdf = dir.file("g.urdf", GRIPPER_ARM.as_bytes());
-    let o = run_in(dir.path(), args!["robot", "srdf", &urdf, "--samples", "0", "--out", "x.srdf"]);
+    let o = run_in(
+        dir.path(),
+        args!["robot", "srdf", &urdf, "--samples", "0", "--out", "x.srdf"],
+    );
     fails_with(&o, &["--samples"]);
     let broken = dir.file("broken.urdf", b"<robot name=\"b\"><link name=\"a\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"nope\"/></joint></robot>");
-    let o = run_in(dir.path(), args!["robot", "srdf", &broken, "--out", "x.srdf"]);
+    let o = run_in(
+        dir.path(),
+        args!["robot", "srdf", &broken, "--out", "x.srdf"],
+    );
     fails_with(&o, &["broken.urdf", "nope"]);
     assert!(!dir.join("x.srdf").exists());
 }
@@ -79,26 +116,60 @@ fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
     let path = dir.file("nx.srdf", edited.as_bytes());
     let json = ok(&run_in(
         dir.path(),
-        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &path, "--json", "--samples", "20"],
+        args![
+            "robot",
+            "check",
+            nx("nx-hiro.urdf"),
+            "--srdf",
+            &path,
+            "--json",
+            "--samples",
+            "20"
+        ],
     ));
     let doc: serde_json::Value = serde_json::from_str(&json).expect("JSON");
-    for field in ["format", "groups", "collision_matrix", "joints", "variables", "warnings"] {
+    for field in [
+        "format",
+        "groups",
+        "collision_matrix",
+        "joints",
+        "variables",
+        "warnings",
+    ] {
         assert!(doc.get(field).is_some(), "{field} kept");
     }
     let warnings = doc["srdf_warnings"].as_array().expect("warnings");
     assert_eq!(warnings.len(), 2, "{warnings:?}");
     let text = ok(&run_in(
         dir.path(),
-        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &path, "--samples", "20"],
+        args![
+            "robot",
+            "check",
+            nx("nx-hiro.urdf"),
+            "--srdf",
+            &path,
+            "--samples",
+            "20"
+        ],
     ));
-    assert!(text.contains("virtual joint \"world_joint\" (floating)"), "{text}");
+    assert!(
+        text.contains("virtual joint \"world_joint\" (floating)"),
+        "{text}"
+    );
     assert!(text.contains("<gripper>"), "{text}");
     // An SRDF naming a joint the URDF does not have: exit 2, naming the file and the joint.
     let bad = dir.file(
         "bad.srdf",
-        srdf.replacen("</robot>", r#"<group name="x"><joint name="NO_SUCH_JOINT"/></group></robot>"#, 1)
-            .as_bytes(),
+        srdf.replacen(
+            "</robot>",
+            r#"<group name="x"><joint name="NO_SUCH_JOINT"/></group></robot>"#,
+            1,
+        )
+        .as_bytes(),
     );
-    let o = run_in(dir.path(), args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &bad]);
+    let o = run_in(
+        dir.path(),
+        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &bad],
+    );
     fails_with(&o, &["bad.srdf", "NO_SUCH_JOINT"]);
 }

@@ -18,12 +18,11 @@ use crate::math::Point3;
 
 /// Where the `meter` value of the document's `<asset><unit>` is (a byte range), and the
 /// value; `None` when the file has none (mesh-loader's default, 1 m, then holds).
-fn unit_meter(bytes: &[u8]) -> std::result::Result<Option<(std::ops::Range<usize>, f64)>, MeshErrorKind> {
-    let find = |haystack: &[u8], needle: &[u8]| {
-        haystack
-            .windows(needle.len())
-            .position(|w| w == needle)
-    };
+fn unit_meter(
+    bytes: &[u8],
+) -> std::result::Result<Option<(std::ops::Range<usize>, f64)>, MeshErrorKind> {
+    let find =
+        |haystack: &[u8], needle: &[u8]| haystack.windows(needle.len()).position(|w| w == needle);
     let Some(asset_end) = find(bytes, b"</asset>") else {
         return Ok(None);
     };
@@ -53,7 +52,8 @@ fn unit_meter(bytes: &[u8]) -> std::result::Result<Option<(std::ops::Range<usize
     let Some(length) = tag[value_start..].iter().position(|&c| c == quote) else {
         return Err(bad_unit(tag));
     };
-    let text = std::str::from_utf8(&tag[value_start..value_start + length]).map_err(|_| bad_unit(tag))?;
+    let text =
+        std::str::from_utf8(&tag[value_start..value_start + length]).map_err(|_| bad_unit(tag))?;
     let meter: f64 = text
         .trim()
         .parse()
@@ -90,12 +90,11 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
             }
             _ => (bytes, 1.0),
         };
-        let scene = mesh_loader::collada::from_slice(input).map_err(|error| {
-            MeshErrorKind::Malformed {
+        let scene =
+            mesh_loader::collada::from_slice(input).map_err(|error| MeshErrorKind::Malformed {
                 format: "COLLADA",
                 detail: error.to_string(),
-            }
-        })?;
+            })?;
         (scene, meter)
     };
     let vertices: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
@@ -111,7 +110,9 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
         for face in &mesh.faces {
             let mut triangle = [0u32; 3];
             for (corner, &index) in triangle.iter_mut().zip(face) {
-                *corner = index.checked_add(offset).ok_or_else(|| too_large(vertices))?;
+                *corner = index
+                    .checked_add(offset)
+                    .ok_or_else(|| too_large(vertices))?;
             }
             soup.triangles.push(triangle);
         }

@@ -669,7 +669,11 @@ mod tests {
 
     fn normals_point_away_from_centroid(mesh: &TriMesh) -> bool {
         let n = mesh.vertices().len() as Real;
-        let centroid = mesh.vertices().iter().fold(Vector3::zeros(), |s, p| s + p.coords) / n;
+        let centroid = mesh
+            .vertices()
+            .iter()
+            .fold(Vector3::zeros(), |s, p| s + p.coords)
+            / n;
         (0..mesh.triangle_count()).all(|t| {
             let [a, b, c] = mesh.triangle_points(t);
             let centre = (a.coords + b.coords + c.coords) / 3.0;

@@ -70,7 +70,10 @@ fn a_collada_mesh_in_millimetres_loads_in_metres() {
 fn a_mirrored_mesh_keeps_outward_normals() {
     let model = load(&mesh_robot("box_mm.dae", "1 -1 1")).expect("mirrored");
     let mesh = the_mesh(&model);
-    assert!((signed_volume(mesh) - 1e-3).abs() < 1e-9, "volume stays positive");
+    assert!(
+        (signed_volume(mesh) - 1e-3).abs() < 1e-9,
+        "volume stays positive"
+    );
     let model = load(&mesh_robot("box_mm.dae", "1 2 0.5")).expect("non-uniform");
     assert!((signed_volume(the_mesh(&model)) - 1e-3).abs() < 1e-9);
     let (lo, hi) = the_mesh(&model).aabb();

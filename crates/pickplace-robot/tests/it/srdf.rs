@@ -169,7 +169,11 @@ fn a_joint_list_arm_group_is_a_chain_to_its_deepest_joint() {
         semantics.end_effector_of("arm").map(|e| e.name.as_str()),
         Some("ee")
     );
-    assert!(semantics.warnings().is_empty(), "{:?}", semantics.warnings());
+    assert!(
+        semantics.warnings().is_empty(),
+        "{:?}",
+        semantics.warnings()
+    );
 }
 
 #[test]
@@ -221,9 +225,18 @@ fn groups_that_are_not_one_chain_or_have_no_joint_are_named_errors() {
         (r#"<group name="g"><joint name="nope"/></group>"#, "nope"),
         (r#"<group name="g"><link name="nolink"/></group>"#, "nolink"),
         (r#"<passive_joint name="ghost"/>"#, "ghost"),
-        (r#"<disable_collisions link1="a1" link2="zz" reason="Never"/>"#, "zz"),
-        (r#"<group name="g"><joint name="j1"/></group><group_state name="s" group="g"><joint name="j9" value="1"/></group_state>"#, "j9"),
-        (r#"<virtual_joint name="w" type="fixed" parent_frame="world" child_link="nowhere"/>"#, "nowhere"),
+        (
+            r#"<disable_collisions link1="a1" link2="zz" reason="Never"/>"#,
+            "zz",
+        ),
+        (
+            r#"<group name="g"><joint name="j1"/></group><group_state name="s" group="g"><joint name="j9" value="1"/></group_state>"#,
+            "j9",
+        ),
+        (
+            r#"<virtual_joint name="w" type="fixed" parent_frame="world" child_link="nowhere"/>"#,
+            "nowhere",
+        ),
     ] {
         let error = resolve(&model, body).expect_err(body);
         let text = error.to_string();
@@ -283,7 +296,11 @@ fn a_common_prefix_is_stripped_and_unknown_elements_are_ignored() {
            <disable_collisions link1="bot/a1" link2="a2" reason="Adjacent"/>"#,
     )
     .expect("prefix stripped");
-    let warnings: Vec<String> = semantics.warnings().iter().map(ToString::to_string).collect();
+    let warnings: Vec<String> = semantics
+        .warnings()
+        .iter()
+        .map(ToString::to_string)
+        .collect();
     assert_eq!(warnings.len(), 3, "{warnings:?}");
     assert!(matches!(
         &semantics.warnings()[0],
