@@ -124,14 +124,15 @@ pub(crate) fn build(
         for &l in &link_order {
             reached[l] = true;
         }
-        let mut link = (0..robot.links.len())
-            .find(|&l| !reached[l])
-            .expect("some link is unreached");
-        // Walk up to a link that is on the cycle itself.
+        // Some link is unreached (the lengths differ); the first one otherwise.
+        let mut link = (0..robot.links.len()).find(|&l| !reached[l]).unwrap_or(0);
+        // Walk up to a link that is on the cycle itself (unreached links have parents).
         let mut seen = vec![false; robot.links.len()];
         while !seen[link] {
             seen[link] = true;
-            let j = parent_joint_of[link].expect("unreached links have parents");
+            let Some(j) = parent_joint_of[link] else {
+                break;
+            };
             link = link_by_name[robot.joints[j].parent.link.as_str()];
         }
         return Err(invalid(ModelErrorKind::Cycle {
