@@ -124,7 +124,6 @@ pub struct StarterOptions {
     pub acm: AcmOptions,
 }
 
-
 /// What [`starting_srdf`] made.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StarterSrdf {

@@ -90,11 +90,26 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
             }
             _ => (bytes, 1.0),
         };
-        let scene =
-            mesh_loader::collada::from_slice(input).map_err(|error| MeshErrorKind::Malformed {
+        // mesh-loader 0.1.13 asserts, indexes and unwraps on some malformed files (an
+        // accessor longer than its array, a dangling reference, …): its panics are caught
+        // and become errors. The default panic hook still prints the message on stderr.
+        let parsed = std::panic::catch_unwind(|| mesh_loader::collada::from_slice(input)).map_err(
+            |payload| MeshErrorKind::Malformed {
                 format: "COLLADA",
-                detail: error.to_string(),
-            })?;
+                detail: format!(
+                    "mesh-loader failed on it ({})",
+                    payload
+                        .downcast_ref::<&str>()
+                        .map(|s| (*s).to_owned())
+                        .or_else(|| payload.downcast_ref::<String>().cloned())
+                        .unwrap_or_else(|| "panic".to_owned())
+                ),
+            },
+        )?;
+        let scene = parsed.map_err(|error| MeshErrorKind::Malformed {
+            format: "COLLADA",
+            detail: error.to_string(),
+        })?;
         (scene, meter)
     };
     let vertices: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
@@ -186,6 +201,16 @@ mod tests {
         let bad = TRIANGLE_CM.replace(r#"meter="0.01""#, r#"meter="-2""#);
         assert!(matches!(
             parse(bad.as_bytes()),
+            Err(MeshErrorKind::Malformed { .. })
+        ));
+    }
+
+    #[test]
+    fn an_accessor_longer_than_its_array_is_an_error_not_a_panic() {
+        // Regression: mesh-loader asserts `count * stride <= len` and panicked.
+        let long = TRIANGLE_CM.replace(r#"count="3" stride="3""#, r#"count="9" stride="3""#);
+        assert!(matches!(
+            parse(long.as_bytes()),
             Err(MeshErrorKind::Malformed { .. })
         ));
     }
