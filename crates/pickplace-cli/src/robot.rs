@@ -1,20 +1,26 @@
-//! `pickplace robot check | fk | ik`: inspect a URDF (and SRDF), forward and inverse
-//! kinematics, JSON as in DESIGN.md ("robot fk", "robot ik").
+//! `pickplace robot check | fk | ik | srdf`: inspect a URDF (and SRDF), forward and inverse
+//! kinematics, JSON as in DESIGN.md ("robot fk", "robot ik"), and a starting SRDF for a
+//! robot that has none.
 
 use crate::args::{parse_point, parse_pose};
 use anyhow::{Context as _, bail};
 use clap::{Args, Subcommand};
+use pickplace_robot::assistant::{CloseOptions, StarterOptions, starting_srdf};
+use pickplace_robot::collision::{AcmOptions, AllowedCollisionMatrix};
 use pickplace_robot::json::{CheckJson, FkJson, IkJson};
 use pickplace_robot::model::UnreadableMesh;
-use pickplace_robot::{IkOptions, IkSolver, LoadOptions, RobotModel, Semantics};
+use pickplace_robot::{IkOptions, IkSolver, LoadOptions, RobotModel, Semantics, Srdf};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Robot subcommands.
 #[derive(Debug, Subcommand)]
 pub enum RobotCommand {
-    /// Load a URDF (and SRDF) and summarise it: tree, joints, limits, groups, collision
-    /// matrix, warnings.
+    /// Load a URDF (and SRDF) as its makers ship it and summarise it: tree, joints, limits,
+    /// groups, collision matrix, and what needs attention, each with its fix: SRDF warnings
+    /// (virtual joints, ignored elements, a stripped name prefix), meshes that could not be
+    /// read (skipped), joints without limits, and link pairs closer than 10 mm in every
+    /// sampled configuration that the SRDF does not disable.
     Check {
         /// The URDF file.
         urdf: PathBuf,
@@ -23,9 +29,35 @@ pub enum RobotCommand {
         srdf: Option<PathBuf>,
         #[command(flatten)]
         load: LoadArgs,
+        /// Random configurations sampled for the always-close pairs (with --srdf).
+        #[arg(long, default_value_t = 200)]
+        samples: usize,
+        /// Seed of that sampling.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+    },
+    /// Write a starting SRDF for a robot that has none, as MoveIt's setup assistant does:
+    /// disable_collisions pairs from seeded random sampling (reasons Adjacent, Default = in
+    /// collision at the zero pose, Always, Never) and, for every arm found (a serial chain
+    /// of at least 4 actuated joints ending at a hand with finger joints), groups arm_<n>
+    /// and hand_<n> and an end effector hand_<n>. Review it before use.
+    Srdf {
+        /// The URDF file.
+        urdf: PathBuf,
+        #[command(flatten)]
+        load: LoadArgs,
+        /// Random configurations sampled.
+        #[arg(long, default_value_t = 10_000)]
+        samples: usize,
+        /// Seed of the sampling.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// The SRDF file to write (atomically).
+        #[arg(long)]
+        out: PathBuf,
     },
     /// Forward kinematics: the pose of every link in the root frame.
     Fk {
@@ -104,8 +136,27 @@ pub fn run(command: RobotCommand) -> anyhow::Result<ExitCode> {
             urdf,
             srdf,
             load: args,
+            samples,
+            seed,
             json,
-        } => check(&urdf, srdf.as_deref(), &args, json),
+        } => check(
+            &urdf,
+            srdf.as_deref(),
+            &args,
+            &CloseOptions {
+                samples,
+                seed,
+                ..CloseOptions::default()
+            },
+            json,
+        ),
+        RobotCommand::Srdf {
+            urdf,
+            load: args,
+            samples,
+            seed,
+            out,
+        } => write_srdf(&urdf, &args, samples, seed, &out),
         RobotCommand::Fk {
             urdf,
             joints,
@@ -139,13 +190,20 @@ fn check(
     urdf: &Path,
     srdf: Option<&Path>,
     args: &LoadArgs,
+    close: &CloseOptions,
     json: bool,
 ) -> anyhow::Result<ExitCode> {
-    let model = load(urdf, args)?;
+    // A check reports unreadable meshes (with their fix) instead of stopping at the first.
+    let options = LoadOptions {
+        package_dirs: args.package_dirs.clone(),
+        unreadable_mesh: UnreadableMesh::Skip,
+        ..LoadOptions::default()
+    };
+    let model = RobotModel::from_urdf_file(urdf, &options)?;
     let semantics = srdf
         .map(|path| Semantics::from_file(&model, path))
         .transpose()?;
-    let report = CheckJson::new(&model, urdf, semantics.as_ref())?;
+    let report = CheckJson::with_options(&model, urdf, semantics.as_ref(), close)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
@@ -198,11 +256,83 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
             acm.checked_shape_pairs
         );
     }
+    if let Some(warnings) = &report.srdf_warnings {
+        println!("SRDF warnings: {}", warnings.len());
+        for w in warnings {
+            println!("  {w}");
+        }
+    }
+    println!("unreadable meshes: {}", report.unreadable_meshes.len());
+    for m in &report.unreadable_meshes {
+        println!("  link {:?}: {:?}: {}", m.link, m.uri, m.reason);
+        println!("    fix: {}", m.fix);
+    }
+    println!(
+        "joints without limits: {}",
+        report.joints_without_limits.len()
+    );
+    for j in &report.joints_without_limits {
+        println!("  {}: {}", j.joint, j.problem);
+        println!("    fix: {}", j.fix);
+    }
+    if let Some(pairs) = &report.always_close {
+        println!(
+            "always closer than 10 mm, not disabled: {} link pairs",
+            pairs.len()
+        );
+        for p in pairs {
+            println!("  {} and {}", p.link1, p.link2);
+            println!("    fix: {}", p.fix);
+        }
+    }
     println!("warnings: {}", report.warnings.len());
     for w in &report.warnings {
         println!("  {w}");
     }
     Ok(())
+}
+
+fn write_srdf(
+    urdf: &Path,
+    args: &LoadArgs,
+    samples: usize,
+    seed: u64,
+    out: &Path,
+) -> anyhow::Result<ExitCode> {
+    if samples == 0 {
+        bail!("--samples must be at least 1");
+    }
+    let model = load(urdf, args)?;
+    let starter = starting_srdf(
+        &model,
+        &StarterOptions {
+            acm: AcmOptions { samples, seed },
+        },
+    )?;
+    let xml = starter.to_xml(seed);
+    // What is written must resolve against the model it was made from.
+    Semantics::resolve(&model, &Srdf::from_xml_str(&xml)?, out)
+        .context("the generated SRDF does not resolve (a bug)")?;
+    pickplace_geometry::export::write_atomic(out, xml.as_bytes())?;
+    for (reason, count) in AllowedCollisionMatrix::from_srdf(&starter.srdf).counts_by_reason() {
+        println!("{:>9}: {count} pairs", reason.as_str());
+    }
+    println!(
+        "{} checked link pairs collide in some of the {} samples",
+        starter.sometimes.len(),
+        starter.samples
+    );
+    for (n, arm) in starter.arms.iter().enumerate() {
+        println!(
+            "arm_{n}: {} joints from {} to {}, hand with {} finger joints",
+            arm.joints.len(),
+            model.links()[arm.base_link].name,
+            model.links()[arm.tip_link].name,
+            arm.finger_joints.len()
+        );
+    }
+    println!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
 }
 
 fn print_tree(model: &RobotModel, link: usize, depth: usize) {

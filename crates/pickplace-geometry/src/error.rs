@@ -48,7 +48,7 @@ pub enum Error {
 #[non_exhaustive]
 pub enum MeshErrorKind {
     /// The file extension is not one we read.
-    #[error("unsupported mesh format {extension:?} (expected .stl, .obj or .ply)")]
+    #[error("unsupported mesh format {extension:?} (expected .stl, .obj, .ply or .dae)")]
     UnsupportedFormat {
         /// The extension found.
         extension: String,
@@ -56,7 +56,7 @@ pub enum MeshErrorKind {
     /// The file does not follow its format.
     #[error("malformed {format} file: {detail}")]
     Malformed {
-        /// "STL", "OBJ" or "PLY".
+        /// "STL", "OBJ", "PLY" or "COLLADA".
         format: &'static str,
         /// What the parser reported.
         detail: String,
@@ -93,6 +93,12 @@ pub enum MeshErrorKind {
     InvalidScale {
         /// The scale given.
         scale: f64,
+    },
+    /// A per-axis scale has a zero or non-finite component (negative ones mirror).
+    #[error("scale {scale:?} has a zero or non-finite component")]
+    InvalidScaleVector {
+        /// The scale given, per axis.
+        scale: [f64; 3],
     },
 }
 

@@ -227,6 +227,17 @@ pub enum ModelErrorKind {
         /// Why it cannot be mimicked.
         reason: &'static str,
     },
+    /// A mesh scale with a zero or non-finite component (a negative one mirrors the mesh and
+    /// is accepted).
+    #[error("link {link:?}: mesh {uri:?} has scale {scale:?} with a zero or non-finite component")]
+    BadMeshScale {
+        /// The link.
+        link: String,
+        /// The mesh's `filename` as written.
+        uri: String,
+        /// The scale, per axis.
+        scale: [f64; 3],
+    },
     /// A geometry has a non-positive or non-finite size.
     #[error("link {link:?}: {shape} has invalid size {value}")]
     BadGeometry {
@@ -258,8 +269,8 @@ pub enum MeshProblem {
         /// The resolved path.
         path: PathBuf,
     },
-    /// A format we cannot read (DAE, ...).
-    #[error("file {} has unsupported format {extension:?} (expected .stl, .obj or .ply)", path.display())]
+    /// A format we cannot read (3DS, ...).
+    #[error("file {} has unsupported format {extension:?} (expected .stl, .obj, .ply or .dae)", path.display())]
     UnsupportedFormat {
         /// The resolved path.
         path: PathBuf,
@@ -269,6 +280,30 @@ pub enum MeshProblem {
     /// The geometry crate could not read it (boxed: it is large).
     #[error(transparent)]
     Geometry(Box<pickplace_geometry::Error>),
+}
+
+impl MeshProblem {
+    /// What to do about it, in a sentence.
+    pub fn fix(&self) -> String {
+        match self {
+            Self::PackageNotFound { package } => format!(
+                "pass --package-dir DIR where DIR contains a folder {package:?} (or add it to ROS_PACKAGE_PATH)"
+            ),
+            Self::UnsupportedUri => {
+                "download the mesh and refer to it by a relative path or package://".to_owned()
+            }
+            Self::NotFound { path } => format!(
+                "the file {} is missing: install the mesh package or correct the filename",
+                path.display()
+            ),
+            Self::UnsupportedFormat { .. } => {
+                "convert the mesh to STL, OBJ, PLY or COLLADA (.dae)".to_owned()
+            }
+            Self::Geometry(_) => {
+                "the file is damaged or empty: export it again from its source".to_owned()
+            }
+        }
+    }
 }
 
 impl From<pickplace_geometry::Error> for MeshProblem {
@@ -337,6 +372,24 @@ pub enum SrdfErrorKind {
         base: String,
         /// Tip link.
         tip: String,
+    },
+    /// A group used as an arm has no moving joint.
+    #[error("group {group:?} has no moving joint: it cannot be used as an arm")]
+    GroupWithoutJoints {
+        /// The group.
+        group: String,
+    },
+    /// A group used as an arm whose moving joints do not form one serial chain.
+    #[error(
+        "group {group:?}: its joints are not one chain ({first:?} and {second:?} are on different branches)"
+    )]
+    NotOneChain {
+        /// The group.
+        group: String,
+        /// A joint of the group.
+        first: String,
+        /// A joint of the group that is not below `first`.
+        second: String,
     },
     /// Groups that include each other.
     #[error("group {group:?} includes itself through its subgroups")]

@@ -5,10 +5,12 @@
 //! The fields of every object are declared, and so printed, in alphabetical order, as these
 //! documents have been written since their first version.
 
+use crate::assistant::{CloseOptions, always_close_pairs};
 use crate::collision::{AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld};
 use crate::error::Result;
 use crate::ik::IkSolution;
 use crate::model::RobotModel;
+use crate::model::{JointType, LoadWarning};
 use crate::srdf::Semantics;
 use pickplace_geometry::math::{Isometry3, Real};
 use std::collections::BTreeMap;
@@ -165,9 +167,49 @@ pub struct CollisionMatrixJson {
     pub link_pairs_with_geometry: usize,
 }
 
+/// A pair of links that the SRDF lets collide-check but that is always close, in
+/// [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ClosePairJson {
+    /// The SRDF line that disables the pair.
+    pub fix: String,
+    /// First link.
+    pub link1: String,
+    /// Second link.
+    pub link2: String,
+}
+
+/// A joint with missing limits, in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct JointIssueJson {
+    /// What to change in the URDF.
+    pub fix: String,
+    /// The joint.
+    pub joint: String,
+    /// What is missing.
+    pub problem: String,
+}
+
+/// A mesh the loader could not read (and skipped), in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct UnreadableMeshJson {
+    /// What to do about it.
+    pub fix: String,
+    /// The link.
+    pub link: String,
+    /// Why it could not be read.
+    pub reason: String,
+    /// The `filename` as written in the URDF.
+    pub uri: String,
+}
+
 /// `pickplace robot check`: a summary of a URDF (and SRDF) with warnings.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CheckJson {
+    /// Link pairs checked for collision (not disabled in the SRDF) that are closer than
+    /// the close distance at every sampled configuration (with an SRDF).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub always_close: Option<Vec<ClosePairJson>>,
     /// The collision matrix (with an SRDF).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub collision_matrix: Option<CollisionMatrixJson>,
@@ -178,6 +220,9 @@ pub struct CheckJson {
     pub groups: Option<Vec<GroupJson>>,
     /// Every joint.
     pub joints: Vec<JointJson>,
+    /// Actuated joints with missing limits (continuous joints, no position range, no
+    /// velocity limit).
+    pub joints_without_limits: Vec<JointIssueJson>,
     /// Number of links.
     pub links: usize,
     /// The robot's name.
@@ -187,6 +232,12 @@ pub struct CheckJson {
     /// The SRDF file, if one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub srdf: Option<String>,
+    /// What the SRDF resolution accepted with a change of meaning
+    /// ([`Semantics::warnings`]), with an SRDF.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub srdf_warnings: Option<Vec<String>>,
+    /// Meshes the loader skipped.
+    pub unreadable_meshes: Vec<UnreadableMeshJson>,
     /// The URDF file.
     pub urdf: String,
     /// Actuated joints, in configuration order.
@@ -197,11 +248,25 @@ pub struct CheckJson {
 
 impl CheckJson {
     /// The summary of `model` loaded from `urdf`, with its semantics when an SRDF was given:
-    /// groups, the collision matrix, and a warning for every named state in self-collision.
+    /// groups, the collision matrix, and a warning for every named state in self-collision;
+    /// always-close pairs with [`CloseOptions::default`].
     ///
     /// # Errors
     /// When the collision world cannot be built or a named state cannot be applied.
     pub fn new(model: &RobotModel, urdf: &Path, semantics: Option<&Semantics>) -> Result<Self> {
+        Self::with_options(model, urdf, semantics, &CloseOptions::default())
+    }
+
+    /// As [`CheckJson::new`], sampling always-close pairs with `close`.
+    ///
+    /// # Errors
+    /// As [`CheckJson::new`]; [`crate::Error::InvalidParameter`] for zero samples.
+    pub fn with_options(
+        model: &RobotModel,
+        urdf: &Path,
+        semantics: Option<&Semantics>,
+        close: &CloseOptions,
+    ) -> Result<Self> {
         let finite = |x: Real| x.is_finite().then_some(x);
         let joints = model
             .joints()
@@ -217,15 +282,69 @@ impl CheckJson {
                 velocity: j.limits.velocity,
             })
             .collect();
+        let issue = |joint: &str, problem: &str, fix: String| JointIssueJson {
+            fix,
+            joint: joint.to_owned(),
+            problem: problem.to_owned(),
+        };
+        let mut joints_without_limits = Vec::new();
+        for &j in model.variable_joints() {
+            let joint = &model.joints()[j];
+            let name = joint.name.as_str();
+            if joint.joint_type == JointType::Continuous {
+                joints_without_limits.push(issue(
+                    name,
+                    "continuous: no position limits (sampled in [-pi, pi])",
+                    "if it cannot turn freely, make it revolute with <limit lower=\"…\" upper=\"…\">".to_owned(),
+                ));
+            } else if joint.limits.lower == 0.0 && joint.limits.upper == 0.0 {
+                joints_without_limits.push(issue(
+                    name,
+                    "no position range (lower = upper = 0): it cannot move",
+                    "give its <limit> lower and upper attributes".to_owned(),
+                ));
+            }
+            if joint.limits.velocity == 0.0 {
+                joints_without_limits.push(issue(
+                    name,
+                    "no velocity limit",
+                    "give its <limit> a velocity attribute (rad/s or m/s): timing needs it"
+                        .to_owned(),
+                ));
+            }
+        }
+        let unreadable_meshes = model
+            .warnings()
+            .iter()
+            .filter_map(|w| match w {
+                LoadWarning::SkippedMesh {
+                    link,
+                    uri,
+                    reason,
+                    fix,
+                    ..
+                } => Some(UnreadableMeshJson {
+                    fix: fix.clone(),
+                    link: link.clone(),
+                    reason: reason.clone(),
+                    uri: uri.clone(),
+                }),
+                _ => None,
+            })
+            .collect();
         let mut doc = Self {
+            always_close: None,
             collision_matrix: None,
             format: CHECK_JSON_FORMAT,
             groups: None,
             joints,
+            joints_without_limits,
             links: model.links().len(),
             robot: model.name().to_owned(),
             root: model.links()[model.root()].name.clone(),
             srdf: None,
+            srdf_warnings: None,
+            unreadable_meshes,
             urdf: urdf.display().to_string(),
             variables: model.variable_names().map(str::to_owned).collect(),
             warnings: model.warnings().iter().map(ToString::to_string).collect(),
@@ -270,6 +389,25 @@ impl CheckJson {
                 }
             }
             doc.srdf = Some(semantics.source().display().to_string());
+            doc.srdf_warnings = Some(
+                semantics
+                    .warnings()
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect(),
+            );
+            doc.always_close = Some(
+                always_close_pairs(model, &acm, close)?
+                    .into_iter()
+                    .map(|(link1, link2)| ClosePairJson {
+                        fix: format!(
+                            "<disable_collisions link1=\"{link1}\" link2=\"{link2}\" reason=\"Always\"/>"
+                        ),
+                        link1,
+                        link2,
+                    })
+                    .collect(),
+            );
             doc.collision_matrix = Some(CollisionMatrixJson {
                 by_reason: acm
                     .counts_by_reason()

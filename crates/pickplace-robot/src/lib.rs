@@ -38,15 +38,23 @@
 //!
 //! # Limitations
 //! - Joints: revolute, continuous, prismatic, fixed and mimic; floating, planar and
-//!   spherical joints are rejected.
-//! - Meshes: STL, OBJ and PLY through `pickplace-geometry`; other formats (DAE) are an error
-//!   or, on request, skipped with a warning.
+//!   spherical joints in a URDF are rejected.
+//! - Meshes: STL, OBJ, PLY and COLLADA (DAE, through `mesh-loader`) via `pickplace-geometry`;
+//!   other formats are an error or, on request, skipped with a warning. Negative scales
+//!   mirror a mesh (winding flipped); a zero scale is an error.
 //! - A mimic joint must copy an actuated joint (no chains of mimics).
-//! - SRDF: groups, group states, end effectors, passive joints and disabled collision pairs
-//!   are read; virtual joints and sphere approximations are ignored.
+//! - SRDF: groups (chains, joints, links, subgroups), group states, end effectors, passive
+//!   joints and disabled collision pairs are read. Virtual joints are kept out of planning
+//!   (the root is fixed), elements of other kinds (`<gripper>`, sphere approximations, …)
+//!   are skipped, and a name prefix the URDF lacks (`baxter/`) is removed: each is a
+//!   [`SrdfWarning`], not an error.
+//! - Several robots in one model: [`RobotModel::combine`] with prefixed names
+//!   ([`compose`]).
 #![warn(missing_docs)]
 
+pub mod assistant;
 pub mod collision;
+pub mod compose;
 pub mod error;
 pub mod gripper;
 pub mod ik;
@@ -61,7 +69,7 @@ pub use error::{Error, Result};
 pub use ik::{IkOptions, IkSolution, IkSolver};
 pub use kinematics::{Jacobian, KinematicChain};
 pub use model::{Joint, JointLimits, JointType, Link, LoadOptions, LoadWarning, RobotModel};
-pub use srdf::{Semantics, Srdf};
+pub use srdf::{Semantics, Srdf, SrdfWarning};
 
 #[cfg(test)]
 mod tests {

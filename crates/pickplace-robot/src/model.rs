@@ -250,6 +250,8 @@ pub enum LoadWarning {
         uri: String,
         /// Why it could not be read.
         reason: String,
+        /// What to do about it ([`MeshProblem::fix`]).
+        fix: String,
     },
     /// A revolute or prismatic joint with no limits (lower = upper = 0): it cannot move.
     FrozenJoint {
@@ -266,8 +268,12 @@ impl std::fmt::Display for LoadWarning {
                 usage,
                 uri,
                 reason,
+                fix,
             } => {
-                write!(f, "link {link:?}: skipped {usage:?} mesh {uri:?}: {reason}")
+                write!(
+                    f,
+                    "link {link:?}: skipped {usage:?} mesh {uri:?}: {reason} (fix: {fix})"
+                )
             }
             Self::FrozenJoint { joint } => {
                 write!(

@@ -7,7 +7,7 @@ use crate::model::{
     resolve_uri,
 };
 use pickplace_geometry::math::{
-    Isometry3, Point3, Real, Translation3, UnitQuaternion, UnitVector3, Vector3,
+    Isometry3, Real, Translation3, UnitQuaternion, UnitVector3, Vector3,
 };
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
 use std::collections::BTreeMap;
@@ -124,14 +124,15 @@ pub(crate) fn build(
         for &l in &link_order {
             reached[l] = true;
         }
-        let mut link = (0..robot.links.len())
-            .find(|&l| !reached[l])
-            .expect("some link is unreached");
-        // Walk up to a link that is on the cycle itself.
+        // Some link is unreached (the lengths differ); the first one otherwise.
+        let mut link = (0..robot.links.len()).find(|&l| !reached[l]).unwrap_or(0);
+        // Walk up to a link that is on the cycle itself (unreached links have parents).
         let mut seen = vec![false; robot.links.len()];
         while !seen[link] {
             seen[link] = true;
-            let j = parent_joint_of[link].expect("unreached links have parents");
+            let Some(j) = parent_joint_of[link] else {
+                break;
+            };
             link = link_by_name[robot.joints[j].parent.link.as_str()];
         }
         return Err(invalid(ModelErrorKind::Cycle {
@@ -419,8 +420,14 @@ fn convert_geometry(
         },
         urdf_rs::Geometry::Mesh { filename, scale } => {
             let scale = scale.map(|s| s.0).unwrap_or([1.0; 3]);
-            for &s in &scale {
-                positive("mesh scale", s)?;
+            // Negative components mirror the mesh (the loader flips the winding); zero
+            // flattens it and is refused.
+            if scale.iter().any(|s| !s.is_finite() || *s == 0.0) {
+                return Err(invalid(ModelErrorKind::BadMeshScale {
+                    link: link.to_owned(),
+                    uri: filename.clone(),
+                    scale,
+                }));
             }
             match load_mesh(filename, base_dir, options, scale) {
                 Ok((resolved, mesh)) => Shape::Mesh {
@@ -443,6 +450,7 @@ fn convert_geometry(
                             usage,
                             uri: filename.clone(),
                             reason: problem.to_string(),
+                            fix: problem.fix(),
                         });
                         return Ok(None);
                     }
@@ -470,13 +478,15 @@ fn load_mesh(
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    if !matches!(extension.as_str(), "stl" | "obj" | "ply") {
+    if !matches!(extension.as_str(), "stl" | "obj" | "ply" | "dae") {
         return Err(MeshProblem::UnsupportedFormat {
             path: resolved,
             extension,
         });
     }
-    let uniform = scale[0] == scale[1] && scale[1] == scale[2];
+    // A uniform positive scale is applied while reading; any other (non-uniform, or
+    // mirroring with a negative component) afterwards, flipping the winding of a mirror.
+    let uniform = scale[0] == scale[1] && scale[1] == scale[2] && scale[0] > 0.0;
     let mesh_options = MeshOptions {
         scale: options.mesh.scale * if uniform { scale[0] } else { 1.0 },
         ..options.mesh
@@ -485,19 +495,14 @@ fn load_mesh(
     let mesh = if uniform {
         mesh
     } else {
-        let scaled: Vec<Point3> = mesh
-            .vertices()
-            .iter()
-            .map(|p| Point3::new(p.x * scale[0], p.y * scale[1], p.z * scale[2]))
-            .collect();
-        TriMesh::from_soup(
-            &scaled,
-            mesh.triangles(),
-            &MeshOptions {
-                scale: 1.0,
-                ..options.mesh
-            },
-        )?
+        mesh.scaled(&Vector3::from(scale), &options.mesh)
+            .map_err(|error| match error {
+                pickplace_geometry::Error::Mesh { kind, .. } => pickplace_geometry::Error::Mesh {
+                    path: resolved.clone(),
+                    kind,
+                },
+                other => other,
+            })?
     };
     Ok((resolved, mesh))
 }

@@ -22,7 +22,8 @@ fn bad_meshes() -> Vec<(&'static str, Vec<u8>, &'static str)> {
         ("index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n".to_vec(), "refers to vertex 9"),
         ("index.ply", format!("{ply_header}0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n").into_bytes(), "refers to vertex 7"),
         ("flat.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n".to_vec(), "degenerate"),
-        ("mesh.dae", b"<COLLADA/>".to_vec(), "unsupported mesh format"),
+        ("mesh.3ds", b"3ds".to_vec(), "unsupported mesh format"),
+        ("mesh.dae", b"<COLLADA><oops".to_vec(), "malformed COLLADA"),
     ]
 }
 

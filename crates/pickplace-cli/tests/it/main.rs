@@ -6,6 +6,7 @@ mod demo;
 mod placements;
 mod plan;
 mod precompute;
+mod robot;
 mod support;
 mod view;
 

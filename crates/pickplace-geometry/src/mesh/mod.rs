@@ -8,9 +8,11 @@
 //! counted in the [`MeshReport`] and never make a query panic.
 //!
 //! # Files
-//! [`load`] reads STL (binary and ASCII), OBJ and PLY (ASCII, binary little- and big-endian),
-//! chosen by the file extension; [`read_stl`], [`read_obj`] and [`read_ply`] parse bytes
-//! already in memory. Coordinates are taken as metres times [`MeshOptions::scale`]. Polygons
+//! [`load`] reads STL (binary and ASCII), OBJ and PLY (ASCII, binary little- and big-endian)
+//! with our own readers, and COLLADA (`.dae`) through the `mesh-loader` crate (every mesh of
+//! the file, node transforms and `<unit meter>` applied), chosen by the file extension
+//! (case-insensitive: `.DAE` is COLLADA); [`read_stl`], [`read_obj`], [`read_ply`] and
+//! [`read_mesh`] parse bytes already in memory. Coordinates are taken as metres times [`MeshOptions::scale`]. Polygons
 //! with more than three corners (OBJ, PLY, and ASCII STL loops) are fan-triangulated: corners
 //! `a b c d …` give `a b c`, `a c d`, …, so **the input file's triangle order** (the numbering of
 //! [`TriMesh::source_triangle`]) is the order of the file's faces with each polygon replaced by
@@ -20,6 +22,7 @@
 //! [`write_stl_binary`] writes a mesh atomically; [`MassProperties`] gives volume, centre of
 //! gravity and inertia.
 
+mod dae;
 mod mass;
 mod obj;
 mod ply;
@@ -276,6 +279,51 @@ impl TriMesh {
         (lo, hi)
     }
 
+    /// A copy scaled by `scale` along the mesh's own axes (URDF `<mesh scale="x y z">`),
+    /// welded again with `options` (its `scale` is not applied). A scale with a negative
+    /// product mirrors the mesh: the winding of every triangle is reversed so that normals
+    /// stay outward and the volume positive. [`TriMesh::source_triangle`] still gives the
+    /// index in the original file.
+    ///
+    /// # Errors
+    /// [`MeshErrorKind::InvalidScaleVector`] when a component is zero or not finite;
+    /// construction errors as [`TriMesh::from_soup`] (path `<memory>`).
+    pub fn scaled(&self, scale: &Vector3, options: &MeshOptions) -> Result<Self> {
+        let to_error = |kind| Error::Mesh {
+            path: memory_path(),
+            kind,
+        };
+        if scale.iter().any(|s| !s.is_finite() || *s == 0.0) {
+            return Err(to_error(MeshErrorKind::InvalidScaleVector {
+                scale: [scale.x, scale.y, scale.z],
+            }));
+        }
+        let mirrored = scale.x * scale.y * scale.z < 0.0;
+        let positions: Vec<Point3> = self
+            .vertices
+            .iter()
+            .map(|p| Point3::from(p.coords.component_mul(scale)))
+            .collect();
+        let triangles: Vec<[u32; 3]> = self
+            .triangles
+            .iter()
+            .map(|&[a, b, c]| if mirrored { [a, c, b] } else { [a, b, c] })
+            .collect();
+        let mut out = Self::from_soup_inner(
+            &positions,
+            &triangles,
+            &MeshOptions {
+                scale: 1.0,
+                ..*options
+            },
+        )
+        .map_err(to_error)?;
+        for source in &mut out.source_triangles {
+            *source = self.source_triangles[*source as usize];
+        }
+        Ok(out)
+    }
+
     /// A copy transformed by `pose` (vertex positions only; indices and mapping are kept).
     pub fn transformed(&self, pose: &crate::math::Isometry3) -> Self {
         let mut out = self.clone();
@@ -427,6 +475,8 @@ pub enum MeshFormat {
     Obj,
     /// PLY, ASCII or binary (`.ply`).
     Ply,
+    /// COLLADA 1.4/1.5 text (`.dae`), read through `mesh-loader`.
+    Collada,
 }
 
 impl MeshFormat {
@@ -443,6 +493,7 @@ impl MeshFormat {
             "stl" => Ok(Self::Stl),
             "obj" => Ok(Self::Obj),
             "ply" => Ok(Self::Ply),
+            "dae" => Ok(Self::Collada),
             _ => Err(Error::Mesh {
                 path: path.to_path_buf(),
                 kind: MeshErrorKind::UnsupportedFormat { extension },
@@ -451,7 +502,7 @@ impl MeshFormat {
     }
 }
 
-/// Loads a mesh file (STL, OBJ or PLY, chosen by the extension); see the [module](self) doc.
+/// Loads a mesh file (STL, OBJ, PLY or COLLADA, chosen by the extension); see the [module](self) doc.
 /// What loading did (welded vertices, dropped degenerate triangles, open edges) is in
 /// [`TriMesh::report`].
 ///
@@ -522,6 +573,7 @@ fn read_format(
         MeshFormat::Stl => stl::parse(bytes),
         MeshFormat::Obj => obj::parse(bytes),
         MeshFormat::Ply => ply::parse(bytes),
+        MeshFormat::Collada => dae::parse(bytes),
     };
     soup.and_then(|s| TriMesh::from_soup_inner(&s.positions, &s.triangles, options))
         .map_err(|kind| Error::Mesh {
@@ -592,5 +644,72 @@ mod tests {
         let flat = [Point3::origin(); 3];
         let err = TriMesh::from_soup(&flat, &[[0, 1, 2]], &MeshOptions::default()).unwrap_err();
         assert!(err.to_string().contains("degenerate"), "{err}");
+    }
+
+    /// A closed tetrahedron, counter-clockwise seen from outside.
+    fn tetrahedron() -> TriMesh {
+        let p = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.0, 0.0, 1.0),
+        ];
+        let t = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+        TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid tetrahedron")
+    }
+
+    fn signed_volume(mesh: &TriMesh) -> Real {
+        (0..mesh.triangle_count())
+            .map(|t| {
+                let [a, b, c] = mesh.triangle_points(t);
+                a.coords.dot(&b.coords.cross(&c.coords)) / 6.0
+            })
+            .sum()
+    }
+
+    fn normals_point_away_from_centroid(mesh: &TriMesh) -> bool {
+        let n = mesh.vertices().len() as Real;
+        let centroid = mesh
+            .vertices()
+            .iter()
+            .fold(Vector3::zeros(), |s, p| s + p.coords)
+            / n;
+        (0..mesh.triangle_count()).all(|t| {
+            let [a, b, c] = mesh.triangle_points(t);
+            let centre = (a.coords + b.coords + c.coords) / 3.0;
+            mesh.triangle_normal(t).dot(&(centre - centroid)) > 0.0
+        })
+    }
+
+    #[test]
+    fn a_mirroring_scale_flips_the_winding_and_keeps_the_volume_positive() {
+        let mesh = tetrahedron();
+        assert!((signed_volume(&mesh) - 1.0 / 6.0).abs() < 1e-12);
+        let mirrored = mesh
+            .scaled(&Vector3::new(1.0, -1.0, 1.0), &MeshOptions::default())
+            .expect("valid scale");
+        assert!((signed_volume(&mirrored) - 1.0 / 6.0).abs() < 1e-12);
+        assert!(normals_point_away_from_centroid(&mirrored));
+        assert!(mirrored.vertices().iter().all(|p| p.y <= 0.0));
+        assert_eq!(mirrored.source_triangles(), mesh.source_triangles());
+        // Non-uniform, not mirrored: the volume multiplies by the scale's product.
+        let stretched = mesh
+            .scaled(&Vector3::new(2.0, 3.0, 0.5), &MeshOptions::default())
+            .expect("valid scale");
+        assert!((signed_volume(&stretched) - 3.0 / 6.0).abs() < 1e-12);
+        assert!(normals_point_away_from_centroid(&stretched));
+        // Two negative components: a rotation, no flip.
+        let rotated = mesh
+            .scaled(&Vector3::new(-1.0, -1.0, 1.0), &MeshOptions::default())
+            .expect("valid scale");
+        assert!((signed_volume(&rotated) - 1.0 / 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_zero_scale_component_is_an_error() {
+        let error = tetrahedron()
+            .scaled(&Vector3::new(1.0, 0.0, 1.0), &MeshOptions::default())
+            .expect_err("zero scale");
+        assert!(error.to_string().contains("scale"), "{error}");
     }
 }

@@ -191,11 +191,11 @@ fn each_bad_input_gives_a_clear_error_naming_the_file() {
     );
 
     // Unknown extension (checked before reading, so the file need not exist).
-    let path = dir.join("model.dae");
+    let path = dir.join("model.3ds");
     let err = mesh::load(&path, &MeshOptions::default()).expect_err("unknown format");
     let message = err.to_string();
     assert!(
-        message.contains("model.dae") && message.contains("\"dae\""),
+        message.contains("model.3ds") && message.contains("\"3ds\""),
         "{message}"
     );
     let err = mesh::load(&dir.join("no-extension"), &MeshOptions::default()).expect_err("no ext");

@@ -5,4 +5,5 @@ mod common;
 mod fk;
 mod ik;
 mod malformed;
+mod meshes;
 mod srdf;

@@ -157,15 +157,15 @@ fn missing_mesh_names_the_file() {
 
 #[test]
 fn unreadable_mesh_is_an_error_or_a_warning_on_request() {
-    let dir = std::env::temp_dir().join(format!("pickplace-robot-dae-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("pickplace-robot-3ds-{}", std::process::id()));
     std::fs::create_dir_all(dir.join("mypkg/meshes")).expect("temp dir");
-    std::fs::write(dir.join("mypkg/meshes/hand.dae"), "<COLLADA/>").expect("write");
-    let text = urdf(&mesh_link("package://mypkg/meshes/hand.dae"));
+    std::fs::write(dir.join("mypkg/meshes/hand.3ds"), "<COLLADA/>").expect("write");
+    let text = urdf(&mesh_link("package://mypkg/meshes/hand.3ds"));
     let options = LoadOptions {
         package_dirs: vec![dir.clone()],
         ..LoadOptions::default()
     };
-    let e = RobotModel::from_urdf_str(&text, Path::new("."), &options).expect_err("DAE");
+    let e = RobotModel::from_urdf_str(&text, Path::new("."), &options).expect_err("3DS");
     assert!(
         matches!(
             e,
@@ -176,7 +176,7 @@ fn unreadable_mesh_is_an_error_or_a_warning_on_request() {
         ),
         "{e:?}"
     );
-    assert!(e.to_string().contains("hand.dae"), "{e}");
+    assert!(e.to_string().contains("hand.3ds"), "{e}");
     let skip = LoadOptions {
         unreadable_mesh: UnreadableMesh::Skip,
         ..options
@@ -184,7 +184,7 @@ fn unreadable_mesh_is_an_error_or_a_warning_on_request() {
     let model = RobotModel::from_urdf_str(&text, Path::new("."), &skip).expect("skipped");
     assert!(model.links()[0].collisions.is_empty());
     assert!(
-        matches!(&model.warnings()[0], LoadWarning::SkippedMesh { uri, .. } if uri.contains("hand.dae"))
+        matches!(&model.warnings()[0], LoadWarning::SkippedMesh { uri, .. } if uri.contains("hand.3ds"))
     );
     // An unknown package is its own error.
     let text = urdf(&mesh_link("package://otherpkg/hand.stl"));

@@ -2,7 +2,7 @@
 
 use crate::common::nx;
 use pickplace_robot::error::{Error, SrdfErrorKind};
-use pickplace_robot::srdf::{DisableReason, Semantics, Srdf};
+use pickplace_robot::srdf::{DisableReason, Semantics, Srdf, SrdfWarning};
 use std::path::Path;
 
 #[test]
@@ -111,4 +111,212 @@ fn bad_srdf_errors_name_the_problem() {
             ..
         })
     ));
+}
+
+/// A small robot of our own: a four-joint arm with a TCP and a finger, and a two-joint
+/// head, on one base.
+const TWO_BRANCHES: &str = r#"<robot name="t">
+  <link name="base"/><link name="a1"/><link name="a2"/><link name="a3"/><link name="a4"/>
+  <link name="tcp"/><link name="finger"/><link name="h1"/><link name="h2"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="a1"/><child link="a2"/><origin xyz="0 0 0.2"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="a2"/><child link="a3"/><origin xyz="0.2 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j4" type="revolute"><parent link="a3"/><child link="a4"/><origin xyz="0.2 0 0"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="tcp_joint" type="fixed"><parent link="a4"/><child link="tcp"/><origin xyz="0.1 0 0"/></joint>
+  <joint name="finger_joint" type="prismatic"><parent link="a4"/><child link="finger"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.04" velocity="1" effort="1"/></joint>
+  <joint name="k1" type="revolute"><parent link="base"/><child link="h1"/><origin xyz="0 0 0.5"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="k2" type="revolute"><parent link="h1"/><child link="h2"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+</robot>"#;
+
+fn two_branches() -> pickplace_robot::RobotModel {
+    pickplace_robot::RobotModel::from_urdf_str(
+        TWO_BRANCHES,
+        Path::new("."),
+        &pickplace_robot::LoadOptions::default(),
+    )
+    .expect("valid URDF")
+}
+
+fn resolve(model: &pickplace_robot::RobotModel, body: &str) -> pickplace_robot::Result<Semantics> {
+    let srdf = Srdf::from_xml_str(&format!("<robot name=\"t\">{body}</robot>"))?;
+    Semantics::resolve(model, &srdf, Path::new("t.srdf"))
+}
+
+fn tip_name(model: &pickplace_robot::RobotModel, semantics: &Semantics, group: &str) -> String {
+    let chain = semantics.chain(model, group).expect("a chain");
+    model.links()[chain.tip_link()].name.clone()
+}
+
+#[test]
+fn a_joint_list_arm_group_is_a_chain_to_its_deepest_joint() {
+    let model = two_branches();
+    let semantics = resolve(
+        &model,
+        r#"<group name="arm"><joint name="j1"/><joint name="j2"/><joint name="j3"/><joint name="j4"/></group>
+           <group name="hand"><joint name="finger_joint"/></group>
+           <end_effector name="ee" parent_link="tcp" group="hand"/>"#,
+    )
+    .expect("resolves");
+    assert_eq!(tip_name(&model, &semantics, "arm"), "a4");
+    assert_eq!(
+        semantics.end_effector_of("arm").map(|e| e.name.as_str()),
+        Some("ee")
+    );
+    assert!(
+        semantics.warnings().is_empty(),
+        "{:?}",
+        semantics.warnings()
+    );
+}
+
+#[test]
+fn a_subgroup_arm_group_is_a_chain() {
+    let model = two_branches();
+    let semantics = resolve(
+        &model,
+        r#"<group name="shoulder"><joint name="j1"/><joint name="j2"/></group>
+           <group name="forearm"><link name="a3"/><link name="a4"/></group>
+           <group name="arm"><group name="shoulder"/><group name="forearm"/></group>
+           <group name="hand"><joint name="finger_joint"/></group>
+           <end_effector name="ee" parent_link="tcp" group="hand" parent_group="arm"/>"#,
+    )
+    .expect("resolves");
+    // The end effector names the arm as its parent group: its link is the tip.
+    assert_eq!(tip_name(&model, &semantics, "arm"), "tcp");
+    assert_eq!(semantics.group("arm").expect("arm").variables.len(), 4);
+    assert_eq!(tip_name(&model, &semantics, "forearm"), "a4");
+}
+
+#[test]
+fn groups_that_are_not_one_chain_or_have_no_joint_are_named_errors() {
+    let model = two_branches();
+    let semantics = resolve(
+        &model,
+        r#"<group name="both"><joint name="j1"/><joint name="k1"/></group>
+           <group name="fixed_only"><joint name="tcp_joint"/></group>"#,
+    )
+    .expect("resolves: only arms need a chain");
+    let error = semantics.chain(&model, "both").expect_err("two branches");
+    assert!(
+        matches!(&error, Error::Srdf { kind: SrdfErrorKind::NotOneChain { group, .. }, .. } if group == "both"),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("t.srdf"), "{error}");
+    let error = semantics.chain(&model, "fixed_only").expect_err("no joint");
+    assert!(
+        matches!(
+            &error,
+            Error::Srdf {
+                kind: SrdfErrorKind::GroupWithoutJoints { .. },
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    // Unknown names are errors naming the element and the name.
+    for (body, name) in [
+        (r#"<group name="g"><joint name="nope"/></group>"#, "nope"),
+        (r#"<group name="g"><link name="nolink"/></group>"#, "nolink"),
+        (r#"<passive_joint name="ghost"/>"#, "ghost"),
+        (
+            r#"<disable_collisions link1="a1" link2="zz" reason="Never"/>"#,
+            "zz",
+        ),
+        (
+            r#"<group name="g"><joint name="j1"/></group><group_state name="s" group="g"><joint name="j9" value="1"/></group_state>"#,
+            "j9",
+        ),
+        (
+            r#"<virtual_joint name="w" type="fixed" parent_frame="world" child_link="nowhere"/>"#,
+            "nowhere",
+        ),
+    ] {
+        let error = resolve(&model, body).expect_err(body);
+        let text = error.to_string();
+        assert!(text.contains("t.srdf") && text.contains(name), "{text}");
+    }
+}
+
+#[test]
+fn virtual_joints_in_groups_and_states_are_one_warning_each() {
+    let model = two_branches();
+    let semantics = resolve(
+        &model,
+        r#"<virtual_joint name="world_joint" type="planar" parent_frame="odom" child_link="base"/>
+           <passive_joint name="world_joint"/>
+           <group name="base"><joint name="world_joint"/></group>
+           <group name="all"><group name="base"/><joint name="j1"/></group>
+           <group_state name="s" group="all">
+             <joint name="world_joint" value="0.1 0.2 0.3"/>
+             <joint name="root_joint" value="0 0 1.01927 0 0 0 1"/>
+             <joint name="j1" value="0.5"/>
+           </group_state>"#,
+    )
+    .expect("virtual joints are not errors");
+    let warnings = semantics.warnings();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    assert!(matches!(
+        &warnings[0],
+        SrdfWarning::VirtualJoint { name, joint_type: None, used_in } if name == "root_joint" && used_in.len() == 1
+    ));
+    assert!(matches!(
+        &warnings[1],
+        SrdfWarning::VirtualJoint { name, joint_type: Some(t), used_in }
+            if name == "world_joint" && t == "planar" && used_in.len() == 4
+    ));
+    assert!(warnings[1].to_string().contains("world_joint"));
+    assert!(semantics.group("base").expect("base").variables.is_empty());
+    assert_eq!(semantics.group("all").expect("all").variables.len(), 1);
+    let mut q = model.zero_configuration();
+    semantics.apply_state(&model, "s", &mut q).expect("state");
+    assert_eq!(q[model.variable_index("j1").expect("j1")], 0.5);
+    // Multi-value numbers parse and round-trip.
+    let srdf = semantics.srdf();
+    assert_eq!(srdf.group_states[0].multi_dof_values[1].1.len(), 7);
+    assert_eq!(Srdf::from_xml_str(&srdf.to_xml()).expect("again"), *srdf);
+}
+
+#[test]
+fn a_common_prefix_is_stripped_and_unknown_elements_are_ignored() {
+    let model = two_branches();
+    let semantics = resolve(
+        &model,
+        r#"<gripper name="g1" clearance="0.02"><link name="not_a_link"/><position>0 0 0</position></gripper>
+           <gripper name="g2"/>
+           <contact name="c"><link name="x"/></contact>
+           <group name="arm"><joint name="bot/j1"/><joint name="bot/j2"/><joint name="bot/j3"/><joint name="bot/j4"/></group>
+           <group_state name="home" group="arm"><joint name="bot/j2" value="0.3"/></group_state>
+           <disable_collisions link1="bot/a1" link2="a2" reason="Adjacent"/>"#,
+    )
+    .expect("prefix stripped");
+    let warnings: Vec<String> = semantics
+        .warnings()
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(matches!(
+        &semantics.warnings()[0],
+        SrdfWarning::StrippedPrefix { prefix, names: 5 } if prefix == "bot/"
+    ));
+    assert!(matches!(
+        &semantics.warnings()[1],
+        SrdfWarning::IgnoredElement { element, count: 2 } if element == "gripper"
+    ));
+    assert_eq!(tip_name(&model, &semantics, "arm"), "a4");
+    assert_eq!(semantics.srdf().disabled_collisions[0].link1, "a1");
+    // A prefix that does not make every name known is not stripped: the error names it.
+    let error = resolve(
+        &model,
+        r#"<group name="arm"><joint name="bot/j1"/><joint name="bot/nope"/></group>"#,
+    )
+    .expect_err("still unknown");
+    assert!(error.to_string().contains("bot/"), "{error}");
 }

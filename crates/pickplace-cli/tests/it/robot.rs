@@ -1,0 +1,175 @@
+//! `pickplace robot check | srdf` on the shipped NX-HIRO and on small robots of our own.
+
+use crate::args;
+use crate::support::{Scratch, fails_with, ok, run_in};
+
+fn nx(file: &str) -> std::path::PathBuf {
+    crate::root().join("robots/nx-hiro").join(file)
+}
+
+/// An arm of five joints with a two-finger gripper, as a robot with no SRDF.
+const GRIPPER_ARM: &str = r#"<robot name="g">
+  <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/><link name="l5"/>
+  <link name="palm"><collision><geometry><box size="0.05 0.08 0.02"/></geometry></collision></link>
+  <link name="fa"/><link name="fb"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.2 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/><origin xyz="0.2 0 0"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="j5" type="continuous"><parent link="l4"/><child link="l5"/><origin xyz="0.1 0 0"/><axis xyz="0 1 0"/><limit velocity="1" effort="1"/></joint>
+  <joint name="palm_joint" type="fixed"><parent link="l5"/><child link="palm"/><origin xyz="0.05 0 0"/></joint>
+  <joint name="fa_joint" type="prismatic"><parent link="palm"/><child link="fa"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" velocity="1" effort="1"/></joint>
+  <joint name="fb_joint" type="prismatic"><parent link="palm"/><child link="fb"/><axis xyz="0 -1 0"/><limit lower="0" upper="0.04" velocity="1" effort="1"/><mimic joint="fa_joint"/></joint>
+</robot>"#;
+
+#[test]
+fn robot_srdf_writes_a_starting_srdf_that_check_accepts() {
+    let dir = Scratch::new("robot-srdf");
+    let urdf = dir.file("g.urdf", GRIPPER_ARM.as_bytes());
+    let out = ok(&run_in(
+        dir.path(),
+        args![
+            "robot",
+            "srdf",
+            &urdf,
+            "--samples",
+            "200",
+            "--seed",
+            "3",
+            "--out",
+            "g.srdf"
+        ],
+    ));
+    assert!(out.contains("arm_0: 5 joints from base to l5"), "{out}");
+    let text = std::fs::read_to_string(dir.join("g.srdf")).expect("written");
+    assert!(
+        text.contains("seed 3") && text.contains(r#"reason="Adjacent""#),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            r#"<end_effector name="hand_0" parent_link="l5" group="hand_0" parent_group="arm_0"/>"#
+        ),
+        "{text}"
+    );
+    // Same seed, same file.
+    ok(&run_in(
+        dir.path(),
+        args![
+            "robot",
+            "srdf",
+            &urdf,
+            "--samples",
+            "200",
+            "--seed",
+            "3",
+            "--out",
+            "again.srdf"
+        ],
+    ));
+    assert_eq!(
+        std::fs::read(dir.join("again.srdf")).expect("again"),
+        text.as_bytes()
+    );
+
+    let json = ok(&run_in(
+        dir.path(),
+        args!["robot", "check", &urdf, "--srdf", "g.srdf", "--json"],
+    ));
+    let doc: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert_eq!(doc["srdf_warnings"].as_array().map(Vec::len), Some(0));
+    assert_eq!(doc["joints_without_limits"][0]["joint"], "j5");
+    assert_eq!(doc["always_close"].as_array().map(Vec::len), Some(0));
+    assert_eq!(doc["groups"][0]["tip"], "l5");
+}
+
+#[test]
+fn robot_srdf_bad_input_exits_2() {
+    let dir = Scratch::new("robot-srdf-bad");
+    let urdf = dir.file("g.urdf", GRIPPER_ARM.as_bytes());
+    let o = run_in(
+        dir.path(),
+        args!["robot", "srdf", &urdf, "--samples", "0", "--out", "x.srdf"],
+    );
+    fails_with(&o, &["--samples"]);
+    let broken = dir.file("broken.urdf", b"<robot name=\"b\"><link name=\"a\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"nope\"/></joint></robot>");
+    let o = run_in(
+        dir.path(),
+        args!["robot", "srdf", &broken, "--out", "x.srdf"],
+    );
+    fails_with(&o, &["broken.urdf", "nope"]);
+    assert!(!dir.join("x.srdf").exists());
+}
+
+#[test]
+fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
+    let dir = Scratch::new("robot-check");
+    let srdf = std::fs::read_to_string(nx("nx-hiro.srdf")).expect("srdf");
+    // The shipped SRDF with a virtual joint, an HPP gripper element and a prefix.
+    let edited = srdf.replacen(
+        "</robot>",
+        r#"<virtual_joint name="world_joint" type="floating" parent_frame="world" child_link="WAIST"/>
+           <gripper name="g" clearance="0.01"><link name="RARM_TCP"/></gripper></robot>"#,
+        1,
+    );
+    let path = dir.file("nx.srdf", edited.as_bytes());
+    let json = ok(&run_in(
+        dir.path(),
+        args![
+            "robot",
+            "check",
+            nx("nx-hiro.urdf"),
+            "--srdf",
+            &path,
+            "--json",
+            "--samples",
+            "20"
+        ],
+    ));
+    let doc: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    for field in [
+        "format",
+        "groups",
+        "collision_matrix",
+        "joints",
+        "variables",
+        "warnings",
+    ] {
+        assert!(doc.get(field).is_some(), "{field} kept");
+    }
+    let warnings = doc["srdf_warnings"].as_array().expect("warnings");
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    let text = ok(&run_in(
+        dir.path(),
+        args![
+            "robot",
+            "check",
+            nx("nx-hiro.urdf"),
+            "--srdf",
+            &path,
+            "--samples",
+            "20"
+        ],
+    ));
+    assert!(
+        text.contains("virtual joint \"world_joint\" (floating)"),
+        "{text}"
+    );
+    assert!(text.contains("<gripper>"), "{text}");
+    // An SRDF naming a joint the URDF does not have: exit 2, naming the file and the joint.
+    let bad = dir.file(
+        "bad.srdf",
+        srdf.replacen(
+            "</robot>",
+            r#"<group name="x"><joint name="NO_SUCH_JOINT"/></group></robot>"#,
+            1,
+        )
+        .as_bytes(),
+    );
+    let o = run_in(
+        dir.path(),
+        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &bad],
+    );
+    fails_with(&o, &["bad.srdf", "NO_SUCH_JOINT"]);
+}
