@@ -8,15 +8,13 @@ use crate::collision::{
     AcmOptions, AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
 };
 use crate::error::{Error, Result};
-use crate::model::{JointType, JointValueSource, RobotModel};
+use crate::model::{JointValueSource, RobotModel};
 use crate::rng::Rng;
 use crate::srdf::{ChainSpec, DisableReason, EndEffector, GroupSpec, Srdf};
 use pickplace_geometry::math::{Isometry3, Real};
 
 /// Fewest actuated joints of an arm found by [`detect_arms`].
 pub const MIN_ARM_JOINTS: usize = 4;
-/// Most actuated joints below an arm's last joint for them to count as a hand.
-pub const MAX_HAND_JOINTS: usize = 4;
 
 /// An arm found in the kinematic tree.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -31,87 +29,31 @@ pub struct DetectedArm {
     pub finger_joints: Vec<usize>,
 }
 
-/// Finds the arms of a robot: serial chains of at least [`MIN_ARM_JOINTS`] actuated joints
-/// ending at a link whose subtree holds one to [`MAX_HAND_JOINTS`] actuated finger joints.
-/// A finger joint is an actuated joint with no actuated joint below it that is prismatic,
-/// is copied by a mimic joint, or has a moving sibling (two fingers on one palm). The chain
-/// goes up from the last actuated joint above the fingers and stops where another branch
-/// with actuated joints leaves it (a torso carrying two arms and a head). Arms are returned
-/// in the order of their last joint.
+/// Finds the arms of a robot: [`crate::gripper::find_arms`] (serial chains of at least
+/// [`MIN_ARM_JOINTS`] actuated joints ending in a parallel gripper that
+/// [`crate::gripper::Gripper::derive`] accepts, cut where another actuated branch leaves),
+/// with their joints as joint indices and the hand's actuated joints. Arms are returned in
+/// the order of their last joint.
 pub fn detect_arms(model: &RobotModel) -> Vec<DetectedArm> {
     let joints = model.joints();
-    let links = model.links().len();
-    let actuated = |j: usize| matches!(joints[j].source, JointValueSource::Variable(_));
-    // Actuated joints strictly below each link (joints are in depth-first order: children
-    // after parents, so a reverse pass accumulates).
-    let mut below = vec![0usize; links];
-    for j in (0..joints.len()).rev() {
-        let child = joints[j].child_link;
-        below[joints[j].parent_link] += below[child] + usize::from(actuated(j));
-    }
-    let mimicked: Vec<bool> = (0..joints.len())
-        .map(|j| joints.iter().any(|k| k.mimic.is_some_and(|m| m.joint == j)))
+    let mut arms: Vec<DetectedArm> = crate::gripper::find_arms(model, MIN_ARM_JOINTS)
+        .into_iter()
+        .map(|a| DetectedArm {
+            joints: a
+                .variables
+                .iter()
+                .map(|&v| model.variable_joints()[v])
+                .collect(),
+            base_link: a.base_link,
+            tip_link: a.tip_link,
+            finger_joints: (0..joints.len())
+                .filter(|&k| {
+                    matches!(joints[k].source, JointValueSource::Variable(_))
+                        && model.is_ancestor(a.tip_link, joints[k].parent_link)
+                })
+                .collect(),
+        })
         .collect();
-    let moving_children = |link: usize| {
-        joints
-            .iter()
-            .filter(|k| k.parent_link == link && k.joint_type != JointType::Fixed)
-            .count()
-    };
-    let is_finger = |j: usize| {
-        actuated(j)
-            && below[joints[j].child_link] == 0
-            && (joints[j].joint_type == JointType::Prismatic
-                || mimicked[j]
-                || moving_children(joints[j].parent_link) >= 2)
-    };
-    let mut arms: Vec<DetectedArm> = Vec::new();
-    for finger in (0..joints.len()).filter(|&j| is_finger(j)) {
-        // The last actuated joint above the finger.
-        let mut link = joints[finger].parent_link;
-        let last = loop {
-            let Some(j) = model.links()[link].parent_joint else {
-                break None;
-            };
-            if actuated(j) {
-                break Some(j);
-            }
-            link = joints[j].parent_link;
-        };
-        let Some(last) = last else { continue };
-        if arms.iter().any(|a| a.joints.last() == Some(&last)) {
-            continue;
-        }
-        let tip = joints[last].child_link;
-        if below[tip] == 0 || below[tip] > MAX_HAND_JOINTS {
-            continue;
-        }
-        let mut chain = Vec::new();
-        let mut current = tip;
-        while let Some(j) = model.links()[current].parent_joint {
-            if actuated(j) {
-                chain.push(j);
-            }
-            let parent = joints[j].parent_link;
-            if below[parent] != below[tip] + chain.len() {
-                break; // another branch with actuated joints leaves here
-            }
-            current = parent;
-        }
-        chain.reverse();
-        if chain.len() < MIN_ARM_JOINTS {
-            continue;
-        }
-        let finger_joints = (0..joints.len())
-            .filter(|&k| actuated(k) && model.is_ancestor(tip, joints[k].parent_link))
-            .collect();
-        arms.push(DetectedArm {
-            base_link: joints[chain[0]].parent_link,
-            joints: chain,
-            tip_link: tip,
-            finger_joints,
-        });
-    }
     arms.sort_by_key(|a| a.joints.last().copied());
     arms
 }
@@ -308,7 +250,8 @@ mod tests {
     use crate::model::LoadOptions;
     use std::path::Path;
 
-    /// A torso with two five-joint arms, each with a two-finger gripper, and a head.
+    /// A torso with two five-joint arms, each with a two-finger gripper (finger boxes: the
+    /// gripper is measured on them), and a head.
     fn two_arms() -> String {
         let mut links =
             String::from(r#"<link name="base"/><link name="torso"/><link name="head"/>"#);
@@ -327,7 +270,9 @@ mod tests {
                 parent = link;
             }
             links.push_str(&format!(
-                r#"<link name="{side}_palm"/><link name="{side}_fa"/><link name="{side}_fb"/>"#
+                r#"<link name="{side}_palm"/>
+                   <link name="{side}_fa"><collision><origin xyz="0.03 0.005 0"/><geometry><box size="0.06 0.01 0.02"/></geometry></collision></link>
+                   <link name="{side}_fb"><collision><origin xyz="0.03 -0.005 0"/><geometry><box size="0.06 0.01 0.02"/></geometry></collision></link>"#
             ));
             joints.push_str(&format!(
                 r#"<joint name="{side}_palm_joint" type="fixed"><parent link="{parent}"/><child link="{side}_palm"/></joint>

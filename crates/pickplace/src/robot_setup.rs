@@ -364,6 +364,9 @@ impl RobotSetup {
         key_text.push_str(&format!("{overrides:?}"));
         // Semantics again, on the model with the tool links.
         let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
+        for w in semantics.warnings() {
+            notes.push(format!("{}: {w}", srdf_path.display()));
+        }
         Ok(Self {
             model,
             semantics,
@@ -435,16 +438,28 @@ fn combine(
     parts: Vec<(RobotModel, Srdf, Isometry3, RobotSpec)>,
     notes: &mut Vec<String>,
 ) -> Result<(RobotModel, Srdf, Isometry3, PathBuf)> {
-    // Combining is the robot crate's `RobotModel::combine` (landing with the loader work).
-    let _ = notes;
     let first = parts
         .first()
         .map(|p| p.3.urdf.clone())
         .unwrap_or_default();
-    Err(Error::Robot {
-        path: first,
-        source: Box::new(pickplace_robot::Error::UnknownGroup {
-            name: "several robots in one scene are not supported yet".into(),
-        }),
-    })
+    let models: Vec<(String, &RobotModel, Isometry3)> = parts
+        .iter()
+        .map(|(m, _, pose, spec)| (spec.prefix.clone(), m, *pose))
+        .collect();
+    let name = parts
+        .iter()
+        .map(|p| format!("{}{}", p.3.prefix, p.0.name()))
+        .collect::<Vec<_>>()
+        .join("+");
+    let model = RobotModel::combine(&name, &models).map_err(robot_err(&first))?;
+    let srdfs: Vec<Srdf> = parts
+        .iter()
+        .map(|(_, s, _, spec)| s.prefixed(&spec.prefix))
+        .collect();
+    let srdf = Srdf::merge(&srdfs, &name);
+    notes.push(format!(
+        "{} robots combined as {name:?} under a root link \"world\" (names prefixed)",
+        parts.len()
+    ));
+    Ok((model, srdf, Isometry3::identity(), first))
 }

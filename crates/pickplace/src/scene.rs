@@ -125,8 +125,12 @@ pub struct RobotSpec {
     /// Pose of the URDF root link in the world (default: identity).
     #[serde(default = "identity_pose")]
     pub base_pose: PoseSpec,
-    /// Start joint values by name (rad or m); joints not named take the SRDF's `home` state,
-    /// or zero. With `[[robots]]`, names carry the robot's prefix.
+    /// A named state of the SRDF to start from (default: `home` when the SRDF has one, else
+    /// every joint at zero, clamped into its limits).
+    #[serde(default)]
+    pub named_state: Option<String>,
+    /// Start joint values by name (rad or m), over the named state. Names are the robot's own
+    /// (without the prefix of `[[robots]]`).
     #[serde(default)]
     pub start_state: BTreeMap<String, Real>,
     /// With `[[robots]]`: prepended to every link, joint and group name of this robot, so that

@@ -171,17 +171,45 @@ impl Setup {
 
         // Start state: zeros, the SRDF's `home` when it has one, then the scene's values.
         let mut start = model.zero_configuration();
-        if semantics
-            .srdf()
-            .group_states
-            .iter()
-            .any(|s| s.name == "home")
-        {
-            semantics
-                .apply_state(&model, "home", &mut start)
-                .map_err(robot_err(&srdf_path))?;
-        }
         let several = scene.robots.len() > 1;
+        for (i, spec) in scene.robots.iter().enumerate() {
+            let prefix = if several { spec.prefix.as_str() } else { "" };
+            let state = match &spec.named_state {
+                Some(name) => Some(format!("{prefix}{name}")),
+                None => Some(format!("{prefix}home")),
+            };
+            if let Some(state) = state {
+                let exists = semantics
+                    .srdf()
+                    .group_states
+                    .iter()
+                    .any(|s| s.name == state);
+                if exists {
+                    semantics
+                        .apply_state(&model, &state, &mut start)
+                        .map_err(robot_err(&srdf_path))?;
+                } else if spec.named_state.is_some() {
+                    let field = if several {
+                        format!("robots[{i}].named_state")
+                    } else {
+                        "robot.named_state".to_owned()
+                    };
+                    return Err(invalid(
+                        &field,
+                        format!(
+                            "the SRDF has no group_state {state:?} (it has: {})",
+                            semantics
+                                .srdf()
+                                .group_states
+                                .iter()
+                                .map(|s| s.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
         for (i, spec) in scene.robots.iter().enumerate() {
             for (name, &value) in &spec.start_state {
                 let field = if several {
