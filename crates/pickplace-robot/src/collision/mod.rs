@@ -209,6 +209,61 @@ impl Default for CheckOptions {
     }
 }
 
+/// Which pairs of bodies a query checks, and which of them get the margin of
+/// [`CheckOptions`].
+///
+/// A body *moves* when it is a link marked in the mask (`moving[link]`, by link index, one
+/// entry per link of the model; [`crate::RobotModel::links_moved_by`] computes it for an
+/// arm) or an object attached to such a link; environment objects never move. A pair
+/// *moves* when one of its bodies does. The mask is borrowed, so a scope is `Copy` and a
+/// query with it allocates nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PairScope<'a> {
+    /// Every pair, with the margin (default).
+    #[default]
+    Every,
+    /// Every pair; the margin applies only to moving pairs, and pairs of two static bodies
+    /// (an idle arm against the table, two links of the idle arm) are checked for contact
+    /// (margin 0): a static near-contact cannot block a motion.
+    MarginOnMoving(&'a [bool]),
+    /// Only moving pairs, with the margin; pairs of two static bodies are skipped (they do
+    /// not change while the masked links move: check them once with
+    /// [`PairScope::StaticOnly`]).
+    MovingOnly(&'a [bool]),
+    /// Only pairs of two static bodies, with the margin.
+    StaticOnly(&'a [bool]),
+}
+
+impl PairScope<'_> {
+    fn mask(&self) -> Option<&[bool]> {
+        match *self {
+            Self::Every => None,
+            Self::MarginOnMoving(m) | Self::MovingOnly(m) | Self::StaticOnly(m) => Some(m),
+        }
+    }
+
+    /// The margin of a pair (`moving`: one of its bodies moves), or `None` when the scope
+    /// skips it.
+    #[inline]
+    fn pair_margin(&self, moving: bool, margin: Real) -> Option<Real> {
+        match (self, moving) {
+            (Self::Every, _) | (Self::MarginOnMoving(_), true) | (Self::MovingOnly(_), true) => {
+                Some(margin)
+            }
+            (Self::MarginOnMoving(_), false) => Some(0.0),
+            (Self::MovingOnly(_), false) => None,
+            (Self::StaticOnly(_), moving) => (!moving).then_some(margin),
+        }
+    }
+
+    /// Whether link `link` moves (false for [`PairScope::Every`], whose margin does not
+    /// depend on it). The mask's length is checked by the query before.
+    #[inline]
+    fn moves(&self, link: usize) -> bool {
+        self.mask().is_some_and(|m| m[link])
+    }
+}
+
 /// The nearest pair of bodies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DistanceReport {
@@ -473,6 +528,7 @@ impl CollisionWorld {
         q: &[Real],
         scratch: &mut CollisionScratch,
         margin: Real,
+        scope: PairScope<'_>,
     ) -> Result<()> {
         if q.len() != self.variable_count || model.links().len() != self.link_names.len() {
             return Err(Error::WrongLength {
@@ -486,6 +542,15 @@ impl CollisionWorld {
                 name: "margin",
                 value: margin,
                 reason: "must be finite and >= 0",
+            });
+        }
+        if let Some(mask) = scope.mask()
+            && mask.len() != self.link_names.len()
+        {
+            return Err(Error::WrongLength {
+                what: "moving-link mask",
+                expected: self.link_names.len(),
+                found: mask.len(),
             });
         }
         scratch
@@ -551,26 +616,32 @@ impl CollisionWorld {
         }
     }
 
-    /// Visits colliding pairs until `visit` returns false.
+    /// Visits colliding pairs of the scope until `visit` returns false.
     fn for_each_collision(
         &self,
         scratch: &mut CollisionScratch,
         margin: Real,
+        scope: PairScope<'_>,
         visit: &mut dyn FnMut(BodyId, BodyId) -> bool,
     ) -> Result<()> {
         // Self-collision.
         for &(a, b) in &self.self_pairs {
             let (a, b) = (a as usize, b as usize);
+            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+            let Some(pair_margin) =
+                scope.pair_margin(scope.moves(sa.link) || scope.moves(sb.link), margin)
+            else {
+                continue;
+            };
             if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
                 continue;
             }
-            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
             if self.touching(
                 &scratch.shape_poses[a],
                 &sa.shape,
                 &scratch.shape_poses[b],
                 &sb.shape,
-                margin,
+                pair_margin,
                 || {
                     (
                         self.link_names[sa.link].clone(),
@@ -584,6 +655,9 @@ impl CollisionWorld {
         }
         // Robot against environment.
         for (i, s) in self.robot_shapes.iter().enumerate() {
+            let Some(pair_margin) = scope.pair_margin(scope.moves(s.link), margin) else {
+                continue;
+            };
             // Most link boxes are far from every environment object: one box test, no BVH
             // traversal.
             if !self.environment_bounds.intersects(&scratch.shape_aabbs[i]) {
@@ -604,7 +678,7 @@ impl CollisionWorld {
                     &s.shape,
                     &env.world_from_shape,
                     &env.shape,
-                    margin,
+                    pair_margin,
                     || (self.link_names[s.link].clone(), env.name.clone()),
                 )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
@@ -614,7 +688,13 @@ impl CollisionWorld {
         }
         // Attached objects against robot and environment.
         for (k, a) in self.attached.iter().enumerate() {
+            let attached_moves = scope.moves(a.link);
             for (i, s) in self.robot_shapes.iter().enumerate() {
+                let Some(pair_margin) =
+                    scope.pair_margin(attached_moves || scope.moves(s.link), margin)
+                else {
+                    continue;
+                };
                 if a.allowed_links[s.link]
                     || !scratch.attached_aabbs[k].intersects(&scratch.shape_aabbs[i])
                 {
@@ -625,13 +705,16 @@ impl CollisionWorld {
                     &a.shape,
                     &scratch.shape_poses[i],
                     &s.shape,
-                    margin,
+                    pair_margin,
                     || (a.name.clone(), self.link_names[s.link].clone()),
                 )? && !visit(BodyId::Attached(k), BodyId::Link(s.link))
                 {
                     return Ok(());
                 }
             }
+            let Some(pair_margin) = scope.pair_margin(attached_moves, margin) else {
+                continue;
+            };
             scratch.candidates.clear();
             scratch.candidates.extend(
                 self.environment_bvh
@@ -648,7 +731,7 @@ impl CollisionWorld {
                     &a.shape,
                     &env.world_from_shape,
                     &env.shape,
-                    margin,
+                    pair_margin,
                     || (a.name.clone(), env.name.clone()),
                 )? && !visit(BodyId::Attached(k), BodyId::Environment(e))
                 {
@@ -660,7 +743,7 @@ impl CollisionWorld {
     }
 
     /// True when some pair that is not allowed is in collision (closer than the margin);
-    /// stops at the first such pair.
+    /// stops at the first such pair. Every pair gets the margin ([`PairScope::Every`]).
     ///
     /// # Errors
     /// [`Error::WrongLength`] for `q`, [`Error::InvalidParameter`] for a bad margin,
@@ -676,17 +759,42 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         options: &CheckOptions,
     ) -> Result<bool> {
-        self.prepare(model, q, scratch, options.margin)?;
-        let mut found = false;
-        self.for_each_collision(scratch, options.margin, &mut |_, _| {
-            found = true;
+        Ok(self
+            .first_collision(model, q, scratch, options, PairScope::Every)?
+            .is_some())
+    }
+
+    /// The first colliding pair of `scope` that is not allowed (closer than its margin), or
+    /// `None` when there is none; stops there. As cheap as [`CollisionWorld::in_collision`],
+    /// which is this query with [`PairScope::Every`]; the pair is the first in the query's
+    /// order (self pairs, robot–environment, attached objects), not the deepest.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::in_collision`], and [`Error::WrongLength`] for a mask that does
+    /// not have one entry per link.
+    ///
+    /// # Performance
+    /// As [`CollisionWorld::in_collision`]; with [`PairScope::MovingOnly`], static shapes
+    /// skip their environment query and static pairs their box test.
+    pub fn first_collision(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        options: &CheckOptions,
+        scope: PairScope<'_>,
+    ) -> Result<Option<(BodyId, BodyId)>> {
+        self.prepare(model, q, scratch, options.margin, scope)?;
+        let mut found = None;
+        self.for_each_collision(scratch, options.margin, scope, &mut |a, b| {
+            found = Some((a, b));
             false
         })?;
         Ok(found)
     }
 
     /// Every colliding pair (link pairs reported once even when several shapes touch),
-    /// sorted.
+    /// sorted. Every pair gets the margin ([`PairScope::Every`]).
     ///
     /// # Errors
     /// As [`CollisionWorld::in_collision`].
@@ -697,9 +805,25 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         options: &CheckOptions,
     ) -> Result<Vec<(BodyId, BodyId)>> {
-        self.prepare(model, q, scratch, options.margin)?;
+        self.colliding_pairs_in(model, q, scratch, options, PairScope::Every)
+    }
+
+    /// Every colliding pair of `scope` (link pairs reported once even when several shapes
+    /// touch), sorted.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::first_collision`].
+    pub fn colliding_pairs_in(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        options: &CheckOptions,
+        scope: PairScope<'_>,
+    ) -> Result<Vec<(BodyId, BodyId)>> {
+        self.prepare(model, q, scratch, options.margin, scope)?;
         let mut pairs = Vec::new();
-        self.for_each_collision(scratch, options.margin, &mut |a, b| {
+        self.for_each_collision(scratch, options.margin, scope, &mut |a, b| {
             pairs.push((a, b));
             true
         })?;
@@ -719,7 +843,7 @@ impl CollisionWorld {
         q: &[Real],
         scratch: &mut CollisionScratch,
     ) -> Result<Option<DistanceReport>> {
-        self.prepare(model, q, scratch, 0.0)?;
+        self.prepare(model, q, scratch, 0.0, PairScope::Every)?;
         let mut best: Option<DistanceReport> = None;
         // Each pair is skipped when the gap between its boxes, a lower bound of its
         // distance, is already no better than the best found; the cheap primitive pairs
@@ -816,6 +940,83 @@ impl CollisionWorld {
         Ok(best)
     }
 
+    /// The signed distance between two bodies at `q` (m): the distance between their nearest
+    /// shapes when they are apart, minus the deepest penetration of their shapes when they
+    /// overlap (a mesh's penetration is measured from its triangles). For reports, e.g. of a
+    /// start state in collision; the ACM is not consulted.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::in_collision`]; [`Error::InvalidParameter`] for a body the
+    /// world does not have or a link without collision geometry.
+    pub fn signed_distance(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        first: BodyId,
+        second: BodyId,
+    ) -> Result<Real> {
+        self.prepare(model, q, scratch, 0.0, PairScope::Every)?;
+        let scratch = &*scratch;
+        let exists = |b: BodyId| match b {
+            BodyId::Link(i) => self.robot_shapes.iter().any(|s| s.link == i),
+            BodyId::Environment(i) => i < self.environment.len(),
+            BodyId::Attached(i) => i < self.attached.len(),
+        };
+        for b in [first, second] {
+            if !exists(b) {
+                let index = match b {
+                    BodyId::Link(i) | BodyId::Environment(i) | BodyId::Attached(i) => i,
+                };
+                return Err(Error::InvalidParameter {
+                    name: "body",
+                    value: index as Real,
+                    reason: "no such body with collision geometry in the world",
+                });
+            }
+        }
+        let shapes_of = |b: BodyId| -> Box<dyn Iterator<Item = (Pose, &SharedShape)> + '_> {
+            match b {
+                BodyId::Link(l) => Box::new(
+                    self.robot_shapes
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, s)| s.link == l)
+                        .map(|(i, s)| (scratch.shape_poses[i], &s.shape)),
+                ),
+                BodyId::Environment(e) => Box::new(std::iter::once((
+                    self.environment[e].world_from_shape,
+                    &self.environment[e].shape,
+                ))),
+                BodyId::Attached(k) => Box::new(std::iter::once((
+                    scratch.attached_poses[k],
+                    &self.attached[k].shape,
+                ))),
+            }
+        };
+        let unsupported = |_| Error::UnsupportedCollisionPair {
+            first: self.body_name(first).to_owned(),
+            second: self.body_name(second).to_owned(),
+        };
+        let mut best = Real::INFINITY;
+        for (p1, s1) in shapes_of(first) {
+            for (p2, s2) in shapes_of(second) {
+                let d = query::distance(&p1, &*s1.0, &p2, &*s2.0)
+                    .map_err(unsupported)?
+                    .distance;
+                let d = if d > 0.0 {
+                    d
+                } else {
+                    query::contact(&p1, &*s1.0, &p2, &*s2.0, 0.0)
+                        .map_err(unsupported)?
+                        .map_or(0.0, |c| c.dist.min(0.0))
+                };
+                best = best.min(d);
+            }
+        }
+        Ok(best)
+    }
+
     /// Self-collision of link pairs only (no environment, no attached objects) for the
     /// given link poses: every colliding pair of link indices, sorted. Used to generate the
     /// allowed-collision matrix.
@@ -865,5 +1066,203 @@ impl CollisionWorld {
         pairs.sort_unstable();
         pairs.dedup();
         Ok(pairs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::LoadOptions;
+
+    /// Two 10 cm cubes beside a slab: `idle` on a revolute joint at the origin, `arm` on a
+    /// prismatic joint along z at x = 1; both 2 mm above the slab at zero.
+    fn two_cubes() -> (RobotModel, CollisionWorld) {
+        let cube = r#"<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+        let limit = r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#;
+        let urdf = format!(
+            r#"<robot name="two">
+                <link name="base"/>
+                <link name="idle">{cube}</link>
+                <link name="arm">{cube}</link>
+                <joint name="idle_joint" type="revolute"><parent link="base"/><child link="idle"/>
+                  <axis xyz="0 0 1"/>{limit}</joint>
+                <joint name="arm_joint" type="prismatic"><parent link="base"/><child link="arm"/>
+                  <origin xyz="1 0 0"/><axis xyz="0 0 1"/>{limit}</joint>
+              </robot>"#
+        );
+        let model = RobotModel::from_urdf_str(&urdf, Path::new("."), &LoadOptions::default())
+            .expect("valid URDF");
+        let mut world =
+            CollisionWorld::new(&model, AllowedCollisionMatrix::new()).expect("valid shapes");
+        let slab = CollisionShape::cuboid(Vector3::new(1.0, 0.5, 0.05)).expect("valid box");
+        world.add_environment(
+            "slab",
+            slab,
+            &Isometry3::translation(0.5, 0.0, -0.05 - 0.002 - 0.05),
+        );
+        (model, world)
+    }
+
+    /// The configuration with the arm cube at height `arm_z`.
+    fn arm_at(model: &RobotModel, arm_z: Real) -> Vec<Real> {
+        let mut q = model.zero_configuration();
+        q[model.variable_index("arm_joint").expect("joint")] = arm_z;
+        q
+    }
+
+    #[test]
+    fn the_arm_moves_its_own_link_only() {
+        let (model, _) = two_cubes();
+        let arm = model.variable_index("arm_joint").expect("joint");
+        assert_eq!(model.links_moved_by(&[arm]), [false, false, true]);
+        assert_eq!(model.links_moved_by(&[]), [false; 3]);
+        assert_eq!(model.links_moved_by(&[99]), [false; 3]);
+    }
+
+    #[test]
+    fn an_idle_link_near_the_environment_does_not_block_a_moving_arm() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        let q = arm_at(&model, 0.1);
+        // The margin on every pair: the idle cube, 2 mm from the slab, blocks everything.
+        let idle = BodyId::Link(model.link_index("idle").expect("link"));
+        assert_eq!(
+            world
+                .colliding_pairs(&model, &q, &mut scratch, &options)
+                .expect("valid"),
+            [(idle, BodyId::Environment(0))]
+        );
+        for scope in [
+            PairScope::MarginOnMoving(&moving),
+            PairScope::MovingOnly(&moving),
+        ] {
+            assert_eq!(
+                world
+                    .first_collision(&model, &q, &mut scratch, &options, scope)
+                    .expect("valid"),
+                None,
+                "{scope:?}"
+            );
+        }
+        // The static pair alone, with the margin: the near-contact is still reported.
+        assert_eq!(
+            world
+                .colliding_pairs_in(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::StaticOnly(&moving)
+                )
+                .expect("valid"),
+            [(idle, BodyId::Environment(0))]
+        );
+    }
+
+    #[test]
+    fn a_moving_link_within_the_margin_blocks() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // The arm cube 5 mm above the slab.
+        let q = arm_at(&model, 0.003);
+        let arm = BodyId::Link(model.link_index("arm").expect("link"));
+        for scope in [
+            PairScope::MarginOnMoving(&moving),
+            PairScope::MovingOnly(&moving),
+        ] {
+            assert_eq!(
+                world
+                    .first_collision(&model, &q, &mut scratch, &options, scope)
+                    .expect("valid"),
+                Some((arm, BodyId::Environment(0))),
+                "{scope:?}"
+            );
+        }
+        // The static pairs touch nothing (the idle cube is 2 mm off the slab).
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &CheckOptions::default(),
+                    PairScope::StaticOnly(&moving)
+                )
+                .expect("valid")
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn a_static_contact_still_collides_with_the_margin_on_moving_pairs_only() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // A small block inside the idle cube: a static contact.
+        let mut world = world;
+        let block = CollisionShape::cuboid(Vector3::new(0.02, 0.02, 0.02)).expect("valid box");
+        world.add_environment("block", block, &Isometry3::translation(0.0, 0.0, 0.0));
+        let q = arm_at(&model, 0.1);
+        let idle = BodyId::Link(model.link_index("idle").expect("link"));
+        assert_eq!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MarginOnMoving(&moving)
+                )
+                .expect("valid"),
+            Some((idle, BodyId::Environment(1)))
+        );
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MovingOnly(&moving)
+                )
+                .expect("valid")
+                .is_none()
+        );
+        // The block is inside the idle cube: 2 cm + 5 cm deep along every axis.
+        let depth = world
+            .signed_distance(&model, &q, &mut scratch, idle, BodyId::Environment(1))
+            .expect("valid");
+        assert!((depth + 0.07).abs() < 1e-6, "{depth}");
+        // The slab is 2 mm below it.
+        let gap = world
+            .signed_distance(&model, &q, &mut scratch, idle, BodyId::Environment(0))
+            .expect("valid");
+        assert!((gap - 0.002).abs() < 1e-9, "{gap}");
+    }
+
+    #[test]
+    fn a_mask_of_the_wrong_length_is_an_error() {
+        let (model, world) = two_cubes();
+        let q = arm_at(&model, 0.1);
+        let mut scratch = CollisionScratch::default();
+        assert!(matches!(
+            world.first_collision(
+                &model,
+                &q,
+                &mut scratch,
+                &CheckOptions::default(),
+                PairScope::MovingOnly(&[true])
+            ),
+            Err(Error::WrongLength {
+                what: "moving-link mask",
+                expected: 3,
+                found: 1
+            })
+        ));
     }
 }
