@@ -45,6 +45,7 @@ pub mod precompute;
 pub mod roadmaps;
 pub mod scene;
 pub mod setup;
+mod start;
 pub mod strategy;
 pub mod validate;
 
@@ -61,4 +62,5 @@ pub use plan::{PLAN_FORMAT, Plan};
 pub use planner::{Outcome, PlanOptions, plan};
 pub use scene::{Scene, SceneError};
 pub use setup::{Setup, SetupOptions};
+pub use start::check_start;
 pub use strategy::{Arm, Strategy};

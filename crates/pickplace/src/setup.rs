@@ -7,7 +7,7 @@
 //! next ones.
 
 use crate::error::{Error, Result};
-use crate::roadmaps::{self, RoadmapSource};
+use crate::roadmaps::{self, RoadmapReport};
 use crate::scene::Scene;
 use crate::strategy::Arm;
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
@@ -46,8 +46,8 @@ pub struct ArmSetup {
     pub space: JointSpace,
     /// The precomputed roadmap.
     pub roadmap: Roadmap,
-    /// Whether the roadmap came from the cache.
-    pub roadmap_source: RoadmapSource,
+    /// Whether the roadmap came from the cache, its size, what rejected most samples.
+    pub roadmap_report: RoadmapReport,
     /// The TCP link (the end effector's parent link).
     pub tcp_link: usize,
     /// Its name.
@@ -322,12 +322,8 @@ impl Setup {
                 e => e,
             })?;
             log.push(format!(
-                "{arm} arm ({group}): roadmap {} nodes {} in {:.1} ms",
-                arm_setup.roadmap.node_count(),
-                match arm_setup.roadmap_source {
-                    RoadmapSource::Loaded => "loaded from the cache",
-                    RoadmapSource::Built => "built",
-                },
+                "{arm} arm ({group}): {} in {:.1} ms",
+                arm_setup.roadmap_report,
                 ms(t)
             ));
             arms.push(arm_setup);
@@ -479,9 +475,10 @@ fn arm_setup(
         }
     }
     let space = roadmaps::arm_space(model, &variables)?;
-    let (roadmap, roadmap_source) = roadmaps::load_or_build(
+    let (roadmap, roadmap_report) = roadmaps::load_or_build(
         model,
         self_world,
+        group,
         &variables,
         start,
         &space,
@@ -511,7 +508,7 @@ fn arm_setup(
         variables,
         space,
         roadmap,
-        roadmap_source,
+        roadmap_report,
         tcp_link,
         tcp_name: model.links()[tcp_link].name.clone(),
         finger_variables,
