@@ -12,7 +12,7 @@ use pickplace_geometry::math::Real;
 use pickplace_prm::ValidityChecker;
 use pickplace_robot::RobotModel;
 use pickplace_robot::collision::{
-    BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope,
+    BodyId, CheckOptions, CollisionScratch, CollisionWorld, MovingView, StaticPairs,
 };
 use std::cell::RefCell;
 use std::sync::OnceLock;
@@ -31,6 +31,9 @@ pub struct ArmChecker<'a> {
     margin: Real,
     /// The links the arm's variables move (by link index).
     moving: Vec<bool>,
+    /// The world with the rest of the robot at `template` (`None` when the collision library
+    /// refused to make it: every state is then invalid and `error` says why).
+    view: Option<MovingView>,
     /// What happens to pairs of two static bodies.
     static_pairs: StaticPairs,
     /// Arm states near which the margin is not applied (the ends of a motion, which may
@@ -54,17 +57,27 @@ impl<'a> ArmChecker<'a> {
         template: Vec<Real>,
         margin: Real,
     ) -> Self {
+        let moving = model.links_moved_by(variables);
+        let error = OnceLock::new();
+        let view = match world.moving_view(model, &template, &moving) {
+            Ok(view) => Some(view),
+            Err(e) => {
+                let _ = error.set(e.to_string());
+                None
+            }
+        };
         Self {
             model,
             world,
             variables,
             template,
             margin,
-            moving: model.links_moved_by(variables),
+            moving,
+            view,
             static_pairs: StaticPairs::Contact,
             exempt: Vec::new(),
             exempt_radius: 0.0,
-            error: OnceLock::new(),
+            error,
         }
     }
 
@@ -117,6 +130,10 @@ impl<'a> ArmChecker<'a> {
     /// collision-library failure gives a placeholder pair (a link with itself) and is kept
     /// for [`ArmChecker::check_error`].
     pub fn first_collision(&self, q: &[Real]) -> Option<(BodyId, BodyId)> {
+        let failed = Some((BodyId::Link(0), BodyId::Link(0)));
+        let Some(view) = &self.view else {
+            return failed;
+        };
         SCRATCH.with(|cell| {
             let mut guard = cell.borrow_mut();
             let (scratch, full) = &mut *guard;
@@ -133,36 +150,24 @@ impl<'a> ArmChecker<'a> {
                     .all(|(a, b)| (a - b).abs() <= self.exempt_radius)
             });
             let margin = if near_end { 0.0 } else { self.margin };
-            let scope = match self.static_pairs {
-                StaticPairs::Contact => PairScope::MarginOnMoving(&self.moving),
-                StaticPairs::Skip => PairScope::MovingOnly(&self.moving),
-            };
             // An error here means a malformed configuration: invalid, never a panic, and kept
             // for `check_error`.
-            match self.world.first_collision(
+            match self.world.first_collision_in_view(
                 self.model,
+                view,
                 full,
                 scratch,
                 &CheckOptions { margin },
-                scope,
+                self.static_pairs,
             ) {
                 Ok(pair) => pair,
                 Err(e) => {
                     let _ = self.error.set(e.to_string());
-                    Some((BodyId::Link(0), BodyId::Link(0)))
+                    failed
                 }
             }
         })
     }
-}
-
-/// What an [`ArmChecker`] does with a pair of two static bodies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum StaticPairs {
-    /// Checked for contact (margin 0).
-    Contact,
-    /// Not checked.
-    Skip,
 }
 
 impl ValidityChecker for ArmChecker<'_> {

@@ -14,8 +14,10 @@
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
 
 mod acm;
+mod view;
 
 pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
+pub use view::{MovingView, StaticPairs};
 
 use crate::error::{Error, Result};
 use crate::model::{RobotModel, Shape};
@@ -616,16 +618,20 @@ impl CollisionWorld {
         }
     }
 
-    /// Visits colliding pairs of the scope until `visit` returns false.
+    /// Visits colliding pairs of the scope until `visit` returns false: the self pairs
+    /// `self_pairs`, the robot shapes `env_shapes` (every shape when `None`) against the
+    /// environment, the attached objects against both.
     fn for_each_collision(
         &self,
         scratch: &mut CollisionScratch,
         margin: Real,
         scope: PairScope<'_>,
+        self_pairs: &[(u32, u32)],
+        env_shapes: Option<&[u32]>,
         visit: &mut dyn FnMut(BodyId, BodyId) -> bool,
     ) -> Result<()> {
         // Self-collision.
-        for &(a, b) in &self.self_pairs {
+        for &(a, b) in self_pairs {
             let (a, b) = (a as usize, b as usize);
             let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
             let Some(pair_margin) =
@@ -654,7 +660,10 @@ impl CollisionWorld {
             }
         }
         // Robot against environment.
-        for (i, s) in self.robot_shapes.iter().enumerate() {
+        let shape_count = env_shapes.map_or(self.robot_shapes.len(), <[u32]>::len);
+        for n in 0..shape_count {
+            let i = env_shapes.map_or(n, |shapes| shapes[n] as usize);
+            let s = &self.robot_shapes[i];
             let Some(pair_margin) = scope.pair_margin(scope.moves(s.link), margin) else {
                 continue;
             };
@@ -786,10 +795,17 @@ impl CollisionWorld {
     ) -> Result<Option<(BodyId, BodyId)>> {
         self.prepare(model, q, scratch, options.margin, scope)?;
         let mut found = None;
-        self.for_each_collision(scratch, options.margin, scope, &mut |a, b| {
-            found = Some((a, b));
-            false
-        })?;
+        self.for_each_collision(
+            scratch,
+            options.margin,
+            scope,
+            &self.self_pairs,
+            None,
+            &mut |a, b| {
+                found = Some((a, b));
+                false
+            },
+        )?;
         Ok(found)
     }
 
@@ -823,10 +839,17 @@ impl CollisionWorld {
     ) -> Result<Vec<(BodyId, BodyId)>> {
         self.prepare(model, q, scratch, options.margin, scope)?;
         let mut pairs = Vec::new();
-        self.for_each_collision(scratch, options.margin, scope, &mut |a, b| {
-            pairs.push((a, b));
-            true
-        })?;
+        self.for_each_collision(
+            scratch,
+            options.margin,
+            scope,
+            &self.self_pairs,
+            None,
+            &mut |a, b| {
+                pairs.push((a, b));
+                true
+            },
+        )?;
         pairs.sort_unstable();
         pairs.dedup();
         Ok(pairs)
