@@ -2,11 +2,13 @@
 //! robot stays in a fixed configuration, and the collision world says whether the robot, the
 //! environment and a grasped object are free of each other.
 //!
-//! The clearance margin applies only to pairs of which one body moves (a link moved by the
-//! arm's joints — its hand and fingers included — or an object held by one): a pair of two
-//! static bodies (the idle arm and the table, two links of the idle arm) cannot change along
-//! the motion, so it is checked for contact only, and a static near-contact never blocks a
-//! motion.
+//! The clearance margin applies only to the pairs the arm moves (a link moved by the arm's
+//! joints — its hand and fingers included — against the environment or the rest of the
+//! robot, two links with an arm joint between them, or an object held by a moving link): a
+//! pair the motion cannot change (the idle arm and the table, two links of the idle arm,
+//! the palm and a finger of the moving hand) is checked once, at the template, for contact
+//! only, so a static near-contact never blocks a motion
+//! ([`pickplace_robot::collision::MovingView`]).
 
 use pickplace_geometry::math::Real;
 use pickplace_prm::ValidityChecker;
@@ -47,9 +49,8 @@ pub struct ArmChecker<'a> {
 
 impl<'a> ArmChecker<'a> {
     /// A checker of the arm whose model variables are `variables`; the other joints keep the
-    /// values of `template` (a full configuration). A pair with a moving body (a link moved
-    /// by `variables`, or an object attached to one) collides closer than `margin` (m); a
-    /// pair of two static bodies only when they touch.
+    /// values of `template` (a full configuration). A pair the arm moves collides closer
+    /// than `margin` (m); a pair it cannot change only when it touches at the template.
     pub fn new(
         model: &'a RobotModel,
         world: &'a CollisionWorld,
@@ -59,7 +60,7 @@ impl<'a> ArmChecker<'a> {
     ) -> Self {
         let moving = model.links_moved_by(variables);
         let error = OnceLock::new();
-        let view = match world.moving_view(model, &template, &moving) {
+        let view = match world.moving_view(model, &template, variables) {
             Ok(view) => Some(view),
             Err(e) => {
                 let _ = error.set(e.to_string());
@@ -87,6 +88,13 @@ impl<'a> ArmChecker<'a> {
     pub fn moving_pairs_only(mut self) -> Self {
         self.static_pairs = StaticPairs::Skip;
         self
+    }
+
+    /// The pairs whose relative pose the arm does not change that touch at the template
+    /// ([`MovingView::static_contacts`]); empty when the collision library failed
+    /// ([`ArmChecker::check_error`]).
+    pub fn static_contacts(&self) -> &[(BodyId, BodyId)] {
+        self.view.as_ref().map_or(&[], MovingView::static_contacts)
     }
 
     /// The links the arm moves, by link index ([`pickplace_robot::RobotModel::links_moved_by`]).

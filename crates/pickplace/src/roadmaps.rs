@@ -17,9 +17,7 @@ use pickplace_prm::{
     JointSpace, Roadmap, RoadmapOptions, ValidityChecker, codec, motion_valid_by_interpolation,
 };
 use pickplace_robot::RobotModel;
-use pickplace_robot::collision::{
-    BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope,
-};
+use pickplace_robot::collision::{BodyId, CollisionWorld};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -116,9 +114,10 @@ pub struct RoadmapReport {
     /// The pair of bodies that rejected most sampled states while building (`None` for a
     /// roadmap read from the cache, or when no sample was rejected).
     pub most_rejected: Option<PairRejections>,
-    /// Pairs of two links the arm does not move that touch at the template (its rest
-    /// state): the prefilter does not check them per sample, but no state of the arm is
-    /// free while they touch.
+    /// Pairs of links whose relative pose the arm does not change (two links of the rest of
+    /// the robot, or two links of the hand with no arm joint between them) that touch at
+    /// the template (its rest state): the prefilter does not check them per sample, but no
+    /// state of the arm is free while they touch.
     pub static_contacts: Vec<(String, String)>,
 }
 
@@ -218,19 +217,12 @@ pub fn load_or_build(
         PREFILTER_MARGIN,
     )
     .moving_pairs_only();
-    let static_contacts = self_world
-        .colliding_pairs_in(
-            model,
-            home,
-            &mut CollisionScratch::default(),
-            &CheckOptions::default(),
-            PairScope::StaticOnly(checker.moving_links()),
-        )
-        .map_err(crate::error::internal(
-            "static pairs at the roadmap's template",
-        ))?
-        .into_iter()
-        .map(|(a, b)| {
+    // The pairs the arm cannot change, checked once at `home`.
+    checker.check_error()?;
+    let static_contacts = checker
+        .static_contacts()
+        .iter()
+        .map(|&(a, b)| {
             (
                 self_world.body_name(a).to_owned(),
                 self_world.body_name(b).to_owned(),

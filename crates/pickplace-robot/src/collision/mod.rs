@@ -1269,6 +1269,62 @@ mod tests {
     }
 
     #[test]
+    fn two_links_of_the_moving_hand_always_close_do_not_block_it() {
+        // The arm cube with a finger fixed 5 mm from it: within the 10 mm margin, always.
+        let cube = r#"<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+        let finger = r#"<collision><origin xyz="0.06 0 0"/><geometry><box size="0.01 0.01 0.01"/></geometry></collision>"#;
+        let urdf = format!(
+            r#"<robot name="hand">
+                <link name="base"/>
+                <link name="arm">{cube}</link>
+                <link name="finger">{finger}</link>
+                <joint name="arm_joint" type="prismatic"><parent link="base"/><child link="arm"/>
+                  <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+                <joint name="finger_joint" type="fixed"><parent link="arm"/><child link="finger"/></joint>
+              </robot>"#
+        );
+        let model = RobotModel::from_urdf_str(&urdf, Path::new("."), &LoadOptions::default())
+            .expect("valid URDF");
+        let world =
+            CollisionWorld::new(&model, AllowedCollisionMatrix::new()).expect("valid shapes");
+        let arm = [model.variable_index("arm_joint").expect("joint")];
+        let moving = model.links_moved_by(&arm);
+        let q = [0.3];
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // The mask rule: both links move, the margin applies, every state is blocked.
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MarginOnMoving(&moving)
+                )
+                .expect("valid")
+                .is_some()
+        );
+        // The view: no arm joint between them, a static pair, apart at the rest.
+        let view = world.moving_view(&model, &[0.0], &arm).expect("valid");
+        let (a, f) = (
+            BodyId::Link(model.link_index("arm").expect("link")),
+            BodyId::Link(model.link_index("finger").expect("link")),
+        );
+        assert!(!view.pair_moves(a, f));
+        assert!(view.pair_moves(a, BodyId::Environment(0)));
+        assert!(view.static_contacts().is_empty());
+        for rule in [StaticPairs::Contact, StaticPairs::Skip] {
+            assert_eq!(
+                world
+                    .first_collision_in_view(&model, &view, &q, &mut scratch, &options, rule)
+                    .expect("valid"),
+                None
+            );
+        }
+    }
+
+    #[test]
     fn a_mask_of_the_wrong_length_is_an_error() {
         let (model, world) = two_cubes();
         let q = arm_at(&model, 0.1);

@@ -1,6 +1,15 @@
 //! One arm's view of a collision world: the rest of the robot fixed at a configuration, so
 //! that what cannot move is computed once (the static links' poses and boxes, the static
 //! pairs' contacts) and each query computes and checks only what moves.
+//!
+//! A pair of bodies *moves* when the arm's joints change the pose of one body relative to
+//! the other: a link moved by the arm against the environment, the idle arm or the torso;
+//! two links of the arm with an arm joint between them. Two links below the same arm joint
+//! with none of the arm's joints between them (the palm and a finger of the moving hand)
+//! keep their relative pose: like two links of the idle arm, they are a static pair,
+//! checked once at the rest configuration. Attached objects follow the
+//! [`PairScope`] mask rule (an object held by a moving link moves against every body but
+//! the ones it may touch).
 
 use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope};
 use crate::error::{Error, Result};
@@ -41,17 +50,22 @@ pub struct MovingView {
     rest_variables: Vec<u32>,
     /// Joints whose child link moves, in tree order.
     moving_joints: Vec<u32>,
+    /// Whether each attached object's link moves.
+    attached_moving: Vec<bool>,
     /// Robot shapes on moving links.
     moving_shapes: Vec<u32>,
-    /// Self pairs with a shape on a moving link.
+    /// For each link, the arm joint nearest above it (`u32::MAX` for a static link): two
+    /// links with the same anchor keep their relative pose while the arm moves.
+    anchors: Vec<u32>,
+    /// Self pairs whose links have different anchors.
     moving_pairs: Vec<(u32, u32)>,
     /// Link poses (world frame) at `rest`.
     link_poses: Vec<Isometry3>,
     /// Shape poses and boxes (not loosened) at `rest`.
     shape_poses: Vec<Pose>,
     shape_aabbs: Vec<Aabb>,
-    /// The first pair of two static bodies touching at `rest`.
-    static_contact: Option<(BodyId, BodyId)>,
+    /// The static pairs touching at `rest`, sorted.
+    static_contacts: Vec<(BodyId, BodyId)>,
     /// What the world had when the view was made: robot shapes, self pairs, environment
     /// objects, attached objects.
     fingerprint: [usize; 4],
@@ -68,12 +82,33 @@ impl MovingView {
         &self.rest
     }
 
-    /// The first pair of two static bodies that touch at the rest configuration, if any
-    /// (the same for every query).
-    pub fn static_contact(&self) -> Option<(BodyId, BodyId)> {
-        self.static_contact
+    /// The static pairs (see the module doc: their relative pose does not change while the
+    /// arm moves) that touch at the rest configuration, sorted: the same for every query.
+    pub fn static_contacts(&self) -> &[(BodyId, BodyId)] {
+        &self.static_contacts
+    }
+
+    /// Whether the arm's joints change the relative pose of `first` and `second` (the mask
+    /// rule for attached objects). Bodies the view's world does not have count as static.
+    pub fn pair_moves(&self, first: BodyId, second: BodyId) -> bool {
+        self.anchor(first) != self.anchor(second)
+    }
+
+    fn anchor(&self, body: BodyId) -> u32 {
+        match body {
+            BodyId::Link(l) => self.anchors.get(l).copied().unwrap_or(u32::MAX),
+            BodyId::Environment(_) => u32::MAX,
+            // An attached object moves with its link; the mask rule: against everything.
+            BodyId::Attached(k) => self
+                .attached_moving
+                .get(k)
+                .map_or(u32::MAX, |&m| if m { ATTACHED_ANCHOR } else { u32::MAX }),
+        }
     }
 }
+
+/// The anchor of a moving attached object: different from every link's.
+const ATTACHED_ANCHOR: u32 = u32::MAX - 1;
 
 impl CollisionWorld {
     fn fingerprint(&self) -> [usize; 4] {
@@ -85,29 +120,64 @@ impl CollisionWorld {
         ]
     }
 
-    /// The view of this world in which only the links of `moving` (a mask by link index, e.g.
-    /// [`RobotModel::links_moved_by`]) move, the other joints keeping their values in `rest`.
+    /// The view of this world in which the arm's `variables` move the links below their
+    /// joints ([`RobotModel::links_moved_by`]), the other joints keeping their values in
+    /// `rest`.
     ///
     /// # Errors
-    /// [`Error::WrongLength`] for `rest` or the mask; as [`CollisionWorld::in_collision`]
-    /// for the contact check of the static pairs at `rest`.
+    /// [`Error::WrongLength`] for `rest`; as [`CollisionWorld::in_collision`] for the
+    /// contact check of the static pairs at `rest`.
     pub fn moving_view(
         &self,
         model: &RobotModel,
         rest: &[Real],
-        moving: &[bool],
+        variables: &[usize],
     ) -> Result<MovingView> {
+        let moving = model.links_moved_by(variables);
+        let moving = moving.as_slice();
+        let mut anchors = vec![u32::MAX; model.links().len()];
+        for (j, joint) in model.joints().iter().enumerate() {
+            let driven = match joint.source {
+                JointValueSource::Fixed => false,
+                JointValueSource::Variable(v) | JointValueSource::Mimic { variable: v, .. } => {
+                    variables.contains(&v)
+                }
+            };
+            anchors[joint.child_link] = if driven {
+                j as u32
+            } else {
+                anchors[joint.parent_link]
+            };
+        }
+        // Every pair touching at `rest` (this checks the lengths), then the static ones.
         let mut scratch = CollisionScratch::default();
-        let static_contact = self
-            .colliding_pairs_in(
-                model,
-                rest,
-                &mut scratch,
-                &CheckOptions::default(),
-                PairScope::StaticOnly(moving),
-            )?
-            .first()
-            .copied();
+        let touching = self.colliding_pairs_in(
+            model,
+            rest,
+            &mut scratch,
+            &CheckOptions::default(),
+            PairScope::Every,
+        )?;
+        let attached_moving: Vec<bool> = self.attached.iter().map(|a| moving[a.link]).collect();
+        let mut view = MovingView {
+            moving: moving.to_vec(),
+            rest: rest.to_vec(),
+            rest_variables: Vec::new(),
+            moving_joints: Vec::new(),
+            moving_shapes: Vec::new(),
+            anchors,
+            moving_pairs: Vec::new(),
+            attached_moving,
+            link_poses: Vec::new(),
+            shape_poses: Vec::new(),
+            shape_aabbs: Vec::new(),
+            static_contacts: Vec::new(),
+            fingerprint: self.fingerprint(),
+        };
+        view.static_contacts = touching
+            .into_iter()
+            .filter(|&(a, b)| !view.pair_moves(a, b))
+            .collect();
         // `scratch` now holds the poses at `rest` (margin 0).
         let mut moving_joints = Vec::new();
         let mut rest_variables = Vec::new();
@@ -129,37 +199,31 @@ impl CollisionWorld {
         let moving_shapes = (0..self.robot_shapes.len() as u32)
             .filter(|&i| moving[self.robot_shapes[i as usize].link])
             .collect();
-        let moving_pairs = self
+        view.moving_pairs = self
             .self_pairs
             .iter()
             .copied()
             .filter(|&(a, b)| {
-                moving[self.robot_shapes[a as usize].link]
-                    || moving[self.robot_shapes[b as usize].link]
+                view.anchors[self.robot_shapes[a as usize].link]
+                    != view.anchors[self.robot_shapes[b as usize].link]
             })
             .collect();
-        Ok(MovingView {
-            moving: moving.to_vec(),
-            rest: rest.to_vec(),
-            rest_variables,
-            moving_joints,
-            moving_shapes,
-            moving_pairs,
-            link_poses: scratch.link_poses,
-            shape_poses: scratch.shape_poses,
-            shape_aabbs: scratch.shape_aabbs,
-            static_contact,
-            fingerprint: self.fingerprint(),
-        })
+        view.rest_variables = rest_variables;
+        view.moving_joints = moving_joints;
+        view.moving_shapes = moving_shapes;
+        view.link_poses = scratch.link_poses;
+        view.shape_poses = scratch.shape_poses;
+        view.shape_aabbs = scratch.shape_aabbs;
+        Ok(view)
     }
 
     /// The first colliding pair at `q` (every variable; those of the static joints equal to
-    /// the view's rest) that is not allowed: the pairs with a moving body closer than the
-    /// margin, and the pairs of two static bodies as `static_pairs` says (with
-    /// [`StaticPairs::Contact`], a static contact is found first). The same validity as
+    /// the view's rest) that is not allowed: the moving pairs closer than the margin, and
+    /// the static pairs (see the module doc) as `static_pairs` says (with
+    /// [`StaticPairs::Contact`], a static contact is found first). The validity of
     /// [`CollisionWorld::first_collision`] with [`PairScope::MarginOnMoving`] or
-    /// [`PairScope::MovingOnly`] and the view's mask; the pair may differ when several
-    /// collide.
+    /// [`PairScope::MovingOnly`] and the view's mask, except that two links below the same
+    /// arm joint form a static pair.
     ///
     /// # Errors
     /// [`Error::WrongLength`] for `q`; [`Error::InvalidParameter`] for a bad margin, a view
@@ -178,8 +242,10 @@ impl CollisionWorld {
         static_pairs: StaticPairs,
     ) -> Result<Option<(BodyId, BodyId)>> {
         self.prepare_view(model, view, q, scratch, options.margin)?;
-        if static_pairs == StaticPairs::Contact && view.static_contact.is_some() {
-            return Ok(view.static_contact);
+        if static_pairs == StaticPairs::Contact
+            && let Some(&pair) = view.static_contacts.first()
+        {
+            return Ok(Some(pair));
         }
         let mut found = None;
         self.for_each_collision(
