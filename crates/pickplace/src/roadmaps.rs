@@ -147,8 +147,17 @@ impl std::fmt::Display for RoadmapReport {
                 r.first, r.second, r.count
             )?;
         }
-        for (a, b) in &self.static_contacts {
+        // The first few static contacts, then how many more.
+        const SHOWN: usize = 3;
+        for (a, b) in self.static_contacts.iter().take(SHOWN) {
             write!(f, "; static contact: {a} ~ {b}")?;
+        }
+        if self.static_contacts.len() > SHOWN {
+            write!(
+                f,
+                " (and {} more static contacts)",
+                self.static_contacts.len() - SHOWN
+            )?;
         }
         Ok(())
     }

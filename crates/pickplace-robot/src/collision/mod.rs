@@ -14,6 +14,7 @@
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
 
 mod acm;
+mod hull;
 mod view;
 
 pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
@@ -156,12 +157,17 @@ impl CollisionShape {
                 )
             }
             // Robot links are checked as convex shapes: a link mesh becomes its convex hull
-            // (conservative, and one GJK query instead of a triangle traversal); a flat mesh
-            // with no hull stays a triangle mesh.
-            Shape::Mesh { mesh, .. } => (
-                Self::convex_hull(mesh).or_else(|_| Self::mesh(mesh))?,
-                Isometry3::identity(),
-            ),
+            // (conservative, and one GJK query instead of a triangle traversal), with at most
+            // `hull::MAX_HULL_VERTICES` vertices and rounded by at most 2 mm when it had
+            // more (`hull`); a flat mesh with no hull stays a triangle mesh.
+            Shape::Mesh { mesh, .. } => {
+                let vertices: Vec<_> = mesh.vertices().iter().map(parry::point).collect();
+                let shape = match hull::link_hull(&vertices) {
+                    Some(shape) => Self { shape },
+                    None => Self::mesh(mesh)?,
+                };
+                (shape, Isometry3::identity())
+            }
         })
     }
 }
@@ -283,6 +289,29 @@ struct RobotShape {
     shape: SharedShape,
     link_from_shape: Isometry3,
     local_aabb: Aabb,
+    /// The local box's centre and half extents: an oriented box around the shape, tested
+    /// (separating axes) before the exact test of a self pair.
+    box_centre: parry3d_f64::math::Vector,
+    box_half_extents: parry3d_f64::math::Vector,
+}
+
+/// Whether the oriented boxes of two robot shapes, each loosened by half the margin, overlap:
+/// false proves the shapes farther apart than the margin.
+fn boxes_overlap(
+    pose1: &Pose,
+    s1: &RobotShape,
+    pose2: &Pose,
+    s2: &RobotShape,
+    margin: Real,
+) -> bool {
+    use parry3d_f64::shape::Cuboid;
+    let half = parry3d_f64::math::Vector::splat(margin / 2.0);
+    let b1 = Cuboid::new(s1.box_half_extents + half);
+    let b2 = Cuboid::new(s2.box_half_extents + half);
+    let p1 = Pose::from_parts(pose1.transform_point(s1.box_centre), pose1.rotation);
+    let p2 = Pose::from_parts(pose2.transform_point(s2.box_centre), pose2.rotation);
+    // Two cuboids are always supported; an error cannot happen, and would only keep the pair.
+    query::intersection_test(&p1, &b1, &p2, &b2).map_or(true, |r| r.intersecting)
 }
 
 #[derive(Debug, Clone)]
@@ -357,6 +386,8 @@ impl CollisionWorld {
                     shape: shape.shape,
                     link_from_shape: g.link_from_shape * correction,
                     local_aabb,
+                    box_centre: local_aabb.center(),
+                    box_half_extents: local_aabb.half_extents(),
                 });
             }
         }
@@ -639,7 +670,15 @@ impl CollisionWorld {
             else {
                 continue;
             };
-            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
+            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                || !boxes_overlap(
+                    &scratch.shape_poses[a],
+                    sa,
+                    &scratch.shape_poses[b],
+                    sb,
+                    pair_margin,
+                )
+            {
                 continue;
             }
             if self.touching(
