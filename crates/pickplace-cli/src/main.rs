@@ -1,5 +1,5 @@
-//! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution,
-//! 2 bad input or usage.
+//! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution
+//! (no plan, or an infeasible scene such as a start state in collision), 2 bad input or usage.
 
 mod args;
 mod clusters;
@@ -72,9 +72,20 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {}", message(&e));
-            ExitCode::from(2)
+            exit_code(&e)
         }
     }
+}
+
+/// 1 for an infeasible scene (a start state in collision: well-formed, no solution), 2 for
+/// every other error (bad input or usage).
+fn exit_code(e: &anyhow::Error) -> ExitCode {
+    let infeasible = e.chain().any(|cause| {
+        cause
+            .downcast_ref::<pickplace::Error>()
+            .is_some_and(pickplace::Error::is_infeasible)
+    });
+    ExitCode::from(if infeasible { 1 } else { 2 })
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
@@ -113,4 +124,25 @@ fn message(e: &anyhow::Error) -> String {
         previous = text;
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_start_state_in_collision_exits_1_and_bad_input_2() {
+        let start = anyhow::Error::new(pickplace::Error::StartInCollision {
+            first: "RARM_JOINT5_Link".into(),
+            second: "table".into(),
+            distance: -0.0032,
+        });
+        assert_eq!(exit_code(&start), ExitCode::from(1));
+        assert_eq!(
+            message(&start),
+            "start state in collision: RARM_JOINT5_Link and table (penetration 3.2 mm)"
+        );
+        let bad = anyhow::anyhow!("bad input");
+        assert_eq!(exit_code(&bad), ExitCode::from(2));
+    }
 }

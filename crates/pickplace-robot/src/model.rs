@@ -567,6 +567,33 @@ impl RobotModel {
         }
         Ok(())
     }
+
+    /// The links that move when the variables `variables` change, as a mask by link index:
+    /// every link whose path from the root has a joint driven by one of them (actuated, or
+    /// mimicking one). For an arm's variables this is the arm, its hand and its fingers; the
+    /// mask is what [`crate::collision::PairScope`] takes. Variables out of range move
+    /// nothing.
+    pub fn links_moved_by(&self, variables: &[usize]) -> Vec<bool> {
+        let driven = |j: &Joint| match j.source {
+            JointValueSource::Fixed => false,
+            JointValueSource::Variable(v) | JointValueSource::Mimic { variable: v, .. } => {
+                variables.contains(&v)
+            }
+        };
+        let mut moved = vec![false; self.links.len()];
+        for (l, slot) in moved.iter_mut().enumerate() {
+            let mut current = l;
+            while let Some(j) = self.links[current].parent_joint {
+                let joint = &self.joints[j];
+                if driven(joint) {
+                    *slot = true;
+                    break;
+                }
+                current = joint.parent_link;
+            }
+        }
+        moved
+    }
 }
 
 /// Resolves a URDF `filename` to a path.

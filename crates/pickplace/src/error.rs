@@ -72,6 +72,32 @@ pub enum Error {
         /// What is wrong.
         reason: String,
     },
+    /// No sampled state of an arm is free of self-collision: its roadmap would be empty.
+    #[error(
+        "the roadmap of {group} is empty: every sample collides; most rejected samples: {first} ~ {second} ({rejections})"
+    )]
+    EmptyRoadmap {
+        /// The arm's SRDF group.
+        group: String,
+        /// First body of the pair that rejected most samples.
+        first: String,
+        /// Second body.
+        second: String,
+        /// How many sampled states it rejected.
+        rejections: usize,
+    },
+    /// The start state collides: robot with itself, with the environment or with the object
+    /// at its start pose. An infeasible scene (exit status 1 in the CLI), not bad input.
+    #[error("start state in collision: {first} and {second} ({})", depth_words(*.distance))]
+    StartInCollision {
+        /// First body's name.
+        first: String,
+        /// Second body's name.
+        second: String,
+        /// Their signed distance (m): negative inside each other (the penetration depth),
+        /// 0 touching.
+        distance: f64,
+    },
     /// A lower layer failed on input the façade had checked: a bug, reported with its cause.
     #[error("internal error in {stage}: {reason}")]
     Internal {
@@ -80,6 +106,23 @@ pub enum Error {
         /// The lower layer's message.
         reason: String,
     },
+}
+
+impl Error {
+    /// True for a well-formed scene that has no solution (a start state in collision): the
+    /// CLI's exit status 1; every other error is bad input or a defect (exit status 2).
+    pub fn is_infeasible(&self) -> bool {
+        matches!(self, Self::StartInCollision { .. })
+    }
+}
+
+/// `penetration 3.2 mm`, or `touching` within 0.05 mm.
+fn depth_words(distance: f64) -> String {
+    if distance < -5e-5 {
+        format!("penetration {:.1} mm", -distance * 1e3)
+    } else {
+        "touching".to_owned()
+    }
 }
 
 /// Result alias of the façade.

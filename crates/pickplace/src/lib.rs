@@ -49,6 +49,7 @@ pub mod roadmaps;
 pub mod robot_setup;
 pub mod scene;
 pub mod setup;
+mod start;
 pub mod strategy;
 pub mod validate;
 
@@ -66,4 +67,5 @@ pub use planner::{Outcome, PlanOptions, plan};
 pub use scene::{Scene, SceneError};
 pub use robot_setup::RobotSetup;
 pub use setup::{Setup, SetupOptions};
+pub use start::check_start;
 pub use strategy::{Arm, Strategy};

@@ -3,17 +3,24 @@
 //!
 //! One roadmap per arm group serves every scene: its nodes are sampled in the arm's joint
 //! space and filtered by self-collision only (the rest of the robot at the SRDF's `home`
-//! state), and each query checks its own scene lazily. Roadmaps are cached in files named by
+//! state), and each query checks its own scene lazily. The prefilter checks only the pairs
+//! the arm can change (one of their links moved by the arm's joints); the pairs of two
+//! static links are checked once, at the template, and reported
+//! ([`RoadmapReport::static_contacts`]). Roadmaps are cached in files named by
 //! the robot, the group and a hash of everything that defines them (URDF and SRDF text, the
 //! options, the codec version), so a stale file is never used.
 
 use crate::checker::ArmChecker;
 use crate::error::{Error, Result};
 use pickplace_geometry::hash::ContentHasher;
-use pickplace_prm::{JointSpace, Roadmap, RoadmapOptions, codec};
+use pickplace_prm::{
+    JointSpace, Roadmap, RoadmapOptions, ValidityChecker, codec, motion_valid_by_interpolation,
+};
 use pickplace_robot::RobotModel;
-use pickplace_robot::collision::CollisionWorld;
+use pickplace_robot::collision::{BodyId, CollisionWorld};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// Extension of roadmap files.
 pub const ROADMAP_EXTENSION: &str = "roadmap";
@@ -35,7 +42,15 @@ pub fn roadmap_options() -> RoadmapOptions {
 /// [`Error::Internal`] when a limit is infinite (a continuous joint in an arm).
 pub fn arm_space(model: &RobotModel, variables: &[usize]) -> Result<JointSpace> {
     let limits: Vec<_> = model.variable_limits().copied().collect();
-    let clamp = |v: f64| v.clamp(-std::f64::consts::PI, std::f64::consts::PI);
+    // Finite limits as they are (PR2's upper-arm roll spans 4.7 rad); a continuous joint
+    // (infinite limits) over one turn, [−π, π], where IK puts its solutions.
+    let clamp = |v: f64| {
+        if v.is_finite() {
+            v
+        } else {
+            v.clamp(-std::f64::consts::PI, std::f64::consts::PI)
+        }
+    };
     JointSpace::with_unit_weights(
         variables.iter().map(|&v| clamp(limits[v].lower)).collect(),
         variables.iter().map(|&v| clamp(limits[v].upper)).collect(),
@@ -63,6 +78,9 @@ pub fn roadmap_key(urdf_text: &str, srdf_text: &str, group: &str) -> u64 {
     h.word(o.resolution.to_bits());
     h.word(o.seed);
     h.word(u64::from(codec::FORMAT_VERSION));
+    // The prefilter's rule: the margin on the pairs the arm moves only (static pairs are
+    // checked once at the template), which changed which nodes survive.
+    h.bytes(PREFILTER_RULE.as_bytes());
     h.finish()
 }
 
@@ -75,30 +93,181 @@ pub enum RoadmapSource {
     Built,
 }
 
+/// The prefilter's rule, part of the roadmap key.
+const PREFILTER_RULE: &str = "moving pairs with a 0.01 m margin; static pairs once";
+
+/// The prefilter's clearance margin (m) on the pairs the arm moves.
+const PREFILTER_MARGIN: f64 = 0.01;
+
+/// A pair of bodies and how many sampled states it rejected.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PairRejections {
+    /// First body's name.
+    pub first: String,
+    /// Second body's name.
+    pub second: String,
+    /// Sampled states it rejected (the first colliding pair of each rejected draw).
+    pub count: usize,
+}
+
+/// What loading or building an arm's roadmap found, for the setup's log.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RoadmapReport {
+    /// Whether the roadmap came from the cache.
+    pub source: RoadmapSource,
+    /// Nodes in the roadmap.
+    pub node_count: usize,
+    /// Nodes asked for ([`RoadmapOptions::node_count`]).
+    pub requested: usize,
+    /// The pair of bodies that rejected most sampled states while building (`None` for a
+    /// roadmap read from the cache, or when no sample was rejected).
+    pub most_rejected: Option<PairRejections>,
+    /// Pairs of links whose relative pose the arm does not change (two links of the rest of
+    /// the robot, or two links of the hand with no arm joint between them) that touch at
+    /// the template (its rest state): the prefilter does not check them per sample, but no
+    /// state of the arm is free while they touch.
+    pub static_contacts: Vec<(String, String)>,
+}
+
+impl std::fmt::Display for RoadmapReport {
+    /// `roadmap 3120 of 5000 nodes built; most rejected samples: a ~ b (1410)`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "roadmap ")?;
+        if self.node_count < self.requested {
+            write!(f, "{} of {} nodes", self.node_count, self.requested)?;
+        } else {
+            write!(f, "{} nodes", self.node_count)?;
+        }
+        write!(
+            f,
+            " {}",
+            match self.source {
+                RoadmapSource::Loaded => "loaded from the cache",
+                RoadmapSource::Built => "built",
+            }
+        )?;
+        if let Some(r) = &self.most_rejected
+            && self.node_count < self.requested
+        {
+            write!(
+                f,
+                "; most rejected samples: {} ~ {} ({})",
+                r.first, r.second, r.count
+            )?;
+        }
+        // The first few static contacts, then how many more.
+        const SHOWN: usize = 3;
+        for (a, b) in self.static_contacts.iter().take(SHOWN) {
+            write!(f, "; static contact: {a} ~ {b}")?;
+        }
+        if self.static_contacts.len() > SHOWN {
+            write!(
+                f,
+                " (and {} more static contacts)",
+                self.static_contacts.len() - SHOWN
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The prefilter: the arm's checker on the pairs it moves, counting the first colliding pair
+/// of every rejected sample (not of edge states).
+struct CountingPrefilter<'a> {
+    checker: ArmChecker<'a>,
+    rejections: Mutex<BTreeMap<(BodyId, BodyId), usize>>,
+}
+
+impl ValidityChecker for CountingPrefilter<'_> {
+    fn is_state_valid(&self, q: &[f64]) -> bool {
+        match self.checker.first_collision(q) {
+            None => true,
+            Some(pair) => {
+                let mut counts = self
+                    .rejections
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                *counts.entry(pair).or_insert(0) += 1;
+                false
+            }
+        }
+    }
+
+    fn is_motion_valid(
+        &self,
+        space: &JointSpace,
+        from: &[f64],
+        to: &[f64],
+        resolution: f64,
+        scratch: &mut [f64],
+    ) -> bool {
+        motion_valid_by_interpolation(&self.checker, space, from, to, resolution, scratch)
+    }
+}
+
 /// Loads the roadmap of an arm from `cache` (when given and valid), or builds it (nodes
-/// prefiltered by self-collision with the rest of the robot at `home`) and saves it there.
+/// prefiltered by self-collision with the rest of the robot at `home`: the pairs with a link
+/// the arm moves, with a 1 cm margin) and saves it there.
+///
+/// # Returns
+/// The roadmap and a report: its size against the size asked, the pair of bodies that
+/// rejected most samples, and the static pairs in contact at `home`.
 ///
 /// # Errors
-/// [`Error::Cache`] when the file cannot be written; [`Error::Internal`] when the PRM rejects
-/// the space.
+/// [`Error::EmptyRoadmap`] naming the pair that rejected most samples when no sample is
+/// free; [`Error::Cache`] when the file cannot be written; [`Error::Internal`] when the PRM
+/// rejects the space or the collision library fails.
 pub fn load_or_build(
     model: &RobotModel,
     self_world: &CollisionWorld,
+    group: &str,
     variables: &[usize],
     home: &[f64],
     space: &JointSpace,
     cache: Option<&Path>,
-) -> Result<(Roadmap, RoadmapSource)> {
+) -> Result<(Roadmap, RoadmapReport)> {
+    let checker = ArmChecker::new(
+        model,
+        self_world,
+        variables,
+        home.to_vec(),
+        PREFILTER_MARGIN,
+    )
+    .moving_pairs_only();
+    // The pairs the arm cannot change, checked once at `home`.
+    checker.check_error()?;
+    let static_contacts = checker
+        .static_contacts()
+        .iter()
+        .map(|&(a, b)| {
+            (
+                self_world.body_name(a).to_owned(),
+                self_world.body_name(b).to_owned(),
+            )
+        })
+        .collect();
+    let requested = roadmap_options().node_count;
     if let Some(path) = cache
         && let Ok(bytes) = std::fs::read(path)
         && let Ok(roadmap) = codec::decode(&bytes, space)
     {
-        return Ok((roadmap, RoadmapSource::Loaded));
+        let report = RoadmapReport {
+            source: RoadmapSource::Loaded,
+            node_count: roadmap.node_count(),
+            requested,
+            most_rejected: None,
+            static_contacts,
+        };
+        return Ok((roadmap, report));
     }
-    let checker = ArmChecker::new(model, self_world, variables, home.to_vec(), 0.01);
-    let roadmap = Roadmap::build_prefiltered(space, &checker, &roadmap_options())
-        .map_err(crate::error::internal("roadmap construction"))?;
-    checker.check_error()?;
+    let (roadmap, report) = build(
+        self_world,
+        group,
+        checker,
+        space,
+        &roadmap_options(),
+        static_contacts,
+    )?;
     if let Some(path) = cache {
         let bytes = codec::encode(&roadmap).map_err(crate::error::internal("roadmap encoding"))?;
         if let Some(dir) = path.parent() {
@@ -112,5 +281,174 @@ pub fn load_or_build(
             source: std::io::Error::other(e.to_string()),
         })?;
     }
-    Ok((roadmap, RoadmapSource::Built))
+    Ok((roadmap, report))
+}
+
+/// Builds the roadmap with the counting prefilter; an empty one is an error.
+fn build(
+    self_world: &CollisionWorld,
+    group: &str,
+    checker: ArmChecker<'_>,
+    space: &JointSpace,
+    options: &RoadmapOptions,
+    static_contacts: Vec<(String, String)>,
+) -> Result<(Roadmap, RoadmapReport)> {
+    let prefilter = CountingPrefilter {
+        checker,
+        rejections: Mutex::default(),
+    };
+    let roadmap = Roadmap::build_prefiltered(space, &prefilter, options)
+        .map_err(crate::error::internal("roadmap construction"))?;
+    prefilter.checker.check_error()?;
+    let counts = prefilter
+        .rejections
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    // The largest count; the first pair in body order among equals.
+    let most_rejected = counts
+        .iter()
+        .fold(
+            None,
+            |best: Option<(&(BodyId, BodyId), usize)>, (pair, &n)| match best {
+                Some((_, m)) if m >= n => best,
+                _ => Some((pair, n)),
+            },
+        )
+        .map(|(&(a, b), count)| PairRejections {
+            first: self_world.body_name(a).to_owned(),
+            second: self_world.body_name(b).to_owned(),
+            count,
+        });
+    if roadmap.node_count() == 0 {
+        return Err(match most_rejected {
+            Some(r) => Error::EmptyRoadmap {
+                group: group.to_owned(),
+                first: r.first,
+                second: r.second,
+                rejections: r.count,
+            },
+            None => Error::Internal {
+                stage: "roadmap construction",
+                reason: format!("the roadmap of {group} is empty and no sample was rejected"),
+            },
+        });
+    }
+    let report = RoadmapReport {
+        source: RoadmapSource::Built,
+        node_count: roadmap.node_count(),
+        requested: options.node_count,
+        most_rejected,
+        static_contacts,
+    };
+    Ok((roadmap, report))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_robot::collision::AllowedCollisionMatrix;
+
+    fn small() -> RoadmapOptions {
+        RoadmapOptions {
+            node_count: 40,
+            ..roadmap_options()
+        }
+    }
+
+    #[test]
+    fn the_right_arm_of_nx_hiro_fills_its_roadmap_with_no_static_contact() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let arm = setup.arm(crate::Arm::Right);
+        let world = CollisionWorld::new(
+            &setup.model,
+            AllowedCollisionMatrix::from_srdf(setup.semantics.srdf()),
+        )
+        .expect("valid shapes");
+        let checker = ArmChecker::new(
+            &setup.model,
+            &world,
+            &arm.variables,
+            setup.start.clone(),
+            0.01,
+        )
+        .moving_pairs_only();
+        let (roadmap, report) = build(
+            &world,
+            "right_arm",
+            checker,
+            &arm.space,
+            &small(),
+            Vec::new(),
+        )
+        .expect("builds");
+        assert_eq!(roadmap.node_count(), 40);
+        assert_eq!((report.node_count, report.requested), (40, 40));
+        assert_eq!(report.to_string(), "roadmap 40 nodes built");
+        // The setup's own report: no two static links touch at NX-HIRO's start.
+        assert!(arm.roadmap_report.static_contacts.is_empty());
+    }
+
+    #[test]
+    fn an_arm_always_in_collision_gives_an_error_naming_the_pair() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let arm = setup.arm(crate::Arm::Right);
+        // Without the SRDF's disabled pairs, neighbouring links of the arm always touch.
+        let world =
+            CollisionWorld::new(&setup.model, AllowedCollisionMatrix::new()).expect("valid shapes");
+        let checker = ArmChecker::new(
+            &setup.model,
+            &world,
+            &arm.variables,
+            setup.start.clone(),
+            0.01,
+        )
+        .moving_pairs_only();
+        let e = build(
+            &world,
+            "right_arm",
+            checker,
+            &arm.space,
+            &small(),
+            Vec::new(),
+        )
+        .expect_err("no free sample");
+        let Error::EmptyRoadmap {
+            group,
+            first,
+            second,
+            rejections,
+        } = &e
+        else {
+            panic!("{e}");
+        };
+        assert_eq!(group, "right_arm");
+        assert!(
+            first.starts_with("RARM") || second.starts_with("RARM"),
+            "{e}"
+        );
+        assert!(
+            *rejections > 0 && *rejections <= 40 * small().max_sample_attempts,
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_short_roadmap_names_the_pair_that_rejected_most() {
+        let report = RoadmapReport {
+            source: RoadmapSource::Built,
+            node_count: 3120,
+            requested: 5000,
+            most_rejected: Some(PairRejections {
+                first: "r_forearm_link".into(),
+                second: "r_upper_arm_link".into(),
+                count: 1410,
+            }),
+            static_contacts: vec![("torso".into(), "l_shoulder".into())],
+        };
+        assert_eq!(
+            report.to_string(),
+            "roadmap 3120 of 5000 nodes built; most rejected samples: r_forearm_link ~ \
+             r_upper_arm_link (1410); static contact: torso ~ l_shoulder"
+        );
+    }
 }

@@ -7,7 +7,7 @@
 //! next ones.
 
 use crate::error::{Error, Result};
-use crate::roadmaps::{self, RoadmapSource};
+use crate::roadmaps::{self, RoadmapReport};
 use crate::scene::Scene;
 use crate::strategy::Arm;
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
@@ -51,8 +51,8 @@ pub struct ArmSetup {
     pub space: JointSpace,
     /// The precomputed roadmap.
     pub roadmap: Roadmap,
-    /// Whether the roadmap came from the cache.
-    pub roadmap_source: RoadmapSource,
+    /// Whether the roadmap came from the cache, its size, what rejected most samples.
+    pub roadmap_report: RoadmapReport,
     /// The tool link: added at the gripper's tool point (midway between the pads).
     pub tcp_link: usize,
     /// Its name.
@@ -374,14 +374,10 @@ impl Setup {
                 }),
             )?;
             log.push(format!(
-                "{} arm ({}): roadmap {} nodes {} in {:.1} ms",
+                "{} arm ({}): {} in {:.1} ms",
                 robot_arm.arm,
                 robot_arm.group,
-                arm_setup.roadmap.node_count(),
-                match arm_setup.roadmap_source {
-                    RoadmapSource::Loaded => "loaded from the cache",
-                    RoadmapSource::Built => "built",
-                },
+                arm_setup.roadmap_report,
                 ms(t)
             ));
             arms.push(arm_setup);
@@ -519,9 +515,10 @@ fn arm_setup(
         .map(|&l| model.links()[l].name.clone())
         .collect();
     let space = roadmaps::arm_space(model, &variables)?;
-    let (roadmap, roadmap_source) = roadmaps::load_or_build(
+    let (roadmap, roadmap_report) = roadmaps::load_or_build(
         model,
         self_world,
+        group,
         &variables,
         start,
         &space,
@@ -551,7 +548,7 @@ fn arm_setup(
         variables,
         space,
         roadmap,
-        roadmap_source,
+        roadmap_report,
         tcp_link,
         tcp_name: model.links()[tcp_link].name.clone(),
         gripper,

@@ -143,6 +143,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         );
     }
     let limits: Vec<_> = model.variable_limits().copied().collect();
+    let windows = closing_windows(setup, plan, &events, &arm_of_link);
     let mut object = setup.object_start;
     // Holders: arm and link_from_object.
     let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
@@ -197,7 +198,12 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             object = v.tcp(arm, &p.positions) * link_from_object;
         }
         if i + 1 == plan.trajectory.len() {
-            v.check_state(t, &p.positions, &holders, &object);
+            let closing = [Arm::Right, Arm::Left].map(|a| {
+                windows
+                    .iter()
+                    .any(|&(w, t0, t1)| w == a && t >= t0 - 1e-9 && t <= t1 + 1e-9)
+            });
+            v.check_state(t, &p.positions, &holders, &object, closing);
             break;
         }
         let n_next = &plan.trajectory[i + 1];
@@ -262,7 +268,13 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     );
                 }
             }
-            v.check_state(t + f * dt, &q, &holders, &obj);
+            let now = t + f * dt;
+            let closing = [Arm::Right, Arm::Left].map(|a| {
+                windows
+                    .iter()
+                    .any(|&(w, t0, t1)| w == a && now >= t0 - 1e-9 && now <= t1 + 1e-9)
+            });
+            v.check_state(now, &q, &holders, &obj, closing);
             // The grip is checked while the held object moves (the fingers open and close
             // with the hand at rest).
             let moved = last_object.is_some_and(|l: Isometry3| {
@@ -305,12 +317,59 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     })
 }
 
+/// When each hand may touch the object besides holding it: from the start of its closing
+/// motion (the arm at rest before the grasp event) to the grasp, and from a release to the end
+/// of its opening (the arm at rest after it): `(arm, from, to)`.
+fn closing_windows(
+    setup: &Setup,
+    plan: &Plan,
+    events: &[crate::plan::Event],
+    arm_of_link: &dyn Fn(&str) -> Option<Arm>,
+) -> Vec<(Arm, Real, Real)> {
+    let traj = &plan.trajectory;
+    let at_rest = |arm: Arm, i: usize, k: usize| {
+        setup
+            .arm(arm)
+            .variables
+            .iter()
+            .all(|&v| (traj[i].positions[v] - traj[k].positions[v]).abs() <= 1e-9)
+    };
+    let mut windows = Vec::new();
+    for e in events {
+        let Some(arm) = arm_of_link(&e.link) else {
+            continue;
+        };
+        // The sample at (or just before) the event.
+        let i = traj
+            .partition_point(|p| p.time_from_start <= e.time + 1e-9)
+            .saturating_sub(1);
+        match e.kind {
+            EventKind::Grasp => {
+                let mut k = i;
+                while k > 0 && at_rest(arm, i, k - 1) {
+                    k -= 1;
+                }
+                windows.push((arm, traj[k].time_from_start, e.time));
+            }
+            EventKind::Release => {
+                let mut k = i;
+                while k + 1 < traj.len() && at_rest(arm, i, k + 1) {
+                    k += 1;
+                }
+                windows.push((arm, e.time, traj[k].time_from_start));
+            }
+        }
+    }
+    windows
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum WorldKey {
     /// The object lies free (not held).
     Free,
-    /// Held by one or two arms; `bool`: may touch its support.
-    Held(Arm, Option<Arm>, bool),
+    /// Held by one or two arms; `bool`: may touch its support; the last two: the right and
+    /// left hand closing on it or opening from it (their fingers may touch it).
+    Held(Arm, Option<Arm>, bool, bool, bool),
 }
 
 struct Validator<'a> {
@@ -410,7 +469,7 @@ impl Validator<'_> {
         let (start_supports, placed_supports) = (&self.start_supports, &self.placed_supports);
         self.worlds.entry(key).or_insert_with(|| {
             let mut w = setup.world.clone();
-            if let WorldKey::Held(_, _, true) = key {
+            if let WorldKey::Held(_, _, true, _, _) = key {
                 let mut acm = w.acm().clone();
                 for s in start_supports.iter().chain(placed_supports) {
                     acm.allow(
@@ -425,6 +484,13 @@ impl Validator<'_> {
                 let mut touch: Vec<&str> = Vec::new();
                 for (h, _) in holders {
                     touch.extend(setup.arm(*h).finger_links.iter().map(String::as_str));
+                }
+                if let WorldKey::Held(_, _, _, right, left) = key {
+                    for (a, closing) in [(Arm::Right, right), (Arm::Left, left)] {
+                        if closing && setup.has_arm(a) {
+                            touch.extend(setup.arm(a).finger_links.iter().map(String::as_str));
+                        }
+                    }
                 }
                 // The link and fingers exist: the setup found them in this model.
                 let _ = w.attach(
@@ -445,16 +511,32 @@ impl Validator<'_> {
         q: &[Real],
         holders: &[(Arm, Isometry3)],
         object: &Isometry3,
+        closing: [bool; 2],
     ) {
         self.states += 1;
+        let [right, left] = closing;
         let key = match holders {
             [] => WorldKey::Free,
-            [(a, _)] => WorldKey::Held(*a, None, self.near(object)),
-            [(a, _), (b, _), ..] => WorldKey::Held(*a, Some(*b), self.near(object)),
+            [(a, _)] => WorldKey::Held(*a, None, self.near(object), right, left),
+            [(a, _), (b, _), ..] => WorldKey::Held(*a, Some(*b), self.near(object), right, left),
         };
         if key == WorldKey::Free {
-            // The free object is an obstacle where it lies.
+            // The free object is an obstacle where it lies; a hand closing on it or opening
+            // from it may touch it.
             let mut w = self.setup.world.clone();
+            let mut acm = w.acm().clone();
+            for (a, on) in [(Arm::Right, right), (Arm::Left, left)] {
+                if on && self.setup.has_arm(a) {
+                    for link in &self.setup.arm(a).finger_links {
+                        acm.allow(
+                            OBJECT_NAME,
+                            link,
+                            DisableReason::Custom("closing on the object".into()),
+                        );
+                    }
+                }
+            }
+            w.set_acm(acm);
             w.add_environment(OBJECT_NAME, self.setup.object_shape.clone(), object);
             let pairs = w
                 .colliding_pairs(

@@ -14,8 +14,11 @@
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
 
 mod acm;
+mod hull;
+mod view;
 
 pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
+pub use view::{MovingView, StaticPairs};
 
 use crate::error::{Error, Result};
 use crate::model::{RobotModel, Shape};
@@ -154,12 +157,17 @@ impl CollisionShape {
                 )
             }
             // Robot links are checked as convex shapes: a link mesh becomes its convex hull
-            // (conservative, and one GJK query instead of a triangle traversal); a flat mesh
-            // with no hull stays a triangle mesh.
-            Shape::Mesh { mesh, .. } => (
-                Self::convex_hull(mesh).or_else(|_| Self::mesh(mesh))?,
-                Isometry3::identity(),
-            ),
+            // (conservative, and one GJK query instead of a triangle traversal), with at most
+            // `hull::MAX_HULL_VERTICES` vertices and rounded by at most 2 mm when it had
+            // more (`hull`); a flat mesh with no hull stays a triangle mesh.
+            Shape::Mesh { mesh, .. } => {
+                let vertices: Vec<_> = mesh.vertices().iter().map(parry::point).collect();
+                let shape = match hull::link_hull(&vertices) {
+                    Some(shape) => Self { shape },
+                    None => Self::mesh(mesh)?,
+                };
+                (shape, Isometry3::identity())
+            }
         })
     }
 }
@@ -209,6 +217,61 @@ impl Default for CheckOptions {
     }
 }
 
+/// Which pairs of bodies a query checks, and which of them get the margin of
+/// [`CheckOptions`].
+///
+/// A body *moves* when it is a link marked in the mask (`moving[link]`, by link index, one
+/// entry per link of the model; [`crate::RobotModel::links_moved_by`] computes it for an
+/// arm) or an object attached to such a link; environment objects never move. A pair
+/// *moves* when one of its bodies does. The mask is borrowed, so a scope is `Copy` and a
+/// query with it allocates nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PairScope<'a> {
+    /// Every pair, with the margin (default).
+    #[default]
+    Every,
+    /// Every pair; the margin applies only to moving pairs, and pairs of two static bodies
+    /// (an idle arm against the table, two links of the idle arm) are checked for contact
+    /// (margin 0): a static near-contact cannot block a motion.
+    MarginOnMoving(&'a [bool]),
+    /// Only moving pairs, with the margin; pairs of two static bodies are skipped (they do
+    /// not change while the masked links move: check them once with
+    /// [`PairScope::StaticOnly`]).
+    MovingOnly(&'a [bool]),
+    /// Only pairs of two static bodies, with the margin.
+    StaticOnly(&'a [bool]),
+}
+
+impl PairScope<'_> {
+    fn mask(&self) -> Option<&[bool]> {
+        match *self {
+            Self::Every => None,
+            Self::MarginOnMoving(m) | Self::MovingOnly(m) | Self::StaticOnly(m) => Some(m),
+        }
+    }
+
+    /// The margin of a pair (`moving`: one of its bodies moves), or `None` when the scope
+    /// skips it.
+    #[inline]
+    fn pair_margin(&self, moving: bool, margin: Real) -> Option<Real> {
+        match (self, moving) {
+            (Self::Every, _) | (Self::MarginOnMoving(_), true) | (Self::MovingOnly(_), true) => {
+                Some(margin)
+            }
+            (Self::MarginOnMoving(_), false) => Some(0.0),
+            (Self::MovingOnly(_), false) => None,
+            (Self::StaticOnly(_), moving) => (!moving).then_some(margin),
+        }
+    }
+
+    /// Whether link `link` moves (false for [`PairScope::Every`], whose margin does not
+    /// depend on it). The mask's length is checked by the query before.
+    #[inline]
+    fn moves(&self, link: usize) -> bool {
+        self.mask().is_some_and(|m| m[link])
+    }
+}
+
 /// The nearest pair of bodies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DistanceReport {
@@ -226,6 +289,29 @@ struct RobotShape {
     shape: SharedShape,
     link_from_shape: Isometry3,
     local_aabb: Aabb,
+    /// The local box's centre and half extents: an oriented box around the shape, tested
+    /// (separating axes) before the exact test of a self pair.
+    box_centre: parry3d_f64::math::Vector,
+    box_half_extents: parry3d_f64::math::Vector,
+}
+
+/// Whether the oriented boxes of two robot shapes, each loosened by half the margin, overlap:
+/// false proves the shapes farther apart than the margin.
+fn boxes_overlap(
+    pose1: &Pose,
+    s1: &RobotShape,
+    pose2: &Pose,
+    s2: &RobotShape,
+    margin: Real,
+) -> bool {
+    use parry3d_f64::shape::Cuboid;
+    let half = parry3d_f64::math::Vector::splat(margin / 2.0);
+    let b1 = Cuboid::new(s1.box_half_extents + half);
+    let b2 = Cuboid::new(s2.box_half_extents + half);
+    let p1 = Pose::from_parts(pose1.transform_point(s1.box_centre), pose1.rotation);
+    let p2 = Pose::from_parts(pose2.transform_point(s2.box_centre), pose2.rotation);
+    // Two cuboids are always supported; an error cannot happen, and would only keep the pair.
+    query::intersection_test(&p1, &b1, &p2, &b2).map_or(true, |r| r.intersecting)
 }
 
 #[derive(Debug, Clone)]
@@ -300,6 +386,8 @@ impl CollisionWorld {
                     shape: shape.shape,
                     link_from_shape: g.link_from_shape * correction,
                     local_aabb,
+                    box_centre: local_aabb.center(),
+                    box_half_extents: local_aabb.half_extents(),
                 });
             }
         }
@@ -473,6 +561,7 @@ impl CollisionWorld {
         q: &[Real],
         scratch: &mut CollisionScratch,
         margin: Real,
+        scope: PairScope<'_>,
     ) -> Result<()> {
         if q.len() != self.variable_count || model.links().len() != self.link_names.len() {
             return Err(Error::WrongLength {
@@ -486,6 +575,15 @@ impl CollisionWorld {
                 name: "margin",
                 value: margin,
                 reason: "must be finite and >= 0",
+            });
+        }
+        if let Some(mask) = scope.mask()
+            && mask.len() != self.link_names.len()
+        {
+            return Err(Error::WrongLength {
+                what: "moving-link mask",
+                expected: self.link_names.len(),
+                found: mask.len(),
             });
         }
         scratch
@@ -551,26 +649,44 @@ impl CollisionWorld {
         }
     }
 
-    /// Visits colliding pairs until `visit` returns false.
+    /// Visits colliding pairs of the scope until `visit` returns false: the self pairs
+    /// `self_pairs`, the robot shapes `env_shapes` (every shape when `None`) against the
+    /// environment, the attached objects against both.
     fn for_each_collision(
         &self,
         scratch: &mut CollisionScratch,
         margin: Real,
+        scope: PairScope<'_>,
+        self_pairs: &[(u32, u32)],
+        env_shapes: Option<&[u32]>,
         visit: &mut dyn FnMut(BodyId, BodyId) -> bool,
     ) -> Result<()> {
         // Self-collision.
-        for &(a, b) in &self.self_pairs {
+        for &(a, b) in self_pairs {
             let (a, b) = (a as usize, b as usize);
-            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
+            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+            let Some(pair_margin) =
+                scope.pair_margin(scope.moves(sa.link) || scope.moves(sb.link), margin)
+            else {
+                continue;
+            };
+            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                || !boxes_overlap(
+                    &scratch.shape_poses[a],
+                    sa,
+                    &scratch.shape_poses[b],
+                    sb,
+                    pair_margin,
+                )
+            {
                 continue;
             }
-            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
             if self.touching(
                 &scratch.shape_poses[a],
                 &sa.shape,
                 &scratch.shape_poses[b],
                 &sb.shape,
-                margin,
+                pair_margin,
                 || {
                     (
                         self.link_names[sa.link].clone(),
@@ -583,7 +699,13 @@ impl CollisionWorld {
             }
         }
         // Robot against environment.
-        for (i, s) in self.robot_shapes.iter().enumerate() {
+        let shape_count = env_shapes.map_or(self.robot_shapes.len(), <[u32]>::len);
+        for n in 0..shape_count {
+            let i = env_shapes.map_or(n, |shapes| shapes[n] as usize);
+            let s = &self.robot_shapes[i];
+            let Some(pair_margin) = scope.pair_margin(scope.moves(s.link), margin) else {
+                continue;
+            };
             // Most link boxes are far from every environment object: one box test, no BVH
             // traversal.
             if !self.environment_bounds.intersects(&scratch.shape_aabbs[i]) {
@@ -604,7 +726,7 @@ impl CollisionWorld {
                     &s.shape,
                     &env.world_from_shape,
                     &env.shape,
-                    margin,
+                    pair_margin,
                     || (self.link_names[s.link].clone(), env.name.clone()),
                 )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
@@ -614,7 +736,13 @@ impl CollisionWorld {
         }
         // Attached objects against robot and environment.
         for (k, a) in self.attached.iter().enumerate() {
+            let attached_moves = scope.moves(a.link);
             for (i, s) in self.robot_shapes.iter().enumerate() {
+                let Some(pair_margin) =
+                    scope.pair_margin(attached_moves || scope.moves(s.link), margin)
+                else {
+                    continue;
+                };
                 if a.allowed_links[s.link]
                     || !scratch.attached_aabbs[k].intersects(&scratch.shape_aabbs[i])
                 {
@@ -625,13 +753,16 @@ impl CollisionWorld {
                     &a.shape,
                     &scratch.shape_poses[i],
                     &s.shape,
-                    margin,
+                    pair_margin,
                     || (a.name.clone(), self.link_names[s.link].clone()),
                 )? && !visit(BodyId::Attached(k), BodyId::Link(s.link))
                 {
                     return Ok(());
                 }
             }
+            let Some(pair_margin) = scope.pair_margin(attached_moves, margin) else {
+                continue;
+            };
             scratch.candidates.clear();
             scratch.candidates.extend(
                 self.environment_bvh
@@ -648,7 +779,7 @@ impl CollisionWorld {
                     &a.shape,
                     &env.world_from_shape,
                     &env.shape,
-                    margin,
+                    pair_margin,
                     || (a.name.clone(), env.name.clone()),
                 )? && !visit(BodyId::Attached(k), BodyId::Environment(e))
                 {
@@ -660,7 +791,7 @@ impl CollisionWorld {
     }
 
     /// True when some pair that is not allowed is in collision (closer than the margin);
-    /// stops at the first such pair.
+    /// stops at the first such pair. Every pair gets the margin ([`PairScope::Every`]).
     ///
     /// # Errors
     /// [`Error::WrongLength`] for `q`, [`Error::InvalidParameter`] for a bad margin,
@@ -676,17 +807,49 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         options: &CheckOptions,
     ) -> Result<bool> {
-        self.prepare(model, q, scratch, options.margin)?;
-        let mut found = false;
-        self.for_each_collision(scratch, options.margin, &mut |_, _| {
-            found = true;
-            false
-        })?;
+        Ok(self
+            .first_collision(model, q, scratch, options, PairScope::Every)?
+            .is_some())
+    }
+
+    /// The first colliding pair of `scope` that is not allowed (closer than its margin), or
+    /// `None` when there is none; stops there. As cheap as [`CollisionWorld::in_collision`],
+    /// which is this query with [`PairScope::Every`]; the pair is the first in the query's
+    /// order (self pairs, robot–environment, attached objects), not the deepest.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::in_collision`], and [`Error::WrongLength`] for a mask that does
+    /// not have one entry per link.
+    ///
+    /// # Performance
+    /// As [`CollisionWorld::in_collision`]; with [`PairScope::MovingOnly`], static shapes
+    /// skip their environment query and static pairs their box test.
+    pub fn first_collision(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        options: &CheckOptions,
+        scope: PairScope<'_>,
+    ) -> Result<Option<(BodyId, BodyId)>> {
+        self.prepare(model, q, scratch, options.margin, scope)?;
+        let mut found = None;
+        self.for_each_collision(
+            scratch,
+            options.margin,
+            scope,
+            &self.self_pairs,
+            None,
+            &mut |a, b| {
+                found = Some((a, b));
+                false
+            },
+        )?;
         Ok(found)
     }
 
     /// Every colliding pair (link pairs reported once even when several shapes touch),
-    /// sorted.
+    /// sorted. Every pair gets the margin ([`PairScope::Every`]).
     ///
     /// # Errors
     /// As [`CollisionWorld::in_collision`].
@@ -697,12 +860,35 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         options: &CheckOptions,
     ) -> Result<Vec<(BodyId, BodyId)>> {
-        self.prepare(model, q, scratch, options.margin)?;
+        self.colliding_pairs_in(model, q, scratch, options, PairScope::Every)
+    }
+
+    /// Every colliding pair of `scope` (link pairs reported once even when several shapes
+    /// touch), sorted.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::first_collision`].
+    pub fn colliding_pairs_in(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        options: &CheckOptions,
+        scope: PairScope<'_>,
+    ) -> Result<Vec<(BodyId, BodyId)>> {
+        self.prepare(model, q, scratch, options.margin, scope)?;
         let mut pairs = Vec::new();
-        self.for_each_collision(scratch, options.margin, &mut |a, b| {
-            pairs.push((a, b));
-            true
-        })?;
+        self.for_each_collision(
+            scratch,
+            options.margin,
+            scope,
+            &self.self_pairs,
+            None,
+            &mut |a, b| {
+                pairs.push((a, b));
+                true
+            },
+        )?;
         pairs.sort_unstable();
         pairs.dedup();
         Ok(pairs)
@@ -719,7 +905,7 @@ impl CollisionWorld {
         q: &[Real],
         scratch: &mut CollisionScratch,
     ) -> Result<Option<DistanceReport>> {
-        self.prepare(model, q, scratch, 0.0)?;
+        self.prepare(model, q, scratch, 0.0, PairScope::Every)?;
         let mut best: Option<DistanceReport> = None;
         // Each pair is skipped when the gap between its boxes, a lower bound of its
         // distance, is already no better than the best found; the cheap primitive pairs
@@ -816,6 +1002,83 @@ impl CollisionWorld {
         Ok(best)
     }
 
+    /// The signed distance between two bodies at `q` (m): the distance between their nearest
+    /// shapes when they are apart, minus the deepest penetration of their shapes when they
+    /// overlap (a mesh's penetration is measured from its triangles). For reports, e.g. of a
+    /// start state in collision; the ACM is not consulted.
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::in_collision`]; [`Error::InvalidParameter`] for a body the
+    /// world does not have or a link without collision geometry.
+    pub fn signed_distance(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        first: BodyId,
+        second: BodyId,
+    ) -> Result<Real> {
+        self.prepare(model, q, scratch, 0.0, PairScope::Every)?;
+        let scratch = &*scratch;
+        let exists = |b: BodyId| match b {
+            BodyId::Link(i) => self.robot_shapes.iter().any(|s| s.link == i),
+            BodyId::Environment(i) => i < self.environment.len(),
+            BodyId::Attached(i) => i < self.attached.len(),
+        };
+        for b in [first, second] {
+            if !exists(b) {
+                let index = match b {
+                    BodyId::Link(i) | BodyId::Environment(i) | BodyId::Attached(i) => i,
+                };
+                return Err(Error::InvalidParameter {
+                    name: "body",
+                    value: index as Real,
+                    reason: "no such body with collision geometry in the world",
+                });
+            }
+        }
+        let shapes_of = |b: BodyId| -> Box<dyn Iterator<Item = (Pose, &SharedShape)> + '_> {
+            match b {
+                BodyId::Link(l) => Box::new(
+                    self.robot_shapes
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, s)| s.link == l)
+                        .map(|(i, s)| (scratch.shape_poses[i], &s.shape)),
+                ),
+                BodyId::Environment(e) => Box::new(std::iter::once((
+                    self.environment[e].world_from_shape,
+                    &self.environment[e].shape,
+                ))),
+                BodyId::Attached(k) => Box::new(std::iter::once((
+                    scratch.attached_poses[k],
+                    &self.attached[k].shape,
+                ))),
+            }
+        };
+        let unsupported = |_| Error::UnsupportedCollisionPair {
+            first: self.body_name(first).to_owned(),
+            second: self.body_name(second).to_owned(),
+        };
+        let mut best = Real::INFINITY;
+        for (p1, s1) in shapes_of(first) {
+            for (p2, s2) in shapes_of(second) {
+                let d = query::distance(&p1, &*s1.0, &p2, &*s2.0)
+                    .map_err(unsupported)?
+                    .distance;
+                let d = if d > 0.0 {
+                    d
+                } else {
+                    query::contact(&p1, &*s1.0, &p2, &*s2.0, 0.0)
+                        .map_err(unsupported)?
+                        .map_or(0.0, |c| c.dist.min(0.0))
+                };
+                best = best.min(d);
+            }
+        }
+        Ok(best)
+    }
+
     /// Self-collision of link pairs only (no environment, no attached objects) for the
     /// given link poses: every colliding pair of link indices, sorted. Used to generate the
     /// allowed-collision matrix.
@@ -865,5 +1128,259 @@ impl CollisionWorld {
         pairs.sort_unstable();
         pairs.dedup();
         Ok(pairs)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::LoadOptions;
+
+    /// Two 10 cm cubes beside a slab: `idle` on a revolute joint at the origin, `arm` on a
+    /// prismatic joint along z at x = 1; both 2 mm above the slab at zero.
+    fn two_cubes() -> (RobotModel, CollisionWorld) {
+        let cube = r#"<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+        let limit = r#"<limit lower="-1" upper="1" effort="1" velocity="1"/>"#;
+        let urdf = format!(
+            r#"<robot name="two">
+                <link name="base"/>
+                <link name="idle">{cube}</link>
+                <link name="arm">{cube}</link>
+                <joint name="idle_joint" type="revolute"><parent link="base"/><child link="idle"/>
+                  <axis xyz="0 0 1"/>{limit}</joint>
+                <joint name="arm_joint" type="prismatic"><parent link="base"/><child link="arm"/>
+                  <origin xyz="1 0 0"/><axis xyz="0 0 1"/>{limit}</joint>
+              </robot>"#
+        );
+        let model = RobotModel::from_urdf_str(&urdf, Path::new("."), &LoadOptions::default())
+            .expect("valid URDF");
+        let mut world =
+            CollisionWorld::new(&model, AllowedCollisionMatrix::new()).expect("valid shapes");
+        let slab = CollisionShape::cuboid(Vector3::new(1.0, 0.5, 0.05)).expect("valid box");
+        world.add_environment(
+            "slab",
+            slab,
+            &Isometry3::translation(0.5, 0.0, -0.05 - 0.002 - 0.05),
+        );
+        (model, world)
+    }
+
+    /// The configuration with the arm cube at height `arm_z`.
+    fn arm_at(model: &RobotModel, arm_z: Real) -> Vec<Real> {
+        let mut q = model.zero_configuration();
+        q[model.variable_index("arm_joint").expect("joint")] = arm_z;
+        q
+    }
+
+    #[test]
+    fn the_arm_moves_its_own_link_only() {
+        let (model, _) = two_cubes();
+        let arm = model.variable_index("arm_joint").expect("joint");
+        assert_eq!(model.links_moved_by(&[arm]), [false, false, true]);
+        assert_eq!(model.links_moved_by(&[]), [false; 3]);
+        assert_eq!(model.links_moved_by(&[99]), [false; 3]);
+    }
+
+    #[test]
+    fn an_idle_link_near_the_environment_does_not_block_a_moving_arm() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        let q = arm_at(&model, 0.1);
+        // The margin on every pair: the idle cube, 2 mm from the slab, blocks everything.
+        let idle = BodyId::Link(model.link_index("idle").expect("link"));
+        assert_eq!(
+            world
+                .colliding_pairs(&model, &q, &mut scratch, &options)
+                .expect("valid"),
+            [(idle, BodyId::Environment(0))]
+        );
+        for scope in [
+            PairScope::MarginOnMoving(&moving),
+            PairScope::MovingOnly(&moving),
+        ] {
+            assert_eq!(
+                world
+                    .first_collision(&model, &q, &mut scratch, &options, scope)
+                    .expect("valid"),
+                None,
+                "{scope:?}"
+            );
+        }
+        // The static pair alone, with the margin: the near-contact is still reported.
+        assert_eq!(
+            world
+                .colliding_pairs_in(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::StaticOnly(&moving)
+                )
+                .expect("valid"),
+            [(idle, BodyId::Environment(0))]
+        );
+    }
+
+    #[test]
+    fn a_moving_link_within_the_margin_blocks() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // The arm cube 5 mm above the slab.
+        let q = arm_at(&model, 0.003);
+        let arm = BodyId::Link(model.link_index("arm").expect("link"));
+        for scope in [
+            PairScope::MarginOnMoving(&moving),
+            PairScope::MovingOnly(&moving),
+        ] {
+            assert_eq!(
+                world
+                    .first_collision(&model, &q, &mut scratch, &options, scope)
+                    .expect("valid"),
+                Some((arm, BodyId::Environment(0))),
+                "{scope:?}"
+            );
+        }
+        // The static pairs touch nothing (the idle cube is 2 mm off the slab).
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &CheckOptions::default(),
+                    PairScope::StaticOnly(&moving)
+                )
+                .expect("valid")
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn a_static_contact_still_collides_with_the_margin_on_moving_pairs_only() {
+        let (model, world) = two_cubes();
+        let moving = model.links_moved_by(&[model.variable_index("arm_joint").expect("joint")]);
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // A small block inside the idle cube: a static contact.
+        let mut world = world;
+        let block = CollisionShape::cuboid(Vector3::new(0.02, 0.02, 0.02)).expect("valid box");
+        world.add_environment("block", block, &Isometry3::translation(0.0, 0.0, 0.0));
+        let q = arm_at(&model, 0.1);
+        let idle = BodyId::Link(model.link_index("idle").expect("link"));
+        assert_eq!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MarginOnMoving(&moving)
+                )
+                .expect("valid"),
+            Some((idle, BodyId::Environment(1)))
+        );
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MovingOnly(&moving)
+                )
+                .expect("valid")
+                .is_none()
+        );
+        // The block is inside the idle cube: 2 cm + 5 cm deep along every axis.
+        let depth = world
+            .signed_distance(&model, &q, &mut scratch, idle, BodyId::Environment(1))
+            .expect("valid");
+        assert!((depth + 0.07).abs() < 1e-6, "{depth}");
+        // The slab is 2 mm below it.
+        let gap = world
+            .signed_distance(&model, &q, &mut scratch, idle, BodyId::Environment(0))
+            .expect("valid");
+        assert!((gap - 0.002).abs() < 1e-9, "{gap}");
+    }
+
+    #[test]
+    fn two_links_of_the_moving_hand_always_close_do_not_block_it() {
+        // The arm cube with a finger fixed 5 mm from it: within the 10 mm margin, always.
+        let cube = r#"<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>"#;
+        let finger = r#"<collision><origin xyz="0.06 0 0"/><geometry><box size="0.01 0.01 0.01"/></geometry></collision>"#;
+        let urdf = format!(
+            r#"<robot name="hand">
+                <link name="base"/>
+                <link name="arm">{cube}</link>
+                <link name="finger">{finger}</link>
+                <joint name="arm_joint" type="prismatic"><parent link="base"/><child link="arm"/>
+                  <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+                <joint name="finger_joint" type="fixed"><parent link="arm"/><child link="finger"/></joint>
+              </robot>"#
+        );
+        let model = RobotModel::from_urdf_str(&urdf, Path::new("."), &LoadOptions::default())
+            .expect("valid URDF");
+        let world =
+            CollisionWorld::new(&model, AllowedCollisionMatrix::new()).expect("valid shapes");
+        let arm = [model.variable_index("arm_joint").expect("joint")];
+        let moving = model.links_moved_by(&arm);
+        let q = [0.3];
+        let mut scratch = CollisionScratch::default();
+        let options = CheckOptions { margin: 0.01 };
+        // The mask rule: both links move, the margin applies, every state is blocked.
+        assert!(
+            world
+                .first_collision(
+                    &model,
+                    &q,
+                    &mut scratch,
+                    &options,
+                    PairScope::MarginOnMoving(&moving)
+                )
+                .expect("valid")
+                .is_some()
+        );
+        // The view: no arm joint between them, a static pair, apart at the rest.
+        let view = world.moving_view(&model, &[0.0], &arm).expect("valid");
+        let (a, f) = (
+            BodyId::Link(model.link_index("arm").expect("link")),
+            BodyId::Link(model.link_index("finger").expect("link")),
+        );
+        assert!(!view.pair_moves(a, f));
+        assert!(view.pair_moves(a, BodyId::Environment(0)));
+        assert!(view.static_contacts().is_empty());
+        for rule in [StaticPairs::Contact, StaticPairs::Skip] {
+            assert_eq!(
+                world
+                    .first_collision_in_view(&model, &view, &q, &mut scratch, &options, rule)
+                    .expect("valid"),
+                None
+            );
+        }
+    }
+
+    #[test]
+    fn a_mask_of_the_wrong_length_is_an_error() {
+        let (model, world) = two_cubes();
+        let q = arm_at(&model, 0.1);
+        let mut scratch = CollisionScratch::default();
+        assert!(matches!(
+            world.first_collision(
+                &model,
+                &q,
+                &mut scratch,
+                &CheckOptions::default(),
+                PairScope::MovingOnly(&[true])
+            ),
+            Err(Error::WrongLength {
+                what: "moving-link mask",
+                expected: 3,
+                found: 1
+            })
+        ));
     }
 }

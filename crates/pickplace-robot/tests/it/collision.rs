@@ -5,6 +5,7 @@ use crate::common::{TABLE_TOP_Z, home, nx, pallet_world, random_configuration};
 use pickplace_geometry::math::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pickplace_robot::collision::{
     AllowedCollisionMatrix, BodyId, CheckOptions, CollisionScratch, CollisionShape, CollisionWorld,
+    PairScope, StaticPairs,
 };
 use pickplace_robot::rng::Rng;
 use pickplace_robot::srdf::DisableReason;
@@ -328,4 +329,108 @@ proptest! {
             prop_assert!(pairs.contains(&(nearest.first, nearest.second)) || nearest.distance <= margin);
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, rng_seed: RngSeed::Fixed(7), ..ProptestConfig::default() })]
+
+    /// A moving view answers as the masked query it stands for: the right arm moves (random
+    /// values), the rest is a random configuration; static contacts, margins and an object
+    /// held by the right hand or lying on the table included.
+    #[test]
+    fn a_moving_view_agrees_with_the_masked_queries(seed in any::<u64>(), margin_pick in 0usize..3, held in any::<bool>()) {
+        let (model, semantics) = nx();
+        let mut world = pallet_world(model, semantics);
+        let box_shape = || CollisionShape::cuboid(Vector3::new(0.03, 0.03, 0.06)).expect("valid box");
+        if held {
+            world
+                .attach("held", "RARM_TCP", box_shape(), &Isometry3::translation(0.0, 0.0, 0.08), &["RARM_FINGER0_Link", "RARM_FINGER1_Link"])
+                .expect("link exists");
+        } else {
+            world.add_environment("lying", box_shape(), &Isometry3::translation(0.35, -0.1, TABLE_TOP_Z + 0.061));
+        }
+        let mut scratch = CollisionScratch::default();
+        let mut rng = Rng::new(seed);
+        let rest = random_configuration(model, &mut rng);
+        let arm: Vec<usize> = (0..model.variable_count())
+            .filter(|&v| model.variable_joint(v).name.starts_with("RARM_JOINT"))
+            .collect();
+        let moving = model.links_moved_by(&arm);
+        let view = world.moving_view(model, &rest, &arm).expect("valid");
+        let options = CheckOptions { margin: [0.0, 0.01, 0.05][margin_pick] };
+        for _ in 0..8 {
+            let mut q = rest.clone();
+            let other = random_configuration(model, &mut rng);
+            for &v in &arm {
+                q[v] = other[v];
+            }
+            for (rule, scope) in [
+                (StaticPairs::Contact, PairScope::MarginOnMoving(&moving)),
+                (StaticPairs::Skip, PairScope::MovingOnly(&moving)),
+            ] {
+                let in_view = world
+                    .first_collision_in_view(model, &view, &q, &mut scratch, &options, rule)
+                    .expect("valid");
+                // The mask's pairs, less the ones inside the moving hand (below the same
+                // arm joint), which the view checks at the rest only.
+                let mut masked = world
+                    .colliding_pairs_in(model, &q, &mut scratch, &options, scope)
+                    .expect("valid");
+                masked.retain(|&(a, b)| view.pair_moves(a, b));
+                if rule == StaticPairs::Contact {
+                    masked.extend_from_slice(view.static_contacts());
+                }
+                prop_assert_eq!(in_view.is_some(), !masked.is_empty(), "{:?} {:?}", rule, masked);
+                if let Some(pair) = in_view {
+                    prop_assert!(masked.contains(&pair), "{:?} not in {:?}", pair, masked);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_moving_view_refuses_a_changed_rest_or_world() {
+    let (model, semantics) = nx();
+    let mut world = pallet_world(model, semantics);
+    let rest = home(model, semantics);
+    let arm = [model.variable_index("RARM_JOINT0").expect("joint")];
+    let view = world.moving_view(model, &rest, &arm).expect("valid");
+    let mut scratch = CollisionScratch::default();
+    let options = CheckOptions::default();
+    let mut q = rest.clone();
+    q[model.variable_index("LARM_JOINT0").expect("joint")] += 0.1;
+    assert!(matches!(
+        world.first_collision_in_view(
+            model,
+            &view,
+            &q,
+            &mut scratch,
+            &options,
+            StaticPairs::Contact
+        ),
+        Err(Error::InvalidParameter {
+            name: "static joint value",
+            ..
+        })
+    ));
+    world.add_environment(
+        "ball",
+        CollisionShape::ball(0.1).expect("valid radius"),
+        &Isometry3::translation(2.0, 0.0, 0.0),
+    );
+    assert!(matches!(
+        world.first_collision_in_view(
+            model,
+            &view,
+            &rest,
+            &mut scratch,
+            &options,
+            StaticPairs::Contact
+        ),
+        Err(Error::InvalidParameter {
+            name: "moving view",
+            ..
+        })
+    ));
 }
