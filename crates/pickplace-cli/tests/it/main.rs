@@ -7,6 +7,7 @@ mod placements;
 mod plan;
 mod precompute;
 mod robot;
+mod robots;
 mod support;
 mod view;
 

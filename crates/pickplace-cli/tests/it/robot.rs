@@ -7,12 +7,14 @@ fn nx(file: &str) -> std::path::PathBuf {
     crate::root().join("robots/nx-hiro").join(file)
 }
 
-/// An arm of five joints with a two-finger gripper, as a robot with no SRDF.
+/// An arm of five joints with a two-finger gripper (finger boxes: the gripper is measured on
+/// them), as a robot with no SRDF.
 const GRIPPER_ARM: &str = r#"<robot name="g">
   <link name="base"><collision><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
   <link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/><link name="l5"/>
   <link name="palm"><collision><geometry><box size="0.05 0.08 0.02"/></geometry></collision></link>
-  <link name="fa"/><link name="fb"/>
+  <link name="fa"><collision><origin xyz="0.04 0.005 0"/><geometry><box size="0.04 0.01 0.02"/></geometry></collision></link>
+  <link name="fb"><collision><origin xyz="0.04 -0.005 0"/><geometry><box size="0.04 0.01 0.02"/></geometry></collision></link>
   <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
   <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
   <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.2 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>
