@@ -220,6 +220,43 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         model.joints().len(),
         model.variable_count()
     );
+    println!("arms: {}", report.arms.len());
+    for a in &report.arms {
+        println!(
+            "  {}: {} joints to {}{}",
+            a.group,
+            a.joints.len(),
+            a.tip_link.as_deref().unwrap_or("?"),
+            a.end_effector
+                .as_ref()
+                .map_or(String::new(), |e| format!(", end effector {e}"))
+        );
+        match (&a.gripper, &a.gripper_error) {
+            (Some(g), _) => {
+                let (p, q) = g.tool_point;
+                println!(
+                    "    gripper: opening {:.1} to {:.1} mm; tool point [{:.4}, {:.4}, {:.4}] m, orientation [{:.4}, {:.4}, {:.4}, {:.4}] in the tip's frame",
+                    g.opening_mm[0], g.opening_mm[1], p[0], p[1], p[2], q[0], q[1], q[2], q[3]
+                );
+                for d in &g.drives {
+                    println!(
+                        "    drive {}: closed at {:.4}, open at {:.4}",
+                        d.joint, d.closed, d.open
+                    );
+                }
+                println!(
+                    "    fingers: {} | {}",
+                    g.fingers[0].join(", "),
+                    g.fingers[1].join(", ")
+                );
+            }
+            (None, Some(e)) => {
+                println!("    gripper: not measured: {e}");
+                println!("    fix: give the hand two fingers with collision geometry moved by one or two actuated joints below the arm");
+            }
+            (None, None) => {}
+        }
+    }
     println!("tree:");
     print_tree(model, model.root(), 1);
     println!("joints:");

@@ -154,6 +154,141 @@ pub struct GroupJson {
     pub tip: Option<String>,
 }
 
+/// One arm in [`CheckJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ArmJson {
+    /// The group (or `arm_<tip link>` for an arm found in the URDF).
+    pub group: String,
+    /// The arm's actuated joints, root side first.
+    pub joints: Vec<String>,
+    /// The arm's last moving link, where the hand hangs.
+    pub tip_link: Option<String>,
+    /// The SRDF end effector of the group, if any.
+    pub end_effector: Option<String>,
+    /// The gripper, as measured.
+    pub gripper: Option<GripperJson>,
+    /// Why the gripper could not be measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gripper_error: Option<String>,
+}
+
+/// The gripper of an arm in [`CheckJson`], as measured on the URDF.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct GripperJson {
+    /// Opening between the pads, closed and fully open (mm).
+    pub opening_mm: [Real; 2],
+    /// The actuated joints that close it, each with its value closed and open.
+    pub drives: Vec<DriveJson>,
+    /// The finger links of each side.
+    pub fingers: [Vec<String>; 2],
+    /// The tool point in the tip link's frame: position (m) and orientation `[x, y, z, w]`
+    /// (z the approach direction, y the closing direction).
+    pub tool_point: ([Real; 3], [Real; 4]),
+}
+
+/// A gripper drive in [`GripperJson`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct DriveJson {
+    /// The joint.
+    pub joint: String,
+    /// Its value when closed.
+    pub closed: Real,
+    /// Its value when fully open.
+    pub open: Real,
+}
+
+fn split<T>(r: Result<T, String>) -> (Option<T>, Option<String>) {
+    match r {
+        Ok(t) => (Some(t), None),
+        Err(e) => (None, Some(e)),
+    }
+}
+
+/// The arms of a robot for [`CheckJson::arms`].
+fn arms_report(model: &RobotModel, semantics: Option<&Semantics>) -> Vec<ArmJson> {
+    use crate::gripper::{Gripper, GripperOptions, find_arms};
+    let name = |l: usize| model.links()[l].name.clone();
+    let gripper = |variables: &[usize]| -> Result<GripperJson, String> {
+        let g = Gripper::derive(model, variables, &GripperOptions::default())
+            .map_err(|e| e.to_string())?;
+        let (lo, hi) = g.opening_range();
+        let t = g.tip_from_tcp();
+        let q = t.rotation.quaternion();
+        Ok(GripperJson {
+            opening_mm: [lo * 1e3, hi * 1e3],
+            drives: g
+                .drives()
+                .iter()
+                .map(|d| DriveJson {
+                    joint: model.variable_joint(d.variable).name.clone(),
+                    closed: d.closed,
+                    open: d.open,
+                })
+                .collect(),
+            fingers: g
+                .finger_links()
+                .clone()
+                .map(|side| side.into_iter().map(name).collect()),
+            tool_point: (
+                [t.translation.x, t.translation.y, t.translation.z],
+                [q.i, q.j, q.k, q.w],
+            ),
+        })
+    };
+    let tip_of = |variables: &[usize]| {
+        variables
+            .iter()
+            .map(|&v| model.variable_joint(v).child_link)
+            .max_by_key(|&l| model.joint_path(l).len())
+    };
+    let mut arms = Vec::new();
+    if let Some(semantics) = semantics {
+        for g in semantics.groups() {
+            if g.variables.len() < crate::assistant::MIN_ARM_JOINTS {
+                continue;
+            }
+            let report = gripper(&g.variables);
+            // Whole-body groups (several chains) are not arms: keep groups whose gripper was
+            // measured, and report the others only when they are one chain.
+            let one_chain = semantics.chain(model, &g.name).is_ok();
+            if report.is_err() && !one_chain {
+                continue;
+            }
+            let (gripper, gripper_error) = split(report);
+            arms.push(ArmJson {
+                group: g.name.clone(),
+                joints: g
+                    .variables
+                    .iter()
+                    .map(|&v| model.variable_joint(v).name.clone())
+                    .collect(),
+                tip_link: tip_of(&g.variables).map(name),
+                end_effector: semantics.end_effector_of(&g.name).map(|e| e.name.clone()),
+                gripper,
+                gripper_error,
+            });
+        }
+    }
+    if arms.iter().all(|a| a.gripper.is_none()) {
+        for a in find_arms(model, crate::assistant::MIN_ARM_JOINTS) {
+            let (gripper, gripper_error) = split(gripper(&a.variables));
+            arms.push(ArmJson {
+                group: format!("arm_{}", name(a.tip_link)),
+                joints: a
+                    .variables
+                    .iter()
+                    .map(|&v| model.variable_joint(v).name.clone())
+                    .collect(),
+                tip_link: Some(name(a.tip_link)),
+                end_effector: None,
+                gripper,
+                gripper_error,
+            });
+        }
+    }
+    arms
+}
+
 /// The collision matrix summary in [`CheckJson`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CollisionMatrixJson {
@@ -206,6 +341,11 @@ pub struct UnreadableMeshJson {
 /// `pickplace robot check`: a summary of a URDF (and SRDF) with warnings.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct CheckJson {
+    /// The arms found: the SRDF's groups that end in a parallel gripper (or, without an SRDF
+    /// or such groups, the chains found in the URDF), each with its end effector, tool point
+    /// and gripper; groups of four or more joints whose gripper could not be measured, with
+    /// the reason.
+    pub arms: Vec<ArmJson>,
     /// Link pairs checked for collision (not disabled in the SRDF) that are closer than
     /// the close distance at every sampled configuration (with an SRDF).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -333,6 +473,7 @@ impl CheckJson {
             })
             .collect();
         let mut doc = Self {
+            arms: arms_report(model, semantics),
             always_close: None,
             collision_matrix: None,
             format: CHECK_JSON_FORMAT,

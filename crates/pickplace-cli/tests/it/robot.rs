@@ -142,6 +142,19 @@ fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
     }
     let warnings = doc["srdf_warnings"].as_array().expect("warnings");
     assert_eq!(warnings.len(), 2, "{warnings:?}");
+    // The arms, each with its gripper measured on the URDF: NX-HIRO's prismatic fingers open
+    // 0 to 80 mm, closed at 0 and open at 0.04 m, the tool point 0.1865 m out from the wrist.
+    let arms = doc["arms"].as_array().expect("arms");
+    let right = arms
+        .iter()
+        .find(|a| a["group"] == "right_arm")
+        .expect("right_arm");
+    let g = &right["gripper"];
+    assert!((g["opening_mm"][1].as_f64().expect("mm") - 80.0).abs() < 1e-6, "{g}");
+    assert_eq!(g["drives"][0]["joint"], "RARM_FINGER0_JOINT");
+    assert_eq!(g["drives"][0]["closed"], 0.0);
+    assert!((g["drives"][0]["open"].as_f64().expect("open") - 0.04).abs() < 1e-12);
+    assert!((g["tool_point"][0][0].as_f64().expect("x") + 0.1865).abs() < 0.02, "{g}");
     let text = ok(&run_in(
         dir.path(),
         args![
@@ -159,6 +172,7 @@ fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
         "{text}"
     );
     assert!(text.contains("<gripper>"), "{text}");
+    assert!(text.contains("gripper: opening 0.0 to 80.0 mm"), "{text}");
     // An SRDF naming a joint the URDF does not have: exit 2, naming the file and the joint.
     let bad = dir.file(
         "bad.srdf",
