@@ -3,8 +3,9 @@
 //!
 //! The robots-as-shipped tests plan with PR2, Baxter, TALOS and two Pandas from the public
 //! PyPI package `example-robot-data` (version pinned below). It is installed with a plain
-//! `pip install` into a virtual environment of its own, `target/robots-venv` (kept between
-//! runs: a second run installs nothing), and the tests find its files through
+//! `pip install` into a virtual environment of its own, `target/robots-venv` or
+//! `$PICKPLACE_ROBOTS_VENV` (kept between runs: a second run installs nothing), and the tests
+//! find its files through
 //! `PICKPLACE_ROBOTS_PACKAGES` (the folder that holds `example-robot-data/`).
 
 use anyhow::{Context, bail};
@@ -31,14 +32,20 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Installs `example-robot-data` into `target/robots-venv` when it is not there yet, and
-/// returns the folder that holds `example-robot-data/`.
+/// Installs `example-robot-data` into its virtual environment when it is not there yet, and
+/// returns the folder that holds `example-robot-data/`. The environment is
+/// `$PICKPLACE_ROBOTS_VENV` when set (CI keeps it between runs), else `target/robots-venv`.
 pub fn install_robots(root: &Path) -> anyhow::Result<PathBuf> {
-    let venv = root.join("target/robots-venv");
+    let venv = std::env::var_os("PICKPLACE_ROBOTS_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target/robots-venv"));
     if let Some(share) = find_share(&venv) {
         return Ok(share);
     }
-    std::fs::create_dir_all(root.join("target")).context("cannot create target/")?;
+    if let Some(parent) = venv.parent() {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create {}", parent.display()))?;
+    }
     let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
     eprintln!("xtask test: creating {} with {python}", venv.display());
     let status = Command::new(&python)
