@@ -252,7 +252,9 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
             }
             (None, Some(e)) => {
                 println!("    gripper: not measured: {e}");
-                println!("    fix: give the hand two fingers with collision geometry moved by one or two actuated joints below the arm");
+                println!(
+                    "    fix: give the hand two fingers with collision geometry moved by one or two actuated joints below the arm"
+                );
             }
             (None, None) => {}
         }

@@ -1316,6 +1316,50 @@ mod tests {
     }
 
     #[test]
+    fn a_single_arm_is_found_and_a_gripperless_chain_is_not() {
+        // Four revolute joints, then the prismatic fingers of `robot`'s hand.
+        let mut arm = String::new();
+        let mut parent = "hand".to_owned();
+        for k in 0..3 {
+            arm.push_str(&format!(
+                r#"<link name="a{k}"/><joint name="a{k}_joint" type="revolute"><parent link="{parent}"/><child link="a{k}"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/></joint>"#
+            ));
+            parent = format!("a{k}");
+        }
+        arm.push_str(&format!(
+            "{}\n{}",
+            finger(
+                "l",
+                &parent,
+                "prismatic",
+                "0 0 0",
+                "0 1 0",
+                (0.0, 0.04),
+                "",
+                "0 0.005 0.03"
+            ),
+            finger(
+                "r",
+                &parent,
+                "prismatic",
+                "0 0 0",
+                "0 -1 0",
+                (0.0, 0.04),
+                r#"<mimic joint="l_joint"/>"#,
+                "0 -0.005 0.03"
+            ),
+        ));
+        let model = robot(&arm);
+        let arms = find_arms(&model, 4);
+        assert_eq!(arms.len(), 1, "{arms:?}");
+        assert_eq!(arms[0].variables.len(), 4);
+        assert_eq!(model.links()[arms[0].tip_link].name, "a2");
+        // Three joints are not an arm; a chain without fingers has no gripper.
+        assert!(find_arms(&model, 5).is_empty());
+        assert!(find_arms(&robot(""), 1).is_empty());
+    }
+
+    #[test]
     fn nx_hiro_tcp_matches_its_tool_link() {
         let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../robots/nx-hiro/nx-hiro.urdf");
         let model = RobotModel::from_urdf_file(&urdf, &LoadOptions::default()).expect("nx-hiro");

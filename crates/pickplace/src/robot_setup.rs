@@ -95,9 +95,7 @@ impl GripperOverrides {
             .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
         let axis = |field: &str, given: Option<[Real; 3]>, want: [Real; 3]| -> Result<()> {
             match given {
-                Some(a)
-                    if (Vector3::from(a).normalize() - Vector3::from(want)).norm() > 1e-9 =>
-                {
+                Some(a) if (Vector3::from(a).normalize() - Vector3::from(want)).norm() > 1e-9 => {
                     Err(invalid(
                         field,
                         format!(
@@ -200,7 +198,11 @@ impl RobotSetup {
             };
             let mut resolved = spec.clone();
             resolved.urdf = resolve(&spec.urdf, "urdf")?;
-            resolved.srdf = spec.srdf.as_deref().map(|p| resolve(p, "srdf")).transpose()?;
+            resolved.srdf = spec
+                .srdf
+                .as_deref()
+                .map(|p| resolve(p, "srdf"))
+                .transpose()?;
             resolved.gripper = spec
                 .gripper
                 .as_deref()
@@ -245,7 +247,8 @@ impl RobotSetup {
             }
             _ => combine(parts, &mut notes)?,
         };
-        let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
+        let semantics =
+            Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
 
         // The arms: the scene's groups, else `right_arm` / `left_arm`, else found in the URDF.
         let overrides = match gripper_file.as_ref() {
@@ -329,7 +332,10 @@ impl RobotSetup {
             ));
         }
         if chosen.is_empty() {
-            return Err(invalid("planner.right_arm", "no arm: both arm groups are empty".into()));
+            return Err(invalid(
+                "planner.right_arm",
+                "no arm: both arm groups are empty".into(),
+            ));
         }
 
         // Grippers and tool links.
@@ -363,7 +369,8 @@ impl RobotSetup {
         }
         key_text.push_str(&format!("{overrides:?}"));
         // Semantics again, on the model with the tool links.
-        let semantics = Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
+        let semantics =
+            Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
         for w in semantics.warnings() {
             notes.push(format!("{}: {w}", srdf_path.display()));
         }
@@ -438,10 +445,7 @@ fn combine(
     parts: Vec<(RobotModel, Srdf, Isometry3, RobotSpec)>,
     notes: &mut Vec<String>,
 ) -> Result<(RobotModel, Srdf, Isometry3, PathBuf)> {
-    let first = parts
-        .first()
-        .map(|p| p.3.urdf.clone())
-        .unwrap_or_default();
+    let first = parts.first().map(|p| p.3.urdf.clone()).unwrap_or_default();
     let models: Vec<(String, &RobotModel, Isometry3)> = parts
         .iter()
         .map(|(m, _, pose, spec)| (spec.prefix.clone(), m, *pose))

@@ -8,6 +8,7 @@
 
 use crate::error::{Error, Result};
 use crate::roadmaps::{self, RoadmapReport};
+use crate::robot_setup::{RobotArm, RobotSetup};
 use crate::scene::Scene;
 use crate::strategy::Arm;
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
@@ -19,7 +20,6 @@ use pickplace_grasp::collide::ObjectCollider;
 use pickplace_placement::{EnvironmentModel, ObjectModel};
 use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
-use crate::robot_setup::{RobotArm, RobotSetup};
 use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{IkSolver, RobotModel, Semantics};
 use std::path::{Path, PathBuf};
@@ -274,7 +274,8 @@ impl Setup {
         }
 
         // The collision world: robot, SRDF's disabled pairs, environment meshes.
-        let acm = complete_acm(&model, &semantics, &start, &mut log).map_err(robot_err(&urdf_path))?;
+        let acm =
+            complete_acm(&model, &semantics, &start, &mut log).map_err(robot_err(&urdf_path))?;
         let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(&urdf_path))?;
         self_world.set_world_from_root(world_from_root);
         let mut world = self_world.clone();

@@ -172,3 +172,106 @@ fn a_foreign_database_fails_with_status_2() {
         assert!(!dir.join("out.ply").exists());
     }
 }
+
+/// A scene of NX-HIRO's robot with `extra` robot or planner lines, in `dir`.
+fn nx_scene(
+    dir: &Scratch,
+    name: &str,
+    robot_extra: &str,
+    planner_extra: &str,
+) -> std::path::PathBuf {
+    let root = crate::root();
+    let text = format!(
+        r#"[robot]
+urdf = "{urdf}"
+srdf = "{srdf}"
+base_pose = {{ position = [0.0, 0.0, 0.92] }}
+{robot_extra}
+[object]
+mesh = "{can}"
+start_pose = {{ position = [0.42, -0.04, 0.72] }}
+[[environment]]
+name = "table"
+mesh = "{table}"
+pose = {{ position = [0.55, 0.0, 0.02], orientation = [0.0, 0.0, -0.70710678, 0.70710678] }}
+[target]
+point = [0.40, -0.20, 0.72]
+[planner]
+{planner_extra}
+"#,
+        urdf = root.join("robots/nx-hiro/nx-hiro.urdf").display(),
+        srdf = root.join("robots/nx-hiro/nx-hiro.srdf").display(),
+        can = mesh("can.stl").display(),
+        table = mesh("table.stl").display(),
+    );
+    dir.file(name, text.as_bytes())
+}
+
+/// Exit 2, a message naming `expected`, no panic, no plan written.
+fn refused(dir: &Scratch, scene: &std::path::Path, expected: &[&str]) {
+    let o = run_in(dir.path(), args!["plan", scene, "--out", "plan.json"]);
+    let err = crate::support::stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for e in expected {
+        assert!(err.contains(e), "{e:?} not in {err}");
+    }
+    assert!(!dir.join("plan.json").exists());
+}
+
+#[test]
+fn arms_and_grippers_that_cannot_work_exit_2_naming_what_is_wrong() {
+    let dir = Scratch::new("bad-arms");
+    // An arm group whose end has no gripper.
+    let s = nx_scene(&dir, "head.toml", "", r#"right_arm = "head""#);
+    refused(&dir, &s, &["planner.right_arm", "head", "no gripper"]);
+    // An arm group with no joints (a chain from a link to itself).
+    let s = nx_scene(
+        &dir,
+        "empty.toml",
+        "[robot.groups]\nnothing = { base_link = \"WAIST\", tip_link = \"WAIST\" }",
+        r#"right_arm = "nothing""#,
+    );
+    refused(&dir, &s, &["nothing"]);
+    // A group naming a link the URDF does not have.
+    let s = nx_scene(
+        &dir,
+        "nolink.toml",
+        "[robot.groups]\nghost = { base_link = \"WAIST\", tip_link = \"NO_SUCH_LINK\" }",
+        r#"right_arm = "ghost""#,
+    );
+    refused(&dir, &s, &["NO_SUCH_LINK"]);
+    // A gripper whose fingers cannot move (equal limits): it can neither open nor close.
+    let urdf = std::fs::read_to_string(crate::root().join("robots/nx-hiro/nx-hiro.urdf"))
+        .expect("urdf")
+        .replace(
+            r#"<limit lower="0" upper="0.04" velocity="0.1" effort="20"/>"#,
+            r#"<limit lower="0.02" upper="0.02" velocity="0.1" effort="20"/>"#,
+        );
+    let stuck = dir.file("stuck.urdf", urdf.as_bytes());
+    let s = nx_scene(&dir, "stuck.toml", "", "");
+    let text = std::fs::read_to_string(&s).expect("scene").replace(
+        &crate::root()
+            .join("robots/nx-hiro/nx-hiro.urdf")
+            .display()
+            .to_string(),
+        &stuck.display().to_string(),
+    );
+    let s = dir.file("stuck.toml", text.as_bytes());
+    refused(&dir, &s, &["FINGER", "cannot move"]);
+    // A URDF joint naming a link that does not exist.
+    let broken = std::fs::read_to_string(crate::root().join("robots/nx-hiro/nx-hiro.urdf"))
+        .expect("urdf")
+        .replacen(
+            r#"<child link="RARM_TCP"/>"#,
+            r#"<child link="NOWHERE"/>"#,
+            1,
+        );
+    let broken_path = dir.file("broken.urdf", broken.as_bytes());
+    let text = std::fs::read_to_string(&s).expect("scene").replace(
+        &stuck.display().to_string(),
+        &broken_path.display().to_string(),
+    );
+    let s = dir.file("broken.toml", text.as_bytes());
+    refused(&dir, &s, &["broken.urdf", "NOWHERE"]);
+}

@@ -150,11 +150,17 @@ fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
         .find(|a| a["group"] == "right_arm")
         .expect("right_arm");
     let g = &right["gripper"];
-    assert!((g["opening_mm"][1].as_f64().expect("mm") - 80.0).abs() < 1e-6, "{g}");
+    assert!(
+        (g["opening_mm"][1].as_f64().expect("mm") - 80.0).abs() < 1e-6,
+        "{g}"
+    );
     assert_eq!(g["drives"][0]["joint"], "RARM_FINGER0_JOINT");
     assert_eq!(g["drives"][0]["closed"], 0.0);
     assert!((g["drives"][0]["open"].as_f64().expect("open") - 0.04).abs() < 1e-12);
-    assert!((g["tool_point"][0][0].as_f64().expect("x") + 0.1865).abs() < 0.02, "{g}");
+    assert!(
+        (g["tool_point"][0][0].as_f64().expect("x") + 0.1865).abs() < 0.02,
+        "{g}"
+    );
     let text = ok(&run_in(
         dir.path(),
         args![

@@ -46,7 +46,14 @@ fn plan_and_validate(name: &str, dir: &Scratch) -> (serde_json::Value, String) {
     let scene = root().join("scenes/robots").join(format!("{name}.toml"));
     let out = dir.join(&format!("{name}.json"));
     let p = packages();
-    let o = run(crate::args!["plan", &scene, "--package-dir", &p, "--out", &out]);
+    let o = run(crate::args![
+        "plan",
+        &scene,
+        "--package-dir",
+        &p,
+        "--out",
+        &out
+    ]);
     assert_eq!(o.status.code(), Some(0), "plan {name}: {}", text(&o));
     let log = text(&o);
     let v = run(crate::args!["validate", &scene, &out, "--package-dir", &p]);
@@ -95,7 +102,13 @@ fn with_old_finger_command(
     let out = dir.join(&format!("{name}-old-fingers.json"));
     std::fs::write(&out, serde_json::to_string(&plan).expect("json")).expect("write");
     let scene = root().join("scenes/robots").join(format!("{name}.toml"));
-    run(crate::args!["validate", &scene, &out, "--package-dir", &packages()])
+    run(crate::args![
+        "validate",
+        &scene,
+        &out,
+        "--package-dir",
+        &packages()
+    ])
 }
 
 #[test]

@@ -184,7 +184,10 @@ pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Gra
 /// forward, forward and inward, forward and down, and down, each rolled in 90° steps. Each
 /// feasible one is scored by both arms' reach margin and the robot's clearance.
 pub fn handover_candidates(setup: &Setup, picking: Arm, count: usize) -> Vec<Isometry3> {
-    let [r, l] = [setup.arm(Arm::Right).shoulder, setup.arm(Arm::Left).shoulder];
+    let [r, l] = [
+        setup.arm(Arm::Right).shoulder,
+        setup.arm(Arm::Left).shoulder,
+    ];
     let mid = Point3::from((r.coords + l.coords) / 2.0);
     let forward = setup.world_from_root.rotation * Vector3::x();
     let left = setup.world_from_root.rotation * Vector3::y();

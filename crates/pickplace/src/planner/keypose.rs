@@ -365,7 +365,11 @@ mod tests {
         let g = &setup.arm(Arm::Right).gripper;
         let gripping = ctx.gripping(Arm::Right, &setup.start, 0.05);
         for &v in &setup.arm(Arm::Right).finger_variables {
-            assert!((gripping[v] - (0.05 - g.squeeze()) / 2.0).abs() < 1e-6, "{}", gripping[v]);
+            assert!(
+                (gripping[v] - (0.05 - g.squeeze()) / 2.0).abs() < 1e-6,
+                "{}",
+                gripping[v]
+            );
         }
         // The other arm's fingers and every arm joint are untouched.
         for &v in &setup.arm(Arm::Left).finger_variables {

@@ -297,7 +297,10 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         ctx.finish_stats(&mut stats, t_all);
         return Ok(Outcome::NoPlan(Failure { reasons, stats }));
     }
-    let shoulders = [setup.arm(Arm::Right).shoulder, setup.arm(Arm::Left).shoulder];
+    let shoulders = [
+        setup.arm(Arm::Right).shoulder,
+        setup.arm(Arm::Left).shoulder,
+    ];
     let start_point = setup.object_start * setup.cog;
     let order = Strategy::order(options.strategy, shoulders, &start_point, &target);
     // A single-arm robot: the strategies that need the other arm do not apply.

@@ -121,7 +121,10 @@ fn the_validator_refuses_a_plan_whose_fingers_do_not_close() {
     let report =
         pickplace::validate::validate(&setup, &crushing, Path::new("plan.json")).expect("fits");
     assert!(
-        report.problems.iter().any(|p| p.contains("inside the object")),
+        report
+            .problems
+            .iter()
+            .any(|p| p.contains("inside the object")),
         "{:?}",
         report.problems
     );
