@@ -4,10 +4,8 @@
 //! [`Srdf::merge`](crate::Srdf::merge).
 
 use crate::error::{Error, ModelErrorKind, Result};
-use crate::model::{
-    Joint, JointLimits, JointType, JointValueSource, Link, LoadWarning, RobotModel,
-};
-use pickplace_geometry::math::{Isometry3, UnitVector3, Vector3};
+use crate::model::{Joint, JointValueSource, Link, LoadWarning, RobotModel};
+use pickplace_geometry::math::Isometry3;
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
@@ -77,22 +75,12 @@ impl RobotModel {
                     name: world_joint,
                 }));
             }
-            joints.push(Joint {
-                name: world_joint,
-                joint_type: JointType::Fixed,
-                parent_link: 0,
-                child_link: link_offset + model.root(),
-                parent_from_joint: *world_from_root,
-                axis: UnitVector3::new_unchecked(Vector3::x()),
-                limits: JointLimits {
-                    lower: 0.0,
-                    upper: 0.0,
-                    velocity: 0.0,
-                    effort: 0.0,
-                },
-                mimic: None,
-                source: JointValueSource::Fixed,
-            });
+            joints.push(Joint::fixed(
+                world_joint,
+                0,
+                link_offset + model.root(),
+                *world_from_root,
+            ));
             for link in model.links() {
                 let name = format!("{prefix}{}", link.name);
                 if !link_names.insert(name.clone()) {

@@ -878,22 +878,12 @@ impl RobotModel {
         }
         let mut links = self.links().to_vec();
         let mut joints = self.joints().to_vec();
-        joints.push(crate::model::Joint {
-            name: format!("{name}_joint"),
-            joint_type: JointType::Fixed,
-            parent_link: parent,
-            child_link: links.len(),
-            parent_from_joint: parent_from_link,
-            axis: pickplace_geometry::math::UnitVector3::new_normalize(Vector3::z()),
-            limits: crate::model::JointLimits {
-                lower: 0.0,
-                upper: 0.0,
-                velocity: 0.0,
-                effort: 0.0,
-            },
-            mimic: None,
-            source: JointValueSource::Fixed,
-        });
+        joints.push(crate::model::Joint::fixed(
+            format!("{name}_joint"),
+            parent,
+            links.len(),
+            parent_from_link,
+        ));
         links.push(crate::model::Link {
             name: name.to_owned(),
             parent_joint: Some(joints.len() - 1),

@@ -136,6 +136,32 @@ pub struct Joint {
 }
 
 impl Joint {
+    /// A fixed joint from `parent_link` to `child_link` at `parent_from_joint` (no limits, no
+    /// mimic): what [`RobotModel::combine`] and [`RobotModel::with_fixed_link`] add.
+    pub fn fixed(
+        name: String,
+        parent_link: usize,
+        child_link: usize,
+        parent_from_joint: Isometry3,
+    ) -> Self {
+        Self {
+            name,
+            joint_type: JointType::Fixed,
+            parent_link,
+            child_link,
+            parent_from_joint,
+            axis: UnitVector3::new_unchecked(Vector3::x()),
+            limits: JointLimits {
+                lower: 0.0,
+                upper: 0.0,
+                velocity: 0.0,
+                effort: 0.0,
+            },
+            mimic: None,
+            source: JointValueSource::Fixed,
+        }
+    }
+
     /// The child frame in the joint frame for joint value `value`.
     #[inline]
     pub fn motion(&self, value: Real) -> Isometry3 {
