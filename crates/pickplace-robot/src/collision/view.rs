@@ -18,6 +18,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use pickplace_geometry::math::{Isometry3, Real};
 use pickplace_geometry::parry;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// What a query on a [`MovingView`] does with a pair of two static bodies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -69,7 +70,13 @@ pub struct MovingView {
     /// What the world had when the view was made: robot shapes, self pairs, environment
     /// objects, attached objects.
     fingerprint: [usize; 4],
+    /// A number no other view made in this process has (a clone keeps it: same contents),
+    /// naming the view in a scratch that holds its static entries.
+    id: u64,
 }
+
+/// The id of the next view.
+static NEXT_VIEW_ID: AtomicU64 = AtomicU64::new(0);
 
 impl MovingView {
     /// The moving links (by link index).
@@ -173,6 +180,7 @@ impl CollisionWorld {
             shape_aabbs: Vec::new(),
             static_contacts: Vec::new(),
             fingerprint: self.fingerprint(),
+            id: NEXT_VIEW_ID.fetch_add(1, Relaxed),
         };
         view.static_contacts = touching
             .into_iter()
@@ -247,12 +255,26 @@ impl CollisionWorld {
         {
             return Ok(Some(pair));
         }
+        // The self pairs, all moving (two static links share their anchor): the margin on
+        // each, in the order of `for_each_collision`.
+        for &(a, b) in &view.moving_pairs {
+            let (a, b) = (a as usize, b as usize);
+            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
+                continue;
+            }
+            if self.robot_pair_touching(scratch, a, b, options.margin)? {
+                return Ok(Some((
+                    BodyId::Link(self.robot_shapes[a].link),
+                    BodyId::Link(self.robot_shapes[b].link),
+                )));
+            }
+        }
         let mut found = None;
         self.for_each_collision(
             scratch,
             options.margin,
             PairScope::MovingOnly(&view.moving),
-            &view.moving_pairs,
+            &[],
             Some(&view.moving_shapes),
             &mut |a, b| {
                 found = Some((a, b));
@@ -303,20 +325,29 @@ impl CollisionWorld {
                 });
             }
         }
-        scratch.link_poses.clear();
-        scratch.link_poses.extend_from_slice(&view.link_poses);
+        // The static entries stay as the last query on this view with this margin left them
+        // (a query overwrites the moving entries only).
+        let key = Some((view.id, margin.to_bits()));
+        let fresh = scratch.view_key != key
+            || scratch.link_poses.len() != view.link_poses.len()
+            || scratch.shape_aabbs.len() != view.shape_aabbs.len();
+        if fresh {
+            scratch.link_poses.clear();
+            scratch.link_poses.extend_from_slice(&view.link_poses);
+            scratch.shape_poses.clear();
+            scratch.shape_poses.extend_from_slice(&view.shape_poses);
+            scratch.shape_aabbs.clear();
+            scratch
+                .shape_aabbs
+                .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
+            scratch.view_key = key;
+        }
         let joints = model.joints();
         for &j in &view.moving_joints {
             let joint = &joints[j as usize];
             scratch.link_poses[joint.child_link] = scratch.link_poses[joint.parent_link]
                 * joint.parent_from_child(joint.source.value(q));
         }
-        scratch.shape_poses.clear();
-        scratch.shape_poses.extend_from_slice(&view.shape_poses);
-        scratch.shape_aabbs.clear();
-        scratch
-            .shape_aabbs
-            .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
         for &i in &view.moving_shapes {
             let i = i as usize;
             let s = &self.robot_shapes[i];
