@@ -29,7 +29,7 @@ use crate::model::{RobotModel, Shape};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
-use parry3d_f64::query::gjk::{GJKResult, VoronoiSimplex};
+use parry3d_f64::query::gjk::{CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::{SharedShape, SupportMap};
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
@@ -373,6 +373,8 @@ pub struct CollisionScratch {
     /// hold, so that the next query on that view computes only the moving ones; `None`
     /// after any other query.
     view_key: Option<(u64, u64)>,
+    /// For each moving pair of that view, the direction that last separated it (zero: none).
+    pair_directions: Vec<parry3d_f64::math::Vector>,
 }
 
 /// Robot links, environment and attached objects. Build it once (`&mut self` methods), then
@@ -691,10 +693,35 @@ impl CollisionWorld {
         s2: &RobotShape,
         margin: Real,
     ) -> Result<bool> {
+        self.robot_shapes_touching_from(pose1, s1, pose2, s2, margin, None)
+    }
+
+    /// [`CollisionWorld::robot_shapes_touching`], trying first the direction that separated
+    /// the pair last time (`last`, a unit vector in the first shape's frame, or zero; set
+    /// when GJK separates the pair): when the pair's gap along it exceeds the margin, the
+    /// pair is apart (a separating axis, exact: the test GJK itself ends with), else GJK
+    /// decides as without it.
+    fn robot_shapes_touching_from(
+        &self,
+        pose1: &Pose,
+        s1: &RobotShape,
+        pose2: &Pose,
+        s2: &RobotShape,
+        margin: Real,
+        mut last: Option<&mut parry3d_f64::math::Vector>,
+    ) -> Result<bool> {
         if (s1.climbing.is_some() || s2.climbing.is_some())
             && let (Some(g1), Some(g2)) = (s1.support_map(), s2.support_map())
         {
             let pos12 = pose1.inv_mul(pose2);
+            if let Some(dir) = last.as_deref()
+                && *dir != parry3d_f64::math::Vector::ZERO
+            {
+                let gap = -dir.dot(CsoPoint::from_shapes(&pos12, g1, g2, *dir).point);
+                if gap > margin {
+                    return Ok(false);
+                }
+            }
             // GJK starts along the line between the shapes' box centres (parry starts
             // along the line between their frames, which a link mesh may have far from
             // its geometry): fewer iterations; the answer is GJK's either way (a start
@@ -712,17 +739,22 @@ impl CollisionWorld {
                 )
                 .0
             } else {
-                !matches!(
-                    query::details::closest_points_support_map_support_map_with_params(
-                        &pos12,
-                        g1,
-                        g2,
-                        margin,
-                        &mut simplex,
-                        init,
-                    ),
-                    GJKResult::NoIntersection(_)
-                )
+                match query::details::closest_points_support_map_support_map_with_params(
+                    &pos12,
+                    g1,
+                    g2,
+                    margin,
+                    &mut simplex,
+                    init,
+                ) {
+                    GJKResult::NoIntersection(dir) => {
+                        if let Some(last) = last.as_deref_mut() {
+                            *last = dir;
+                        }
+                        false
+                    }
+                    _ => true,
+                }
             });
         }
         self.touching(pose1, &s1.shape, pose2, &s2.shape, margin, || {

@@ -11,7 +11,7 @@
 //! [`PairScope`] mask rule (an object held by a moving link moves against every body but
 //! the ones it may touch).
 
-use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope};
+use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope, boxes_overlap};
 use crate::error::{Error, Result};
 use crate::model::{JointValueSource, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -257,12 +257,18 @@ impl CollisionWorld {
         }
         // The self pairs, all moving (two static links share their anchor): the margin on
         // each, in the order of `for_each_collision`.
-        for &(a, b) in &view.moving_pairs {
+        for (p, &(a, b)) in view.moving_pairs.iter().enumerate() {
             let (a, b) = (a as usize, b as usize);
             if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
                 continue;
             }
-            if self.robot_pair_touching(scratch, a, b, options.margin)? {
+            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+            let (pa, pb) = (scratch.shape_poses[a], scratch.shape_poses[b]);
+            if !boxes_overlap(&pa, sa, &pb, sb, options.margin) {
+                continue;
+            }
+            let last = scratch.pair_directions.get_mut(p);
+            if self.robot_shapes_touching_from(&pa, sa, &pb, sb, options.margin, last)? {
                 return Ok(Some((
                     BodyId::Link(self.robot_shapes[a].link),
                     BodyId::Link(self.robot_shapes[b].link),
@@ -340,6 +346,10 @@ impl CollisionWorld {
             scratch
                 .shape_aabbs
                 .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
+            scratch.pair_directions.clear();
+            scratch
+                .pair_directions
+                .resize(view.moving_pairs.len(), parry3d_f64::math::Vector::ZERO);
             scratch.view_key = key;
         }
         let joints = model.joints();
