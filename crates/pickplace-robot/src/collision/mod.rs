@@ -708,7 +708,7 @@ impl CollisionWorld {
         pose2: &Pose,
         s2: &RobotShape,
         margin: Real,
-        mut last: Option<&mut parry3d_f64::math::Vector>,
+        last: Option<&mut parry3d_f64::math::Vector>,
     ) -> Result<bool> {
         if (s1.climbing.is_some() || s2.climbing.is_some())
             && let (Some(g1), Some(g2)) = (s1.support_map(), s2.support_map())
@@ -748,7 +748,7 @@ impl CollisionWorld {
                     init,
                 ) {
                     GJKResult::NoIntersection(dir) => {
-                        if let Some(last) = last.as_deref_mut() {
+                        if let Some(last) = last {
                             *last = dir;
                         }
                         false
@@ -1552,6 +1552,7 @@ mod tests {
         };
         let (a, b) = (robot_shape(0), robot_shape(1));
         let (_, world) = two_cubes();
+        let mut last = [parry3d_f64::math::Vector::ZERO; 2];
         let mut agreed = [0usize; 2];
         for i in 0..400 {
             let t = i as Real * 0.37;
@@ -1573,6 +1574,21 @@ mod tests {
                     })
                     .expect("supported");
                 assert_eq!(ours, theirs, "pose {i}, margin {margin}");
+                // Starting from the direction that separated the pair at the previous pose.
+                let from_last = world
+                    .robot_shapes_touching_from(
+                        &pose1,
+                        &a,
+                        &pose2,
+                        &b,
+                        margin,
+                        Some(&mut last[usize::from(margin > 0.0)]),
+                    )
+                    .expect("supported");
+                assert_eq!(
+                    from_last, theirs,
+                    "pose {i}, margin {margin}, from the last"
+                );
                 agreed[usize::from(ours)] += 1;
             }
         }

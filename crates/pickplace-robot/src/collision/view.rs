@@ -41,7 +41,9 @@ pub enum StaticPairs {
 /// # Performance
 /// A query runs forward kinematics only for the joints below the moving links, transforms
 /// only the moving shapes, and tests only the self pairs with a moving shape and the moving
-/// shapes against the environment.
+/// shapes against the environment. The scratch keeps the static entries of the last query on
+/// the same view and margin (only the moving ones are recomputed), and for each moving pair
+/// the direction that last separated it, tried first ([`CollisionWorld::first_collision_in_view`]).
 #[derive(Debug, Clone)]
 pub struct MovingView {
     moving: Vec<bool>,
