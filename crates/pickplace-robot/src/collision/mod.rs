@@ -12,9 +12,13 @@
 //! environment's BVH and against the AABBs of the shapes it may touch; the exact test
 //! (parry's `intersection_test`, or `closest_points` with a margin) runs only on overlapping
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
+//! Two robot shapes, one of them a link hull of many vertices, are tested by the same GJK
+//! query with a support function that climbs the hull's vertex graph instead of scanning
+//! every vertex ([`support`]).
 
 mod acm;
 mod hull;
+mod support;
 mod view;
 
 pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
@@ -25,8 +29,9 @@ use crate::model::{RobotModel, Shape};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d_f64::query::gjk::{CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints};
-use parry3d_f64::shape::SharedShape;
+use parry3d_f64::shape::{SharedShape, SupportMap};
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
 use pickplace_geometry::parry;
@@ -293,6 +298,24 @@ struct RobotShape {
     /// (separating axes) before the exact test of a self pair.
     box_centre: parry3d_f64::math::Vector,
     box_half_extents: parry3d_f64::math::Vector,
+    /// The shape's support function by climbing, for a hull of many vertices
+    /// ([`support::ClimbingHull`]).
+    climbing: Option<support::ClimbingHull>,
+}
+
+impl RobotShape {
+    /// The support function GJK uses for this shape in a self pair with a climbing hull:
+    /// `None` for a shape parry does not test as a support map against a hull (a ball has
+    /// its own routine, a flat mesh is no support map).
+    fn support_map(&self) -> Option<&dyn SupportMap> {
+        if let Some(c) = &self.climbing {
+            Some(c)
+        } else if self.shape.as_ball().is_some() {
+            None
+        } else {
+            self.shape.as_support_map()
+        }
+    }
 }
 
 /// Whether the oriented boxes of two robot shapes, each loosened by half the margin, overlap:
@@ -346,6 +369,12 @@ pub struct CollisionScratch {
     attached_poses: Vec<Pose>,
     attached_aabbs: Vec<Aabb>,
     candidates: Vec<u32>,
+    /// The view (its id) and margin (bits) whose static link and shape entries the buffers
+    /// hold, so that the next query on that view computes only the moving ones; `None`
+    /// after any other query.
+    view_key: Option<(u64, u64)>,
+    /// For each moving pair of that view, the direction that last separated it (zero: none).
+    pair_directions: Vec<parry3d_f64::math::Vector>,
 }
 
 /// Robot links, environment and attached objects. Build it once (`&mut self` methods), then
@@ -381,6 +410,7 @@ impl CollisionWorld {
             for g in &l.collisions {
                 let (shape, correction) = CollisionShape::from_model_shape(&g.shape)?;
                 let local_aabb = shape.shape.compute_local_aabb();
+                let climbing = support::ClimbingHull::of(&shape.shape);
                 robot_shapes.push(RobotShape {
                     link,
                     shape: shape.shape,
@@ -388,6 +418,7 @@ impl CollisionWorld {
                     local_aabb,
                     box_centre: local_aabb.center(),
                     box_half_extents: local_aabb.half_extents(),
+                    climbing,
                 });
             }
         }
@@ -586,6 +617,7 @@ impl CollisionWorld {
                 found: mask.len(),
             });
         }
+        scratch.view_key = None;
         scratch
             .link_poses
             .resize(self.link_names.len(), Isometry3::identity());
@@ -595,6 +627,7 @@ impl CollisionWorld {
     }
 
     fn prepare_shapes(&self, scratch: &mut CollisionScratch, margin: Real) {
+        scratch.view_key = None;
         scratch.shape_poses.clear();
         scratch.shape_aabbs.clear();
         if self.world_from_root != Isometry3::identity() {
@@ -649,6 +682,105 @@ impl CollisionWorld {
         }
     }
 
+    /// The exact test of two robot shapes, as [`CollisionWorld::touching`]: the same GJK query
+    /// parry's dispatcher runs on two support maps, with the climbing support function of
+    /// the hulls that have one.
+    fn robot_shapes_touching(
+        &self,
+        pose1: &Pose,
+        s1: &RobotShape,
+        pose2: &Pose,
+        s2: &RobotShape,
+        margin: Real,
+    ) -> Result<bool> {
+        self.robot_shapes_touching_from(pose1, s1, pose2, s2, margin, None)
+    }
+
+    /// [`CollisionWorld::robot_shapes_touching`], trying first the direction that separated
+    /// the pair last time (`last`, a unit vector in the first shape's frame, or zero; set
+    /// when GJK separates the pair): when the pair's gap along it exceeds the margin, the
+    /// pair is apart (a separating axis, exact: the test GJK itself ends with), else GJK
+    /// decides as without it.
+    fn robot_shapes_touching_from(
+        &self,
+        pose1: &Pose,
+        s1: &RobotShape,
+        pose2: &Pose,
+        s2: &RobotShape,
+        margin: Real,
+        last: Option<&mut parry3d_f64::math::Vector>,
+    ) -> Result<bool> {
+        if (s1.climbing.is_some() || s2.climbing.is_some())
+            && let (Some(g1), Some(g2)) = (s1.support_map(), s2.support_map())
+        {
+            let pos12 = pose1.inv_mul(pose2);
+            if let Some(dir) = last.as_deref()
+                && *dir != parry3d_f64::math::Vector::ZERO
+            {
+                let gap = -dir.dot(CsoPoint::from_shapes(&pos12, g1, g2, *dir).point);
+                if gap > margin {
+                    return Ok(false);
+                }
+            }
+            // GJK starts along the line between the shapes' box centres (parry starts
+            // along the line between their frames, which a link mesh may have far from
+            // its geometry): fewer iterations; the answer is GJK's either way (a start
+            // changes it only within GJK's tolerance).
+            let init = s1.box_centre - pos12.transform_point(s2.box_centre);
+            let init = (init.length_squared() > 0.0).then_some(init);
+            let mut simplex = VoronoiSimplex::new();
+            return Ok(if margin == 0.0 {
+                query::details::intersection_test_support_map_support_map_with_params(
+                    &pos12,
+                    g1,
+                    g2,
+                    &mut simplex,
+                    init.map(|d| -d),
+                )
+                .0
+            } else {
+                match query::details::closest_points_support_map_support_map_with_params(
+                    &pos12,
+                    g1,
+                    g2,
+                    margin,
+                    &mut simplex,
+                    init,
+                ) {
+                    GJKResult::NoIntersection(dir) => {
+                        if let Some(last) = last {
+                            *last = dir;
+                        }
+                        false
+                    }
+                    _ => true,
+                }
+            });
+        }
+        self.touching(pose1, &s1.shape, pose2, &s2.shape, margin, || {
+            (
+                self.link_names[s1.link].clone(),
+                self.link_names[s2.link].clone(),
+            )
+        })
+    }
+
+    /// The narrow phase of robot shapes `a` and `b` whose boxes overlap: their oriented boxes,
+    /// then the exact test.
+    #[inline]
+    fn robot_pair_touching(
+        &self,
+        scratch: &CollisionScratch,
+        a: usize,
+        b: usize,
+        margin: Real,
+    ) -> Result<bool> {
+        let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+        let (pa, pb) = (&scratch.shape_poses[a], &scratch.shape_poses[b]);
+        Ok(boxes_overlap(pa, sa, pb, sb, margin)
+            && self.robot_shapes_touching(pa, sa, pb, sb, margin)?)
+    }
+
     /// Visits colliding pairs of the scope until `visit` returns false: the self pairs
     /// `self_pairs`, the robot shapes `env_shapes` (every shape when `None`) against the
     /// environment, the attached objects against both.
@@ -670,30 +802,9 @@ impl CollisionWorld {
             else {
                 continue;
             };
-            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
-                || !boxes_overlap(
-                    &scratch.shape_poses[a],
-                    sa,
-                    &scratch.shape_poses[b],
-                    sb,
-                    pair_margin,
-                )
-            {
-                continue;
-            }
-            if self.touching(
-                &scratch.shape_poses[a],
-                &sa.shape,
-                &scratch.shape_poses[b],
-                &sb.shape,
-                pair_margin,
-                || {
-                    (
-                        self.link_names[sa.link].clone(),
-                        self.link_names[sb.link].clone(),
-                    )
-                },
-            )? && !visit(BodyId::Link(sa.link), BodyId::Link(sb.link))
+            if scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                && self.robot_pair_touching(scratch, a, b, pair_margin)?
+                && !visit(BodyId::Link(sa.link), BodyId::Link(sb.link))
             {
                 return Ok(());
             }
@@ -1108,18 +1219,12 @@ impl CollisionWorld {
                 {
                     continue;
                 }
-                if self.touching(
+                if self.robot_shapes_touching(
                     &scratch.shape_poses[a],
-                    &sa.shape,
+                    sa,
                     &scratch.shape_poses[b],
-                    &sb.shape,
+                    sb,
                     0.0,
-                    || {
-                        (
-                            self.link_names[sa.link].clone(),
-                            self.link_names[sb.link].clone(),
-                        )
-                    },
                 )? {
                     pairs.push((sa.link.min(sb.link), sa.link.max(sb.link)));
                 }
@@ -1361,6 +1466,134 @@ mod tests {
                 None
             );
         }
+    }
+
+    #[test]
+    fn a_scratch_shared_by_views_margins_and_other_queries_answers_as_a_fresh_one() {
+        let (model, world) = two_cubes();
+        let arm = [model.variable_index("arm_joint").expect("joint")];
+        let moving = model.links_moved_by(&arm);
+        let rest = model.zero_configuration();
+        let views = [
+            world.moving_view(&model, &rest, &arm).expect("valid"),
+            world.moving_view(&model, &rest, &arm).expect("valid"),
+        ];
+        let mut shared = CollisionScratch::default();
+        for step in 0..40 {
+            let view = &views[step % 2];
+            let margin = [0.0, 0.01, 0.004][step % 3];
+            let q = arm_at(&model, -0.02 + 0.001 * step as Real);
+            let options = CheckOptions { margin };
+            if step % 5 == 0 {
+                // Another query fills the shared scratch with the whole robot.
+                world
+                    .first_collision(
+                        &model,
+                        &q,
+                        &mut shared,
+                        &options,
+                        PairScope::MovingOnly(&moving),
+                    )
+                    .expect("valid");
+            }
+            let got = world
+                .first_collision_in_view(&model, view, &q, &mut shared, &options, StaticPairs::Skip)
+                .expect("valid");
+            let fresh = world
+                .first_collision_in_view(
+                    &model,
+                    view,
+                    &q,
+                    &mut CollisionScratch::default(),
+                    &options,
+                    StaticPairs::Skip,
+                )
+                .expect("valid");
+            assert_eq!(got, fresh, "step {step}");
+        }
+    }
+
+    #[test]
+    fn self_pairs_of_link_hulls_answer_as_parry() {
+        // Two links whose meshes have many vertices (climbing hulls), moved against each
+        // other: the world's test agrees with parry's query on the same shapes.
+        let sphere = |n: usize, r: Real| -> Vec<parry3d_f64::math::Vector> {
+            (0..n)
+                .map(|i| {
+                    let z = 1.0 - 2.0 * (i as Real + 0.5) / n as Real;
+                    let rho = (1.0 - z * z).sqrt();
+                    let phi = i as Real * 2.399_963_229_728_653;
+                    parry3d_f64::math::Vector::new(
+                        r * rho * phi.cos(),
+                        0.5 * r * rho * phi.sin(),
+                        r * z,
+                    )
+                })
+                .collect()
+        };
+        let hull =
+            |points: Vec<parry3d_f64::math::Vector>| hull::link_hull(&points).expect("a volume");
+        let shapes = [hull(sphere(400, 0.05)), hull(sphere(90, 0.03))];
+        let climbing: Vec<_> = shapes
+            .iter()
+            .map(|s| support::ClimbingHull::of(s).expect("many vertices"))
+            .collect();
+        let robot_shape = |k: usize| {
+            let local_aabb = shapes[k].compute_local_aabb();
+            RobotShape {
+                link: k,
+                shape: shapes[k].clone(),
+                link_from_shape: Isometry3::identity(),
+                local_aabb,
+                box_centre: local_aabb.center(),
+                box_half_extents: local_aabb.half_extents(),
+                climbing: Some(climbing[k].clone()),
+            }
+        };
+        let (a, b) = (robot_shape(0), robot_shape(1));
+        let (_, world) = two_cubes();
+        let mut last = [parry3d_f64::math::Vector::ZERO; 2];
+        let mut agreed = [0usize; 2];
+        for i in 0..400 {
+            let t = i as Real * 0.37;
+            let pose1 = parry::pose(&Isometry3::from_parts(
+                Translation3::new(0.0, 0.0, 0.0),
+                UnitQuaternion::from_euler_angles(t, 0.5 * t, 0.0),
+            ));
+            let pose2 = parry::pose(&Isometry3::from_parts(
+                Translation3::new(0.06 + 0.04 * (t * 1.3).sin(), 0.02 * t.cos(), 0.01),
+                UnitQuaternion::from_euler_angles(0.2 * t, t, 0.3),
+            ));
+            for margin in [0.0, 0.01] {
+                let ours = world
+                    .robot_shapes_touching(&pose1, &a, &pose2, &b, margin)
+                    .expect("supported");
+                let theirs = world
+                    .touching(&pose1, &a.shape, &pose2, &b.shape, margin, || {
+                        (String::new(), String::new())
+                    })
+                    .expect("supported");
+                assert_eq!(ours, theirs, "pose {i}, margin {margin}");
+                // Starting from the direction that separated the pair at the previous pose.
+                let from_last = world
+                    .robot_shapes_touching_from(
+                        &pose1,
+                        &a,
+                        &pose2,
+                        &b,
+                        margin,
+                        Some(&mut last[usize::from(margin > 0.0)]),
+                    )
+                    .expect("supported");
+                assert_eq!(
+                    from_last, theirs,
+                    "pose {i}, margin {margin}, from the last"
+                );
+                agreed[usize::from(ours)] += 1;
+            }
+        }
+        // Both answers occur.
+        assert!(agreed[0] > 20 && agreed[1] > 20, "{agreed:?}");
     }
 
     #[test]

@@ -11,13 +11,14 @@
 //! [`PairScope`] mask rule (an object held by a moving link moves against every body but
 //! the ones it may touch).
 
-use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope};
+use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope, boxes_overlap};
 use crate::error::{Error, Result};
 use crate::model::{JointValueSource, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use pickplace_geometry::math::{Isometry3, Real};
 use pickplace_geometry::parry;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// What a query on a [`MovingView`] does with a pair of two static bodies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -40,7 +41,9 @@ pub enum StaticPairs {
 /// # Performance
 /// A query runs forward kinematics only for the joints below the moving links, transforms
 /// only the moving shapes, and tests only the self pairs with a moving shape and the moving
-/// shapes against the environment.
+/// shapes against the environment. The scratch keeps the static entries of the last query on
+/// the same view and margin (only the moving ones are recomputed), and for each moving pair
+/// the direction that last separated it, tried first ([`CollisionWorld::first_collision_in_view`]).
 #[derive(Debug, Clone)]
 pub struct MovingView {
     moving: Vec<bool>,
@@ -69,7 +72,13 @@ pub struct MovingView {
     /// What the world had when the view was made: robot shapes, self pairs, environment
     /// objects, attached objects.
     fingerprint: [usize; 4],
+    /// A number no other view made in this process has (a clone keeps it: same contents),
+    /// naming the view in a scratch that holds its static entries.
+    id: u64,
 }
+
+/// The id of the next view.
+static NEXT_VIEW_ID: AtomicU64 = AtomicU64::new(0);
 
 impl MovingView {
     /// The moving links (by link index).
@@ -173,6 +182,7 @@ impl CollisionWorld {
             shape_aabbs: Vec::new(),
             static_contacts: Vec::new(),
             fingerprint: self.fingerprint(),
+            id: NEXT_VIEW_ID.fetch_add(1, Relaxed),
         };
         view.static_contacts = touching
             .into_iter()
@@ -247,12 +257,32 @@ impl CollisionWorld {
         {
             return Ok(Some(pair));
         }
+        // The self pairs, all moving (two static links share their anchor): the margin on
+        // each, in the order of `for_each_collision`.
+        for (p, &(a, b)) in view.moving_pairs.iter().enumerate() {
+            let (a, b) = (a as usize, b as usize);
+            if !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b]) {
+                continue;
+            }
+            let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
+            let (pa, pb) = (scratch.shape_poses[a], scratch.shape_poses[b]);
+            if !boxes_overlap(&pa, sa, &pb, sb, options.margin) {
+                continue;
+            }
+            let last = scratch.pair_directions.get_mut(p);
+            if self.robot_shapes_touching_from(&pa, sa, &pb, sb, options.margin, last)? {
+                return Ok(Some((
+                    BodyId::Link(self.robot_shapes[a].link),
+                    BodyId::Link(self.robot_shapes[b].link),
+                )));
+            }
+        }
         let mut found = None;
         self.for_each_collision(
             scratch,
             options.margin,
             PairScope::MovingOnly(&view.moving),
-            &view.moving_pairs,
+            &[],
             Some(&view.moving_shapes),
             &mut |a, b| {
                 found = Some((a, b));
@@ -303,20 +333,33 @@ impl CollisionWorld {
                 });
             }
         }
-        scratch.link_poses.clear();
-        scratch.link_poses.extend_from_slice(&view.link_poses);
+        // The static entries stay as the last query on this view with this margin left them
+        // (a query overwrites the moving entries only).
+        let key = Some((view.id, margin.to_bits()));
+        let fresh = scratch.view_key != key
+            || scratch.link_poses.len() != view.link_poses.len()
+            || scratch.shape_aabbs.len() != view.shape_aabbs.len();
+        if fresh {
+            scratch.link_poses.clear();
+            scratch.link_poses.extend_from_slice(&view.link_poses);
+            scratch.shape_poses.clear();
+            scratch.shape_poses.extend_from_slice(&view.shape_poses);
+            scratch.shape_aabbs.clear();
+            scratch
+                .shape_aabbs
+                .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
+            scratch.pair_directions.clear();
+            scratch
+                .pair_directions
+                .resize(view.moving_pairs.len(), parry3d_f64::math::Vector::ZERO);
+            scratch.view_key = key;
+        }
         let joints = model.joints();
         for &j in &view.moving_joints {
             let joint = &joints[j as usize];
             scratch.link_poses[joint.child_link] = scratch.link_poses[joint.parent_link]
                 * joint.parent_from_child(joint.source.value(q));
         }
-        scratch.shape_poses.clear();
-        scratch.shape_poses.extend_from_slice(&view.shape_poses);
-        scratch.shape_aabbs.clear();
-        scratch
-            .shape_aabbs
-            .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
         for &i in &view.moving_shapes {
             let i = i as usize;
             let s = &self.robot_shapes[i];
