@@ -59,7 +59,12 @@ pub fn install_robots(root: &Path) -> anyhow::Result<PathBuf> {
     let pip = venv.join("bin/pip");
     eprintln!("xtask test: pip install {EXAMPLE_ROBOT_DATA}");
     let status = Command::new(&pip)
-        .args(["install", "--quiet", "--disable-pip-version-check", EXAMPLE_ROBOT_DATA])
+        .args([
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            EXAMPLE_ROBOT_DATA,
+        ])
         .status()
         .with_context(|| format!("cannot run {}", pip.display()))?;
     if !status.success() {
