@@ -211,16 +211,7 @@ pub fn always_close_pairs(
     let mut candidates =
         world.colliding_pairs(model, &model.zero_configuration(), &mut scratch, &check)?;
     let mut rng = Rng::new(options.seed);
-    let limits: Vec<(Real, Real)> = model
-        .variable_limits()
-        .map(|l| {
-            if l.lower.is_finite() && l.upper.is_finite() {
-                (l.lower, l.upper)
-            } else {
-                (-std::f64::consts::PI, std::f64::consts::PI)
-            }
-        })
-        .collect();
+    let limits = model.sampling_limits();
     let mut q = vec![0.0; model.variable_count()];
     for _ in 0..options.samples {
         if candidates.is_empty() {

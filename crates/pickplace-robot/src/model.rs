@@ -551,6 +551,20 @@ impl RobotModel {
         false
     }
 
+    /// Each variable's range for uniform sampling: its limits, or one turn [−π, π] for a
+    /// joint without finite limits (continuous).
+    pub fn sampling_limits(&self) -> Vec<(Real, Real)> {
+        self.variable_limits()
+            .map(|l| {
+                if l.lower.is_finite() && l.upper.is_finite() {
+                    (l.lower, l.upper)
+                } else {
+                    (-std::f64::consts::PI, std::f64::consts::PI)
+                }
+            })
+            .collect()
+    }
+
     /// The all-zero variable vector, clamped into the limits.
     pub fn zero_configuration(&self) -> Vec<Real> {
         self.variable_limits().map(|l| l.clamp(0.0)).collect()

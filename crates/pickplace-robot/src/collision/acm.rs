@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::model::RobotModel;
 use crate::rng::Rng;
 use crate::srdf::{DisableReason, DisabledPair, Srdf};
-use pickplace_geometry::math::{Isometry3, Real};
+use pickplace_geometry::math::Isometry3;
 use std::collections::BTreeMap;
 
 /// Options of [`AllowedCollisionMatrix::generate`].
@@ -116,16 +116,7 @@ impl AllowedCollisionMatrix {
         let mut counts = vec![0usize; link_count * link_count];
         let mut poses = vec![Isometry3::identity(); link_count];
         let mut rng = Rng::new(options.seed);
-        let limits: Vec<(Real, Real)> = model
-            .variable_limits()
-            .map(|l| {
-                if l.lower.is_finite() && l.upper.is_finite() {
-                    (l.lower, l.upper)
-                } else {
-                    (-std::f64::consts::PI, std::f64::consts::PI)
-                }
-            })
-            .collect();
+        let limits = model.sampling_limits();
         let mut q = vec![0.0; model.variable_count()];
         for _ in 0..options.samples {
             for (value, &(lower, upper)) in q.iter_mut().zip(&limits) {
