@@ -23,6 +23,14 @@ pub enum StrategyArg {
     RightLeft,
     /// Left picks, hands over, right places.
     LeftRight,
+    /// Right picks, puts the object down, picks it again and places (regrasp by placing).
+    RightPlaceRight,
+    /// Left picks, puts the object down, picks it again and places.
+    LeftPlaceLeft,
+    /// Right picks and puts the object down, left picks it up and places.
+    RightPlaceLeft,
+    /// Left picks and puts the object down, right picks it up and places.
+    LeftPlaceRight,
 }
 
 impl From<StrategyArg> for StrategyChoice {
@@ -33,6 +41,10 @@ impl From<StrategyArg> for StrategyChoice {
             StrategyArg::LeftLeft => StrategyChoice::LeftLeft,
             StrategyArg::RightLeft => StrategyChoice::RightLeft,
             StrategyArg::LeftRight => StrategyChoice::LeftRight,
+            StrategyArg::RightPlaceRight => StrategyChoice::RightPlaceRight,
+            StrategyArg::LeftPlaceLeft => StrategyChoice::LeftPlaceLeft,
+            StrategyArg::RightPlaceLeft => StrategyChoice::RightPlaceLeft,
+            StrategyArg::LeftPlaceRight => StrategyChoice::LeftPlaceRight,
         }
     }
 }

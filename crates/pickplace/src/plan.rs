@@ -37,7 +37,11 @@ pub struct Plan {
     pub object: ObjectMotion,
     /// The placement chosen (paper §III-B.2).
     pub placement: PlacementInfo,
-    /// The grasps used: one, or two with a handover (the second is the regrasp).
+    /// The intermediate resting poses of a regrasp by placing, in time order (absent for the
+    /// other strategies).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rests: Vec<RestInfo>,
+    /// The grasps used, in time order: one, or two with a handover or a regrasp by placing.
     pub grasps: Vec<GraspInfo>,
     /// The key poses of the motion, in time order.
     pub key_poses: Vec<KeyPose>,
@@ -107,6 +111,17 @@ pub struct PlacementInfo {
     pub stability_margin: Real,
     /// Rank among the placement candidates (0 = best).
     pub rank: usize,
+}
+
+/// An intermediate resting pose of a regrasp by placing: where the object is put down and
+/// picked up again.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RestInfo {
+    /// `world_from_object` while it rests there.
+    pub world_from_object: PoseSpec,
+    /// The stable placement it is (its `rank` among the resting poses searched).
+    pub placement: PlacementInfo,
 }
 
 /// A grasp used by the plan.
@@ -359,6 +374,7 @@ mod tests {
                 stability_margin: 0.01,
                 rank: 0,
             },
+            rests: vec![],
             grasps: vec![],
             key_poses: vec![],
             stats: Stats::default(),

@@ -224,6 +224,14 @@ pub enum StrategyChoice {
     RightLeft,
     /// Grasp with the left hand, hand over, place with the right.
     LeftRight,
+    /// Regrasp by placing with the right hand: pick, put down, pick again, place.
+    RightPlaceRight,
+    /// Regrasp by placing with the left hand.
+    LeftPlaceLeft,
+    /// The right hand picks and puts the object down, the left picks it up and places it.
+    RightPlaceLeft,
+    /// The left hand picks and puts the object down, the right picks it up and places it.
+    LeftPlaceRight,
 }
 
 /// Planner options of a scene.

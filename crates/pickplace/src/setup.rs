@@ -562,13 +562,12 @@ fn arm_setup(
 
 /// Why the scene's strategy needs an arm the robot does not have, if it does.
 fn missing_arm(scene: &Scene, robot: &RobotSetup) -> Option<String> {
-    use crate::scene::StrategyChoice;
-    let needs: &[Arm] = match scene.planner.strategy {
-        StrategyChoice::Auto => &[],
-        StrategyChoice::RightRight => &[Arm::Right],
-        StrategyChoice::LeftLeft => &[Arm::Left],
-        StrategyChoice::RightLeft | StrategyChoice::LeftRight => &[Arm::Right, Arm::Left],
-    };
+    let needs: Vec<Arm> = scene
+        .planner
+        .strategy
+        .strategy()
+        .map(|s| s.arms())
+        .unwrap_or_default();
     needs.iter().find(|&&a| robot.arm(a).is_none()).map(|a| {
         format!(
             "the strategy needs the {a} arm, and the robot has {}",

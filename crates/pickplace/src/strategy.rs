@@ -62,6 +62,16 @@ pub enum Strategy {
     RightLeft,
     /// LEFT-RIGHT: the left hand picks, hands over, the right hand places.
     LeftRight,
+    /// Regrasp by placing (Wan and Harada's regrasp graph, the successor of the paper's
+    /// planner): the right hand picks, puts the object down in an intermediate stable pose,
+    /// and picks it up again with another grasp before placing it.
+    RightPlaceRight,
+    /// The right hand picks and puts the object down; the left hand picks it up and places it.
+    RightPlaceLeft,
+    /// The left hand picks and puts the object down; the right hand picks it up and places it.
+    LeftPlaceRight,
+    /// The left hand picks, puts the object down and picks it up again with another grasp.
+    LeftPlaceLeft,
 }
 
 impl Strategy {
@@ -75,25 +85,79 @@ impl Strategy {
         }
     }
 
+    /// The regrasp-by-placing strategy with these arms.
+    pub fn regrasp(pick: Arm, place: Arm) -> Self {
+        match (pick, place) {
+            (Arm::Right, Arm::Right) => Strategy::RightPlaceRight,
+            (Arm::Left, Arm::Left) => Strategy::LeftPlaceLeft,
+            (Arm::Right, Arm::Left) => Strategy::RightPlaceLeft,
+            (Arm::Left, Arm::Right) => Strategy::LeftPlaceRight,
+        }
+    }
+
+    /// Every strategy: direct, handover, regrasp by placing.
+    pub const ALL: [Strategy; 8] = [
+        Strategy::RightRight,
+        Strategy::LeftLeft,
+        Strategy::RightLeft,
+        Strategy::LeftRight,
+        Strategy::RightPlaceRight,
+        Strategy::LeftPlaceLeft,
+        Strategy::RightPlaceLeft,
+        Strategy::LeftPlaceRight,
+    ];
+
     /// The arm that grasps the object at its start.
     pub fn pick_arm(self) -> Arm {
         match self {
-            Strategy::RightRight | Strategy::RightLeft => Arm::Right,
-            Strategy::LeftLeft | Strategy::LeftRight => Arm::Left,
+            Strategy::RightRight
+            | Strategy::RightLeft
+            | Strategy::RightPlaceRight
+            | Strategy::RightPlaceLeft => Arm::Right,
+            Strategy::LeftLeft
+            | Strategy::LeftRight
+            | Strategy::LeftPlaceLeft
+            | Strategy::LeftPlaceRight => Arm::Left,
         }
     }
 
-    /// The arm that places it.
+    /// The arm that places it at the target.
     pub fn place_arm(self) -> Arm {
         match self {
-            Strategy::RightRight | Strategy::LeftRight => Arm::Right,
-            Strategy::LeftLeft | Strategy::RightLeft => Arm::Left,
+            Strategy::RightRight
+            | Strategy::LeftRight
+            | Strategy::RightPlaceRight
+            | Strategy::LeftPlaceRight => Arm::Right,
+            Strategy::LeftLeft
+            | Strategy::RightLeft
+            | Strategy::LeftPlaceLeft
+            | Strategy::RightPlaceLeft => Arm::Left,
         }
     }
 
-    /// True for RIGHT-LEFT and LEFT-RIGHT.
+    /// True for RIGHT-LEFT and LEFT-RIGHT (the object passes from hand to hand in the air).
     pub fn has_handover(self) -> bool {
-        self.pick_arm() != self.place_arm()
+        matches!(self, Strategy::RightLeft | Strategy::LeftRight)
+    }
+
+    /// True for the regrasp-by-placing strategies (`right-place-right`, …).
+    pub fn has_regrasp(self) -> bool {
+        matches!(
+            self,
+            Strategy::RightPlaceRight
+                | Strategy::LeftPlaceLeft
+                | Strategy::RightPlaceLeft
+                | Strategy::LeftPlaceRight
+        )
+    }
+
+    /// The arms the strategy uses.
+    pub fn arms(self) -> Vec<Arm> {
+        if self.pick_arm() == self.place_arm() {
+            vec![self.pick_arm()]
+        } else {
+            vec![self.pick_arm(), self.place_arm()]
+        }
     }
 
     /// `right-right`, `left-left`, `right-left` or `left-right`.
@@ -103,12 +167,17 @@ impl Strategy {
             Strategy::LeftLeft => "left-left",
             Strategy::RightLeft => "right-left",
             Strategy::LeftRight => "left-right",
+            Strategy::RightPlaceRight => "right-place-right",
+            Strategy::LeftPlaceLeft => "left-place-left",
+            Strategy::RightPlaceLeft => "right-place-left",
+            Strategy::LeftPlaceRight => "left-place-right",
         }
     }
 
     /// The order the planner tries the strategies in (paper §III-B.3: "for the initial and
     /// the target position of the object, we calculate which hand is closer to the object and
     /// determines the initial manipulation strategy"; on failure it switches to the next).
+    /// After the paper's four come the regrasps by placing, in the same order of distance.
     ///
     /// `shoulders` are the two arms' base positions (right, left) in the world. The first
     /// strategy picks with the hand nearer the object's start and places with the hand nearer
@@ -120,14 +189,7 @@ impl Strategy {
         start: &Point3,
         target: &Point3,
     ) -> Vec<Strategy> {
-        let fixed = match choice {
-            StrategyChoice::Auto => None,
-            StrategyChoice::RightRight => Some(Strategy::RightRight),
-            StrategyChoice::LeftLeft => Some(Strategy::LeftLeft),
-            StrategyChoice::RightLeft => Some(Strategy::RightLeft),
-            StrategyChoice::LeftRight => Some(Strategy::LeftRight),
-        };
-        if let Some(s) = fixed {
+        if let Some(s) = choice.strategy() {
             return vec![s];
         }
         let dist = |arm: Arm, p: &Point3| -> Real { (shoulders[arm.index()] - p).norm() };
@@ -139,21 +201,25 @@ impl Strategy {
             }
         };
         let first = Strategy::new(nearest(start), nearest(target));
-        let cost = |s: Strategy| -> (bool, Real) {
+        // Direct strategies, then handovers, then regrasps by placing (a second grasp in the
+        // air costs less than putting the object down and picking it up again).
+        let kind = |s: Strategy| -> u8 {
+            if s.has_regrasp() {
+                2
+            } else {
+                u8::from(s.has_handover())
+            }
+        };
+        let cost = |s: Strategy| -> (u8, Real) {
             (
-                s.has_handover(),
+                kind(s),
                 dist(s.pick_arm(), start) + dist(s.place_arm(), target),
             )
         };
-        let mut rest: Vec<Strategy> = [
-            Strategy::RightRight,
-            Strategy::LeftLeft,
-            Strategy::RightLeft,
-            Strategy::LeftRight,
-        ]
-        .into_iter()
-        .filter(|&s| s != first)
-        .collect();
+        let mut rest: Vec<Strategy> = Strategy::ALL
+            .into_iter()
+            .filter(|&s| s != first)
+            .collect();
         rest.sort_by(|&a, &b| {
             let (ha, ca) = cost(a);
             let (hb, cb) = cost(b);
@@ -162,6 +228,23 @@ impl Strategy {
         let mut order = vec![first];
         order.extend(rest);
         order
+    }
+}
+
+impl StrategyChoice {
+    /// The one strategy a scene or the command line asks for; `None` for auto.
+    pub fn strategy(self) -> Option<Strategy> {
+        match self {
+            StrategyChoice::Auto => None,
+            StrategyChoice::RightRight => Some(Strategy::RightRight),
+            StrategyChoice::LeftLeft => Some(Strategy::LeftLeft),
+            StrategyChoice::RightLeft => Some(Strategy::RightLeft),
+            StrategyChoice::LeftRight => Some(Strategy::LeftRight),
+            StrategyChoice::RightPlaceRight => Some(Strategy::RightPlaceRight),
+            StrategyChoice::LeftPlaceLeft => Some(Strategy::LeftPlaceLeft),
+            StrategyChoice::RightPlaceLeft => Some(Strategy::RightPlaceLeft),
+            StrategyChoice::LeftPlaceRight => Some(Strategy::LeftPlaceRight),
+        }
     }
 }
 
@@ -183,9 +266,12 @@ mod tests {
         let target = Point3::new(0.3, 0.3, 0.75);
         let order = Strategy::order(StrategyChoice::Auto, SHOULDERS, &start, &target);
         assert_eq!(order[0], Strategy::RightLeft);
-        assert_eq!(order.len(), 4);
+        assert_eq!(order.len(), 8);
         assert!(!order[1].has_handover() && !order[2].has_handover());
         assert_eq!(order[3], Strategy::LeftRight);
+        // Regrasps by placing come last, nearest hands first.
+        assert!(order[4..].iter().all(|s| s.has_regrasp()), "{order:?}");
+        assert_eq!(order[4], Strategy::RightPlaceLeft);
         let order = Strategy::order(StrategyChoice::Auto, SHOULDERS, &start, &start);
         assert_eq!(order[0], Strategy::RightRight);
         assert_eq!(order[1], Strategy::LeftLeft);

@@ -131,6 +131,7 @@ fn plan(points: usize) -> Plan {
             stability_margin: 0.01,
             rank: 0,
         },
+        rests: Vec::new(),
         grasps: Vec::new(),
         key_poses: vec![
             key("pre-grasp", 0.5),

@@ -6,13 +6,13 @@
 use super::Ctx;
 use crate::error::Result;
 use crate::plan::{
-    Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, Stats,
-    TrajectoryPoint,
+    Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan,
+    RestInfo, Stats, TrajectoryPoint,
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::{Isometry3, Real};
-use pickplace_placement::ContactKind;
+use pickplace_placement::{ContactKind, Placement};
 use pickplace_prm::{Path as PrmPath, TimingOptions, time_parameterize};
 use std::time::Instant;
 
@@ -60,12 +60,14 @@ impl Segment {
     }
 }
 
-/// A found motion: its segments, the grasps used (arm, grasp index), the placement index.
+/// A found motion: its segments, the grasps used (arm, grasp index), the placement index
+/// and the intermediate resting poses of a regrasp by placing (indices into [`Ctx::rests`]).
 #[derive(Debug)]
 pub(super) struct Found {
     pub segments: Vec<Segment>,
     pub grasps: Vec<(Arm, usize)>,
     pub placement: usize,
+    pub rests: Vec<usize>,
 }
 
 /// Times are rounded to the microsecond so that the JSON is short and stable.
@@ -101,7 +103,8 @@ impl Ctx<'_> {
         let mut events = Vec::new();
         let mut key_poses = Vec::new();
         let mut object_pose = self.setup.object_start;
-        let mut holder: Option<(Arm, Isometry3)> = None;
+        // The hands holding the object, in the order they took it: it moves with the first.
+        let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
         let placed = self.placements[found.placement].world_from_object;
         for seg in &found.segments {
             let path = PrmPath::from_waypoints(n, seg.path.iter().map(|q| q.as_slice()))
@@ -131,22 +134,14 @@ impl Ctx<'_> {
                     link_from_object: PoseSpec::from_isometry(&link_from_object),
                 });
                 match kind {
-                    EventKind::Grasp => holder = Some((arm, link_from_object)),
-                    EventKind::Release => {
-                        if holder.is_some_and(|(h, _)| h == arm) {
-                            holder = None;
-                        }
-                        // After a handover release the other hand holds it.
-                        if let Some(&(other, g)) = found.grasps.iter().find(|(o, _)| *o != arm)
-                            && found.grasps.len() == 2
-                            && arm == found.grasps[0].0
-                        {
-                            holder = Some((other, self.grasps[g].object_from_tcp.inverse()));
-                        }
+                    EventKind::Grasp => {
+                        holders.retain(|(h, _)| *h != arm);
+                        holders.push((arm, link_from_object));
                     }
+                    EventKind::Release => holders.retain(|(h, _)| *h != arm),
                 }
             }
-            if let Some((arm, link_from_object)) = holder {
+            if let Some(&(arm, link_from_object)) = holders.first() {
                 object_pose = self.tcp(arm, &q_end) * link_from_object;
             }
             if let Some((name, arm)) = seg.key {
@@ -173,23 +168,18 @@ impl Ctx<'_> {
                 }
             })
             .collect();
-        let p = &self.placements[found.placement];
-        let (env_index, env_cluster) = self
-            .setup
-            .environment_of_cluster(p.env_cluster)
-            .unwrap_or((0, p.env_cluster));
-        let placement = PlacementInfo {
-            contact: match p.contact {
-                ContactKind::FaceFace => "face-face",
-                ContactKind::EdgeFace => "edge-face",
-            }
-            .to_owned(),
-            object_cluster: p.object_cluster,
-            environment: self.setup.environment[env_index].name.clone(),
-            env_cluster,
-            stability_margin: p.stability_margin,
-            rank: found.placement,
-        };
+        let placement = self.placement_info(&self.placements[found.placement], found.placement);
+        let rests = found
+            .rests
+            .iter()
+            .map(|&k| {
+                let r = &self.rests()[k];
+                RestInfo {
+                    world_from_object: PoseSpec::from_isometry(&r.world_from_object),
+                    placement: self.placement_info(r, k),
+                }
+            })
+            .collect();
         self.timings
             .insert("trajectory".to_owned(), t.elapsed().as_secs_f64());
         stats.trajectory_points = trajectory.len();
@@ -207,10 +197,36 @@ impl Ctx<'_> {
                 placed_pose: PoseSpec::from_isometry(&placed),
             },
             placement,
+            rests,
             grasps,
             key_poses,
             stats,
         })
+    }
+
+    /// What the plan says of placement `p`, the `rank`-th of its list.
+    fn placement_info(&self, p: &Placement, rank: usize) -> PlacementInfo {
+        let (env_index, env_cluster) = self
+            .setup
+            .environment_of_cluster(p.env_cluster)
+            .unwrap_or((0, p.env_cluster));
+        PlacementInfo {
+            contact: match p.contact {
+                ContactKind::FaceFace => "face-face",
+                ContactKind::EdgeFace => "edge-face",
+            }
+            .to_owned(),
+            object_cluster: p.object_cluster,
+            environment: self
+                .setup
+                .environment
+                .get(env_index)
+                .map(|e| e.name.clone())
+                .unwrap_or_default(),
+            env_cluster,
+            stability_margin: p.stability_margin,
+            rank,
+        }
     }
 }
 
@@ -251,6 +267,7 @@ mod tests {
             ],
             grasps: vec![(arm, 0)],
             placement: 0,
+            rests: Vec::new(),
         };
         let plan = ctx
             .assemble(

@@ -239,18 +239,41 @@ impl Ctx<'_> {
     /// Picks the object with `arm` and grasp `gi` from `start`: the approach from the
     /// pre-grasp pose (fingers open) and the lift (fingers closed, object attached).
     pub(super) fn pick(&self, arm: Arm, gi: usize, start: &[Real]) -> Attempt<Pick> {
+        self.pick_at(
+            arm,
+            gi,
+            &self.setup.object_start,
+            &self.start_supports,
+            start,
+            0,
+        )
+    }
+
+    /// Picks the object lying at `world_from_object` on `supports` with `arm` and grasp
+    /// `gi`, from the full configuration `start`: the approach from the pre-grasp pose
+    /// (fingers open) and the lift (fingers closed, object attached). `rest` tells the
+    /// random choices of one resting pose from another's (0 for the object's start).
+    pub(super) fn pick_at(
+        &self,
+        arm: Arm,
+        gi: usize,
+        world_from_object: &Isometry3,
+        supports: &[String],
+        start: &[Real],
+        rest: u64,
+    ) -> Attempt<Pick> {
         let a = self.setup.arm(arm);
         let g = &self.grasps[gi];
-        let grasp_pose = self.setup.object_start * g.object_from_tcp;
+        let grasp_pose = world_from_object * g.object_from_tcp;
         if (grasp_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
             return Err(Rejection::OutOfReach.into());
         }
         if let Some(r) = self.hand_hits_environment(&grasp_pose, self.setup.gripper.opening_max) {
             return Err(r.into());
         }
-        let salt = (gi as u64) << 8 | arm.index() as u64;
+        let salt = ((gi as u64) << 8 | arm.index() as u64) ^ rest.wrapping_mul(0x9e37_79b9);
         let open = self.opened(arm, start);
-        let free = self.world_with_object_at(&self.setup.object_start);
+        let free = self.world_with_object_at(world_from_object);
         let q_grasp = self
             .free_ik(arm, &grasp_pose, &open, salt, &free)
             .map_err(|f| f.at(Step::Grasp))?;
@@ -261,8 +284,7 @@ impl Ctx<'_> {
             .map_err(|f| f.at(Step::Approach))?;
         approach.reverse();
         let closed = self.gripping(arm, &q_grasp, g.width);
-        let [holding, holding_contact] =
-            self.contact_worlds(arm, &g.object_from_tcp, &self.start_supports)?;
+        let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
         let lift_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * grasp_pose;
         let world_at = self.near_support(&holding, &holding_contact);
         let lift = self
@@ -278,20 +300,43 @@ impl Ctx<'_> {
     /// pre-place pose and the retreat after the release. `seed` is a full configuration
     /// whose other joints are kept.
     pub(super) fn place(&self, arm: Arm, pi: usize, gi: usize, seed: &[Real]) -> Attempt<Place> {
+        let p = &self.placements[pi];
+        let supports =
+            self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
+        self.place_at(
+            arm,
+            gi,
+            &p.world_from_object,
+            supports,
+            seed,
+            (pi as u64) << 20,
+        )
+    }
+
+    /// Places the object with `arm` and grasp `gi` at `world_from_object`, where it rests on
+    /// `supports`: the lowering from the pre-place pose and the retreat after the release.
+    /// `seed` is a full configuration whose other joints are kept; `salt` tells the random
+    /// choices of one placement from another's.
+    pub(super) fn place_at(
+        &self,
+        arm: Arm,
+        gi: usize,
+        world_from_object: &Isometry3,
+        supports: &[String],
+        seed: &[Real],
+        salt: u64,
+    ) -> Attempt<Place> {
         let a = self.setup.arm(arm);
         let g = &self.grasps[gi];
-        let p = &self.placements[pi];
-        let place_pose = p.world_from_object * g.object_from_tcp;
+        let place_pose = world_from_object * g.object_from_tcp;
         if (place_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
             return Err(Rejection::OutOfReach.into());
         }
         if let Some(r) = self.hand_hits_environment(&place_pose, g.width) {
             return Err(r.into());
         }
-        let salt = (pi as u64) << 20 | (gi as u64) << 8 | 0x80 | arm.index() as u64;
+        let salt = salt | (gi as u64) << 8 | 0x80 | arm.index() as u64;
         let closed_seed = self.gripping(arm, seed, g.width);
-        let supports =
-            self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
         let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
         let q_place = self
             .free_ik(arm, &place_pose, &closed_seed, salt, &holding_contact)
@@ -303,7 +348,7 @@ impl Ctx<'_> {
             .map_err(|f| f.at(Step::Lower))?;
         lower.reverse();
         let opened = self.opened(arm, &q_place);
-        let left = self.world_with_object_at(&p.world_from_object);
+        let left = self.world_with_object_at(world_from_object);
         if let Some(c) = self.collision(&left, &opened, 0.0)? {
             return Err(Rejection::Collision(c).at(Step::Release).into());
         }
@@ -313,6 +358,34 @@ impl Ctx<'_> {
             .cartesian(arm, &opened, &retreat_pose, &|_, _| &left, salt ^ 0x44)
             .map_err(|f| f.at(Step::Retreat))?;
         Ok(Place { lower, retreat })
+    }
+
+    /// Whether `arm` can hold grasp `gi` with the object at `world_from_object`, by the
+    /// cheap tests that come before any IK: the tool pose within the arm's reach, and the
+    /// gripper (open when `open`, else closed on the grasp's width) clear of every
+    /// environment part. The search ranks placements by how many grasps pass.
+    pub(super) fn grasp_fits(
+        &self,
+        arm: Arm,
+        gi: usize,
+        world_from_object: &Isometry3,
+        open: bool,
+    ) -> std::result::Result<(), Rejection> {
+        let a = self.setup.arm(arm);
+        let g = &self.grasps[gi];
+        let pose = world_from_object * g.object_from_tcp;
+        if (pose.translation.vector - a.shoulder.coords).norm() > a.reach {
+            return Err(Rejection::OutOfReach);
+        }
+        let opening = if open {
+            self.setup.gripper.opening_max
+        } else {
+            g.width
+        };
+        match self.hand_hits_environment(&pose, opening) {
+            Some(r) => Err(r),
+            None => Ok(()),
+        }
     }
 
     /// For a vertical motion of [`super::PlanOptions::lift_height`] away from a support in

@@ -22,11 +22,13 @@ mod handover;
 mod keypose;
 mod motion;
 mod reason;
+mod regrasp;
 mod search;
 mod world;
 
 pub use handover::handover_candidates;
 pub use reason::{Attempt, Collision, End, Fail, Rejection, Role, Stage, Step};
+pub use regrasp::REST_RADIUS;
 
 use crate::contact::supports;
 use crate::error::{Error, Result};
@@ -59,10 +61,6 @@ pub struct PlanOptions {
     /// Largest joint change between two steps of a Cartesian motion (rad); more means the IK
     /// jumped to another branch (default: 0.2).
     pub max_joint_step: Real,
-    /// Placement candidates tried, best first (default: 8).
-    pub max_placements: usize,
-    /// Grasps tried per placement and arm, best first (default: 48).
-    pub max_grasps: usize,
     /// Grasps scoring below this fraction of the best are not used (default: 0.2).
     pub min_grasp_quality: Real,
     /// Clearance kept by PRM motions (m) (default: 0.01).
@@ -78,7 +76,11 @@ pub struct PlanOptions {
     pub timings: bool,
     /// Wall-clock budget of the whole plan (s): once spent, no further placement or strategy
     /// is started and the failure says so (default: the scene's `planner.time_budget`, else 10).
-    /// A budget makes the outcome depend on the machine's speed only when it runs out.
+    /// No count caps the search of placements and grasps: each strategy searches, best first,
+    /// until it finds a plan, runs out of candidates, or has spent its share of what is left
+    /// of the budget (what is left divided by the strategies still to try), so that a
+    /// strategy that cannot succeed does not starve the next. A budget makes the outcome
+    /// depend on the machine's speed only when it runs out.
     pub time_budget: Real,
     /// Acceleration limit of every joint (rad/s² or m/s²): URDFs carry none (default: 3.0).
     pub max_acceleration: Real,
@@ -107,8 +109,6 @@ impl Default for PlanOptions {
             lift_height: 0.10,
             cartesian_step: 0.01,
             max_joint_step: 0.2,
-            max_placements: 8,
-            max_grasps: 48,
             min_grasp_quality: 0.2,
             motion_margin: 0.01,
             handover_poses: 96,
@@ -144,6 +144,8 @@ pub struct Failure {
 struct Ctx<'a> {
     /// When planning started (for the time budget).
     started: Instant,
+    /// When the strategy being searched must stop (its share of the time budget).
+    deadline: Instant,
     setup: &'a Setup,
     options: &'a PlanOptions,
     /// Grasps above the quality threshold, best first.
@@ -155,12 +157,28 @@ struct Ctx<'a> {
     /// Environment bodies the object touches at each placement, found once per placement
     /// (every grasp placing there asks; places run in parallel).
     placement_supports: Vec<OnceLock<Vec<String>>>,
+    /// Per arm (right, left) and placement: the grasps whose closed gripper fits there
+    /// (`Ctx::grasp_fits`), found once.
+    placement_fits: [Vec<OnceLock<Vec<usize>>>; 2],
+    /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
+    rests: OnceLock<Vec<Placement>>,
+    /// Environment bodies the object touches at each rest, found once.
+    rest_supports: Vec<OnceLock<Vec<String>>>,
     timings: BTreeMap<String, Real>,
 }
 
 impl Ctx<'_> {
     fn out_of_time(&self) -> bool {
         self.started.elapsed().as_secs_f64() > self.options.time_budget
+            || Instant::now() > self.deadline
+    }
+
+    /// Gives the next strategy its share of the time left: what is left of the budget
+    /// divided by the `remaining` strategies still to try (this one included).
+    fn share_time(&mut self, remaining: usize) {
+        let left = (self.options.time_budget - self.started.elapsed().as_secs_f64()).max(0.0);
+        let share = left / remaining.max(1) as Real;
+        self.deadline = Instant::now() + std::time::Duration::from_secs_f64(share);
     }
 
     fn finish_stats(&self, stats: &mut Stats, t_all: Instant) {
@@ -231,8 +249,17 @@ impl<'a> Ctx<'a> {
         timings: BTreeMap<String, Real>,
     ) -> Self {
         let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
+        let n = placement_set.placements.len();
+        let deadline = started + std::time::Duration::from_secs_f64(options.time_budget.max(0.0));
         Ctx {
             started,
+            deadline,
+            placement_fits: [
+                (0..n).map(|_| OnceLock::new()).collect(),
+                (0..n).map(|_| OnceLock::new()).collect(),
+            ],
+            rests: OnceLock::new(),
+            rest_supports: Vec::new(),
             setup,
             options,
             grasps: grasp_set
@@ -317,7 +344,13 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             setup.arms[0].arm, setup.arms[0].group
         ));
     }
-    for strategy in order {
+    let n_strategies = order.len();
+    for (i, strategy) in order.into_iter().enumerate() {
+        ctx.share_time(n_strategies - i);
+        if strategy.has_regrasp() && ctx.rest_supports.is_empty() {
+            let n = ctx.rests().len();
+            ctx.rest_supports = (0..n).map(|_| OnceLock::new()).collect();
+        }
         if ctx.out_of_time() {
             reasons.push(format!(
                 "{strategy}: not tried, the time budget of {} s is spent",
@@ -331,7 +364,9 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             success: false,
             stages: BTreeMap::new(),
         };
-        let found = if strategy.has_handover() {
+        let found = if strategy.has_regrasp() {
+            ctx.regrasp_strategy(strategy, &mut report)?
+        } else if strategy.has_handover() {
             ctx.handover_strategy(strategy, &mut report)?
         } else {
             ctx.single_arm_strategy(strategy.pick_arm(), &mut report)?

@@ -330,6 +330,155 @@ impl Ctx<'_> {
         }
         Ok(segments)
     }
+
+    /// The segments of a regrasp by placing ([`super::regrasp`]): arm A opens, picks the
+    /// object at its start, carries it to the rest, puts it down, releases and retreats (and,
+    /// when B is the other arm, goes back to its start); arm B comes to the rest, picks the
+    /// object up with its grasp, carries it to the placement, lowers, releases, retreats and
+    /// goes home. Arm B's key poses were computed from the start configuration; its
+    /// waypoints take the other arm's joints from where that arm is.
+    pub(super) fn regrasp_motions(
+        &self,
+        start: &[Real],
+        legs: &super::regrasp::RegraspLegs<'_>,
+    ) -> Attempt<Vec<Segment>> {
+        let (a, b) = (legs.strategy.pick_arm(), legs.strategy.place_arm());
+        let (g1, g2) = (&self.grasps[legs.g1], &self.grasps[legs.g2]);
+        let rest = self.rests()[legs.k].world_from_object;
+        let salt = (legs.pi as u64) << 20
+            | (legs.g1 as u64) << 8
+            | (legs.g2 as u64) << 32
+            | (legs.k as u64) << 48;
+        let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
+        let mut segments = Vec::new();
+        let open_start = self.opened(b, &self.opened(a, start));
+        if open_start != start {
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
+        }
+        // Arm A: pick at the start.
+        let free = self.world_with_object_at(&self.setup.object_start);
+        let graft_a = |q: &Vec<Real>, base: &[Real]| self.other_from(a, base, q);
+        let pre_grasp = graft_a(&legs.pick.approach[0], &open_start);
+        let to_pre = self
+            .motion(a, &free, &open_start, &pre_grasp, salt ^ 1)
+            .map_err(|f| f.at(Step::ToPreGrasp))?;
+        segments.push(Segment::reach("pre-grasp", a, to_pre));
+        let approach: Vec<Vec<Real>> = legs
+            .pick
+            .approach
+            .iter()
+            .map(|q| graft_a(q, &open_start))
+            .collect();
+        segments.push(Segment::reach("grasp", a, approach.clone()));
+        let q = here(&approach)?;
+        let closed = self.gripping(a, &q, g1.width);
+        segments.push(Segment::event(
+            vec![q, closed.clone()],
+            None,
+            (EventKind::Grasp, a, g1.object_from_tcp.inverse()),
+        ));
+        let lift: Vec<Vec<Real>> = legs
+            .pick
+            .lift
+            .iter()
+            .map(|q| graft_a(q, &closed))
+            .collect();
+        segments.push(Segment::reach("lift", a, lift.clone()));
+        // Carry to the rest and put it down.
+        let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
+        let lower: Vec<Vec<Real>> = legs
+            .down
+            .lower
+            .iter()
+            .map(|q| graft_a(q, &closed))
+            .collect();
+        let carry = self
+            .motion(a, &holding_a, &here(&lift)?, &lower[0], salt ^ 2)
+            .map_err(|f| f.at(Step::ToRest))?;
+        segments.push(Segment::reach("pre-rest", a, carry));
+        segments.push(Segment::reach("rest", a, lower.clone()));
+        let q = here(&lower)?;
+        let opened = self.opened(a, &q);
+        segments.push(Segment::event(
+            vec![q, opened.clone()],
+            Some(("release-rest", a)),
+            (EventKind::Release, a, g1.object_from_tcp.inverse()),
+        ));
+        let retreat: Vec<Vec<Real>> = legs
+            .down
+            .retreat
+            .iter()
+            .map(|q| graft_a(q, &opened))
+            .collect();
+        segments.push(Segment::reach("retreat-rest", a, retreat.clone()));
+        let resting = self.world_with_object_at(&rest);
+        let mut current = here(&retreat)?;
+        if a != b
+            && let Some(back) =
+                self.back_to_start(a, &resting, &current, start, salt ^ 3)?
+        {
+            current = here(&back.path)?;
+            segments.push(Segment {
+                key: Some(("home-first", a)),
+                ..back
+            });
+        }
+        // Arm B: pick it up again at the rest.
+        let graft_b = |q: &Vec<Real>, base: &[Real]| self.other_from(b, base, q);
+        let pre_regrasp = graft_b(&legs.up.approach[0], &current);
+        let to_pre = self
+            .motion(b, &resting, &current, &pre_regrasp, salt ^ 4)
+            .map_err(|f| f.at(Step::ToPreRegrasp))?;
+        segments.push(Segment::reach("pre-regrasp", b, to_pre));
+        let approach: Vec<Vec<Real>> = legs
+            .up
+            .approach
+            .iter()
+            .map(|q| graft_b(q, &current))
+            .collect();
+        segments.push(Segment::reach("regrasp", b, approach.clone()));
+        let q = here(&approach)?;
+        let closed = self.gripping(b, &q, g2.width);
+        segments.push(Segment::event(
+            vec![q, closed.clone()],
+            None,
+            (EventKind::Grasp, b, g2.object_from_tcp.inverse()),
+        ));
+        let lift: Vec<Vec<Real>> = legs.up.lift.iter().map(|q| graft_b(q, &closed)).collect();
+        segments.push(Segment::reach("lift-again", b, lift.clone()));
+        // Carry to the placement and place.
+        let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
+        let lower: Vec<Vec<Real>> = legs
+            .place
+            .lower
+            .iter()
+            .map(|q| graft_b(q, &closed))
+            .collect();
+        let carry = self
+            .motion(b, &holding_b, &here(&lift)?, &lower[0], salt ^ 5)
+            .map_err(|f| f.at(Step::ToPrePlace))?;
+        segments.push(Segment::reach("pre-place", b, carry));
+        segments.push(Segment::reach("place", b, lower.clone()));
+        let q = here(&lower)?;
+        let opened = self.opened(b, &q);
+        segments.push(Segment::event(
+            vec![q, opened.clone()],
+            Some(("release", b)),
+            (EventKind::Release, b, g2.object_from_tcp.inverse()),
+        ));
+        let retreat: Vec<Vec<Real>> = legs
+            .place
+            .retreat
+            .iter()
+            .map(|q| graft_b(q, &opened))
+            .collect();
+        segments.push(Segment::reach("retreat", b, retreat.clone()));
+        let left = self.world_with_object_at(&self.placements[legs.pi].world_from_object);
+        if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
+            segments.push(back);
+        }
+        Ok(segments)
+    }
 }
 
 #[cfg(test)]

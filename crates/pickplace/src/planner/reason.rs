@@ -29,13 +29,16 @@ pub enum Stage {
     Regrasp,
     /// The PRM motions joining the key poses of a candidate (§III-C).
     Motion,
+    /// Putting the object down at an intermediate resting pose (regrasp by placing).
+    Rest,
 }
 
 impl Stage {
     /// Every stage, in pipeline order.
-    pub const ALL: [Stage; 6] = [
+    pub const ALL: [Stage; 7] = [
         Stage::Placement,
         Stage::Pick,
+        Stage::Rest,
         Stage::Place,
         Stage::Handover,
         Stage::Regrasp,
@@ -51,6 +54,7 @@ impl Stage {
             Stage::Handover => "handover",
             Stage::Regrasp => "regrasp",
             Stage::Motion => "motion",
+            Stage::Rest => "rest",
         }
     }
 }
@@ -103,6 +107,8 @@ pub enum Step {
     FirstArmHome,
     /// The motion back to the start after the retreat.
     Home,
+    /// The motion carrying the object to an intermediate resting pose.
+    ToRest,
 }
 
 impl Step {
@@ -128,6 +134,7 @@ impl Step {
             Step::ToPreRegrasp => "to pre-regrasp",
             Step::FirstArmHome => "first arm back to start",
             Step::Home => "back to start",
+            Step::ToRest => "to pre-rest",
         }
     }
 }
@@ -207,6 +214,10 @@ pub enum Rejection {
     NoMotionForAnyGrasp,
     /// The plan's wall-clock budget was spent before this candidate.
     TimeBudgetSpent,
+    /// No intermediate resting pose for a regrasp by placing near the object's start.
+    NoRest,
+    /// No sequence pick → put down → pick again → place reached this placement.
+    NoRegraspSequence,
     /// A rejection at a named step of the candidate.
     At(Step, Box<Rejection>),
 }
@@ -251,6 +262,10 @@ impl fmt::Display for Rejection {
             Rejection::NoGraspReaches => f.write_str("no grasp reaches it"),
             Rejection::NoMotionForAnyGrasp => f.write_str("no motion for any grasp"),
             Rejection::TimeBudgetSpent => f.write_str("time budget spent"),
+            Rejection::NoRest => f.write_str("no intermediate resting pose near the start"),
+            Rejection::NoRegraspSequence => {
+                f.write_str("no put-down and pick-up sequence reaches it")
+            }
             Rejection::At(step, inner) => write!(f, "{}: {inner}", step.name()),
         }
     }
@@ -384,6 +399,7 @@ mod tests {
             [
                 "placement",
                 "pick",
+                "rest",
                 "place",
                 "handover",
                 "regrasp",

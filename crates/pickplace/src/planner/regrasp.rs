@@ -1,0 +1,283 @@
+//! Regrasp by placing: when no direct strategy and no handover works, or the robot has one
+//! arm, the object is put down in an intermediate stable pose and picked up again with another
+//! grasp. This is the successor of the paper's planner (Wan and Harada, "Developing and
+//! Comparing Single-arm and Dual-arm Regrasp", and Harada's regrasp graph): a graph whose
+//! nodes are (resting pose, arm, grasp) triples and whose edges are transfers (one hand
+//! carries the object from one resting pose to another with one grasp) and regrasps (at an
+//! intermediate resting pose, the hand lets go and a hand takes another grasp). The plan is
+//! the shortest sequence of transfers from the start to a placement at the target.
+//!
+//! Sequences with no intermediate pose are the direct strategies (RIGHT-RIGHT, LEFT-LEFT,
+//! [`super::search`]); this module searches the next shortest, with one intermediate pose:
+//! start →(arm A, grasp g₁)→ rest k →(arm B, grasp g₂)→ placement. The graph is evaluated
+//! lazily, cheapest test first, as the paper's planner does for its key poses: edges are first
+//! kept by the cheap tests of [`Ctx::grasp_fits`] (reach, gripper against the environment),
+//! then checked by IK and collision (pick, put down, pick again, place), and last joined by
+//! motions. Every expensive result is computed once.
+
+use super::Ctx;
+use super::assemble::Found;
+use super::keypose::{Pick, Place};
+use super::reason::{Rejection, Stage, count, split};
+use crate::contact::supports;
+use crate::error::Result;
+use crate::plan::StrategyReport;
+use crate::strategy::Strategy;
+use pickplace_geometry::math::{Point3, Real};
+use pickplace_placement::{Placement, PlacementOptions};
+use std::collections::BTreeMap;
+
+/// Radius (m) around the object's start within which intermediate resting poses are sought
+/// on the surfaces there.
+pub const REST_RADIUS: Real = 0.15;
+
+/// Salt of the random choices at intermediate resting poses (distinct from the placements').
+const REST_SALT: u64 = 1 << 62;
+
+impl Ctx<'_> {
+    /// The intermediate resting poses (computed once): stable placements (paper §III-B.2,
+    /// Algorithm 2 with every resting face) on the surface the object starts on, within
+    /// [`REST_RADIUS`] of its start, the start pose itself left out.
+    pub(super) fn rests(&self) -> &[Placement] {
+        self.rests.get_or_init(|| {
+            let setup = self.setup;
+            let start = setup.object_start;
+            // Where the object stands: below its centre of mass, at its lowest point.
+            let lowest = setup
+                .object_mesh
+                .vertices()
+                .iter()
+                .map(|v| (start * v).z)
+                .fold(Real::INFINITY, Real::min);
+            let cog = start * setup.cog;
+            let anchor = Point3::new(cog.x, cog.y, lowest);
+            let options = PlacementOptions {
+                search_radius: REST_RADIUS,
+                ..PlacementOptions::default()
+            };
+            let Ok(set) = pickplace_placement::candidates(
+                &setup.placement_object,
+                &setup.placement_env,
+                &anchor,
+                &options,
+            ) else {
+                return Vec::new();
+            };
+            set.placements
+                .into_iter()
+                .filter(|p| {
+                    let d = (p.world_from_object.translation.vector - start.translation.vector)
+                        .norm();
+                    let a = p.world_from_object.rotation.angle_to(&start.rotation);
+                    d > 0.01 || a > 5f64.to_radians()
+                })
+                .collect()
+        })
+    }
+
+    /// The bodies the object touches at rest `k`, found once.
+    fn rest_supports(&self, k: usize) -> &[String] {
+        self.rest_supports[k].get_or_init(|| supports(self.setup, &self.rests()[k].world_from_object))
+    }
+
+    /// Regrasp by placing with `strategy` (`right-place-right`, `right-place-left`, …): arm A
+    /// picks the object with grasp g₁, puts it down at an intermediate rest k, arm B picks it
+    /// up with grasp g₂ (another grasp when A = B) and places it at the target. Placements in
+    /// arm B's order ([`Ctx::placement_order`]); rests by how many grasps fit both hands
+    /// there; grasps best first. The search stops at the first candidate whose motions join,
+    /// or when the strategy's share of the time budget is spent.
+    pub(super) fn regrasp_strategy(
+        &mut self,
+        strategy: Strategy,
+        report: &mut StrategyReport,
+    ) -> Result<Option<Found>> {
+        let (a, b) = (strategy.pick_arm(), strategy.place_arm());
+        let start = self.setup.start.clone();
+        let pickable = self.fitting_at_start(a, report);
+        if pickable.is_empty() {
+            return Ok(None);
+        }
+        let all: Vec<usize> = (0..self.grasps.len()).collect();
+        let finals = self.placement_order(b, &all, report);
+        if finals.is_empty() {
+            return Ok(None);
+        }
+        let n_rests = self.rests().len();
+        if n_rests == 0 {
+            count(report, Stage::Rest).reject(Rejection::NoRest.to_string());
+            return Ok(None);
+        }
+        // The cheap graph: per rest, the grasps A can put it down with (closed gripper) and
+        // those B can pick it up with (open gripper).
+        let mut rest_edges: Vec<(usize, Vec<usize>, Vec<usize>)> = Vec::new();
+        for k in 0..n_rests {
+            let pose = self.rests()[k].world_from_object;
+            let down: Vec<usize> = pickable
+                .iter()
+                .copied()
+                .filter(|&g| self.grasp_fits(a, g, &pose, false).is_ok())
+                .collect();
+            let up: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|&g| self.grasp_fits(b, g, &pose, true).is_ok())
+                .collect();
+            if down.is_empty() || up.is_empty() {
+                count(report, Stage::Rest).reject(Rejection::NoGraspReaches.to_string());
+                continue;
+            }
+            rest_edges.push((k, down, up));
+        }
+        rest_edges.sort_by_key(|(k, down, up)| {
+            (
+                std::cmp::Reverse(down.len().min(up.len()).min(super::search::FITTING_ENOUGH)),
+                *k,
+            )
+        });
+        // Both hands open at the start; the second pick is seeded with them open.
+        let open_start = self.opened(b, &self.opened(a, &start));
+        let mut picks: BTreeMap<usize, std::result::Result<Pick, Rejection>> = BTreeMap::new();
+        let mut downs: BTreeMap<(usize, usize), std::result::Result<Place, Rejection>> =
+            BTreeMap::new();
+        let mut ups: BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>> =
+            BTreeMap::new();
+        let mut places: BTreeMap<(usize, usize), std::result::Result<Place, Rejection>> =
+            BTreeMap::new();
+        for (pi, fit_final) in &finals {
+            let pi = *pi;
+            for (k, down, up) in &rest_edges {
+                let k = *k;
+                if self.out_of_time() {
+                    count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
+                    return Ok(None);
+                }
+                // Second grasps: B picks them up here and places them at the target.
+                let seconds: Vec<usize> = up
+                    .iter()
+                    .copied()
+                    .filter(|g| fit_final.binary_search(g).is_ok())
+                    .collect();
+                if seconds.is_empty() {
+                    continue;
+                }
+                let rest_pose = self.rests()[k].world_from_object;
+                for &g1 in down {
+                    if self.out_of_time() {
+                        break;
+                    }
+                    if !picks.contains_key(&g1) {
+                        let r = split(self.pick(a, g1, &start))?;
+                        tally(report, Stage::Pick, &r);
+                        picks.insert(g1, r);
+                    }
+                    let Some(Ok(pick)) = picks.get(&g1) else {
+                        continue;
+                    };
+                    let pick = pick.clone();
+                    if !downs.contains_key(&(k, g1)) {
+                        let lifted = super::end_of(&pick.lift)?;
+                        let supports = self.rest_supports(k).to_vec();
+                        let r = split(self.place_at(
+                            a,
+                            g1,
+                            &rest_pose,
+                            &supports,
+                            lifted,
+                            REST_SALT | (k as u64) << 20,
+                        ))?;
+                        tally(report, Stage::Rest, &r);
+                        downs.insert((k, g1), r);
+                    }
+                    let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
+                        continue;
+                    };
+                    let down_place = down_place.clone();
+                    for &g2 in &seconds {
+                        if a == b && g2 == g1 {
+                            // The same hand with the same grasp gains nothing.
+                            continue;
+                        }
+                        if self.out_of_time() {
+                            break;
+                        }
+                        if !ups.contains_key(&(k, g2)) {
+                            let supports = self.rest_supports(k).to_vec();
+                            let r = split(self.pick_at(
+                                b,
+                                g2,
+                                &rest_pose,
+                                &supports,
+                                &open_start,
+                                1 + k as u64,
+                            ))?;
+                            tally(report, Stage::Regrasp, &r);
+                            ups.insert((k, g2), r);
+                        }
+                        let Some(Ok(up_pick)) = ups.get(&(k, g2)) else {
+                            continue;
+                        };
+                        let up_pick = up_pick.clone();
+                        if !places.contains_key(&(pi, g2)) {
+                            let lifted = super::end_of(&up_pick.lift)?;
+                            let r = split(self.place(b, pi, g2, lifted))?;
+                            tally(report, Stage::Place, &r);
+                            places.insert((pi, g2), r);
+                        }
+                        let Some(Ok(place)) = places.get(&(pi, g2)) else {
+                            continue;
+                        };
+                        let place = place.clone();
+                        let legs = RegraspLegs {
+                            strategy,
+                            pi,
+                            k,
+                            g1,
+                            g2,
+                            pick: &pick,
+                            down: &down_place,
+                            up: &up_pick,
+                            place: &place,
+                        };
+                        match split(self.regrasp_motions(&start, &legs))? {
+                            Ok(segments) => {
+                                count(report, Stage::Motion).accept();
+                                count(report, Stage::Placement).accept();
+                                return Ok(Some(Found {
+                                    segments,
+                                    grasps: vec![(a, g1), (b, g2)],
+                                    placement: pi,
+                                    rests: vec![k],
+                                }));
+                            }
+                            Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                        }
+                    }
+                }
+            }
+            count(report, Stage::Placement).reject(Rejection::NoRegraspSequence.to_string());
+        }
+        Ok(None)
+    }
+}
+
+/// The key poses of one regrasp sequence, checked: arm A's pick at the start and put-down at
+/// rest `k` with grasp `g1`; arm B's pick at the rest and place at placement `pi` with `g2`.
+pub(super) struct RegraspLegs<'l> {
+    pub strategy: Strategy,
+    pub pi: usize,
+    pub k: usize,
+    pub g1: usize,
+    pub g2: usize,
+    pub pick: &'l Pick,
+    pub down: &'l Place,
+    pub up: &'l Pick,
+    pub place: &'l Place,
+}
+
+/// Counts a key-pose result under `stage`.
+fn tally<T>(report: &mut StrategyReport, stage: Stage, r: &std::result::Result<T, Rejection>) {
+    match r {
+        Ok(_) => count(report, stage).accept(),
+        Err(r) => count(report, stage).reject(r.to_string()),
+    }
+}
