@@ -5,7 +5,8 @@
 //! retreat at the place.
 
 use super::Ctx;
-use super::reason::{Attempt, Rejection, Step};
+use super::reason::{Attempt, Rejection, Step, split};
+use std::sync::{Mutex, MutexGuard};
 use crate::contact::supports;
 use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, Vector3};
@@ -61,7 +62,9 @@ impl Ctx<'_> {
 
     /// A collision-free IK solution in `world`: the solution nearest the seed first, then
     /// up to [`IK_SOLUTIONS`] others from seeded restarts (IK branches differ in elbow and
-    /// wrist, and one of them often clears an obstacle the first hits).
+    /// wrist, and one of them often clears an obstacle the first hits). When the first solve
+    /// (itself with seeded restarts) finds no solution, the pose is taken as out of the arm's
+    /// reach at once: most candidates that fail, fail there.
     ///
     /// Rejected with [`Rejection::NoIk`], or the last [`Rejection::Collision`] found.
     pub(super) fn free_ik(
@@ -85,6 +88,11 @@ impl Ctx<'_> {
                 }
             }
             let Some(q) = self.ik(arm, world_from_tcp, &seed, salt.wrapping_add(k as u64)) else {
+                if k == 0 {
+                    // The solver's own seeded restarts found no solution at all: other
+                    // branches are sought to clear obstacles, not to reach.
+                    return Err(Rejection::NoIk.into());
+                }
                 continue;
             };
             match self.collision(world, &q, 0.0)? {
@@ -236,17 +244,25 @@ impl Ctx<'_> {
         ])
     }
 
-    /// Picks the object with `arm` and grasp `gi` from `start`: the approach from the
-    /// pre-grasp pose (fingers open) and the lift (fingers closed, object attached).
-    pub(super) fn pick(&self, arm: Arm, gi: usize, start: &[Real]) -> Attempt<Pick> {
-        self.pick_at(
+    /// Picks the object at its start with `arm` and grasp `gi`, from the scene's start
+    /// configuration: the approach from the pre-grasp pose (fingers open) and the lift
+    /// (fingers closed, object attached). Computed once per arm and grasp for every strategy
+    /// of the plan (the result does not depend on the strategy).
+    pub(super) fn pick(&self, arm: Arm, gi: usize) -> Attempt<Pick> {
+        if let Some(r) = self.memo_lock(&self.pick_memo).get(&(arm, gi)) {
+            return r.clone().map_err(Into::into);
+        }
+        let result = split(self.pick_at(
             arm,
             gi,
             &self.setup.object_start,
             &self.start_supports,
-            start,
+            &self.setup.start,
             0,
-        )
+        ))?;
+        self.memo_lock(&self.pick_memo)
+            .insert((arm, gi), result.clone());
+        result.map_err(Into::into)
     }
 
     /// Picks the object lying at `world_from_object` on `supports` with `arm` and grasp
@@ -297,20 +313,34 @@ impl Ctx<'_> {
     }
 
     /// Places the object with `arm`, grasp `gi`, at placement `pi`: the lowering from the
-    /// pre-place pose and the retreat after the release. `seed` is a full configuration
-    /// whose other joints are kept.
-    pub(super) fn place(&self, arm: Arm, pi: usize, gi: usize, seed: &[Real]) -> Attempt<Place> {
+    /// pre-place pose and the retreat after the release, seeded from the start configuration
+    /// with both hands open (the other arm rests there). Computed once per arm, placement
+    /// and grasp for every strategy of the plan; the motions take the other arm's joints
+    /// from where that arm is.
+    pub(super) fn place(&self, arm: Arm, pi: usize, gi: usize) -> Attempt<Place> {
+        if let Some(r) = self.memo_lock(&self.place_memo).get(&(arm, pi, gi)) {
+            return r.clone().map_err(Into::into);
+        }
         let p = &self.placements[pi];
         let supports =
             self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
-        self.place_at(
+        let result = split(self.place_at(
             arm,
             gi,
             &p.world_from_object,
             supports,
-            seed,
+            &self.open_start,
             (pi as u64) << 20,
-        )
+        ))?;
+        self.memo_lock(&self.place_memo)
+            .insert((arm, pi, gi), result.clone());
+        result.map_err(Into::into)
+    }
+
+    /// The memo behind `mutex` (a poisoned lock still holds valid entries: each is inserted
+    /// whole).
+    fn memo_lock<'m, T>(&self, mutex: &'m Mutex<T>) -> MutexGuard<'m, T> {
+        mutex.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
     /// Places the object with `arm` and grasp `gi` at `world_from_object`, where it rests on

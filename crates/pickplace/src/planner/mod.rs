@@ -40,7 +40,7 @@ use pickplace_geometry::math::Real;
 use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet};
 use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
 use std::collections::BTreeMap;
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
 /// Options of [`plan`].
@@ -160,6 +160,13 @@ struct Ctx<'a> {
     /// Per arm (right, left) and placement: the grasps whose closed gripper fits there
     /// (`Ctx::grasp_fits`), found once.
     placement_fits: [Vec<OnceLock<Vec<usize>>>; 2],
+    /// The start configuration with both hands open: the seed of every place.
+    open_start: Vec<Real>,
+    /// Picks at the start per (arm, grasp), shared by the strategies.
+    pick_memo: Mutex<BTreeMap<(Arm, usize), std::result::Result<keypose::Pick, Rejection>>>,
+    /// Places per (arm, placement, grasp), shared by the strategies.
+    place_memo:
+        Mutex<BTreeMap<(Arm, usize, usize), std::result::Result<keypose::Place, Rejection>>>,
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
     rests: OnceLock<Vec<Placement>>,
     /// Environment bodies the object touches at each rest, found once.
@@ -260,6 +267,15 @@ impl<'a> Ctx<'a> {
             ],
             rests: OnceLock::new(),
             rest_supports: Vec::new(),
+            open_start: {
+                let mut q = setup.start.clone();
+                for a in &setup.arms {
+                    a.gripper.set_open(&mut q);
+                }
+                q
+            },
+            pick_memo: Mutex::new(BTreeMap::new()),
+            place_memo: Mutex::new(BTreeMap::new()),
             setup,
             options,
             grasps: grasp_set

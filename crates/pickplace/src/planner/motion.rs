@@ -181,21 +181,33 @@ impl Ctx<'_> {
         segments.push(Segment::reach("lift", arm, pick.lift.clone()));
         let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
         let lifted = super::end_of(&pick.lift)?;
+        // The place was computed with the other arm at rest and both hands open: its
+        // waypoints take the other arm's joints from where that arm is.
+        let lower: Vec<Vec<Real>> = place
+            .lower
+            .iter()
+            .map(|q| self.other_from(arm, lifted, q))
+            .collect();
         let carry = self
-            .motion(arm, &holding, lifted, &place.lower[0], salt ^ 2)
+            .motion(arm, &holding, lifted, &lower[0], salt ^ 2)
             .map_err(|f| f.at(Step::ToPrePlace))?;
         segments.push(Segment::reach("pre-place", arm, carry));
-        segments.push(Segment::reach("place", arm, place.lower.clone()));
-        let q_place = super::end_of(&place.lower)?;
+        segments.push(Segment::reach("place", arm, lower.clone()));
+        let q_place = super::end_of(&lower)?;
         let opened = self.opened(arm, q_place);
         segments.push(Segment::event(
-            vec![q_place.clone(), opened],
+            vec![q_place.clone(), opened.clone()],
             Some(("release", arm)),
             (EventKind::Release, arm, g.object_from_tcp.inverse()),
         ));
-        segments.push(Segment::reach("retreat", arm, place.retreat.clone()));
+        let retreat: Vec<Vec<Real>> = place
+            .retreat
+            .iter()
+            .map(|q| self.other_from(arm, &opened, q))
+            .collect();
+        segments.push(Segment::reach("retreat", arm, retreat.clone()));
         let left = self.world_with_object_at(&p.world_from_object);
-        let retreated = super::end_of(&place.retreat)?;
+        let retreated = super::end_of(&retreat)?;
         if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
             segments.push(back);
         }

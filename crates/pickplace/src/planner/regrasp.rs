@@ -25,6 +25,7 @@ use crate::plan::StrategyReport;
 use crate::strategy::Strategy;
 use pickplace_geometry::math::{Point3, Real};
 use pickplace_placement::{Placement, PlacementOptions};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// Radius (m) around the object's start within which intermediate resting poses are sought
@@ -134,6 +135,16 @@ impl Ctx<'_> {
                 *k,
             )
         });
+        if rest_edges.is_empty() {
+            return Ok(None);
+        }
+        // Second grasps that can pick the object up at some rest.
+        let mut liftable: Vec<usize> = rest_edges
+            .iter()
+            .flat_map(|(_, _, up)| up.iter().copied())
+            .collect();
+        liftable.sort_unstable();
+        liftable.dedup();
         // Both hands open at the start; the second pick is seeded with them open.
         let open_start = self.opened(b, &self.opened(a, &start));
         let mut picks: BTreeMap<usize, std::result::Result<Pick, Rejection>> = BTreeMap::new();
@@ -141,65 +152,40 @@ impl Ctx<'_> {
             BTreeMap::new();
         let mut ups: BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>> =
             BTreeMap::new();
-        let mut places: BTreeMap<(usize, usize), std::result::Result<Place, Rejection>> =
-            BTreeMap::new();
         for (pi, fit_final) in &finals {
             let pi = *pi;
-            for (k, down, up) in &rest_edges {
-                let k = *k;
+            // The most constrained leg first: B's places at the target, seeded from the
+            // start, in parallel chunks; then the rests where B can pick up with that grasp,
+            // then A's grasps that put it down there.
+            let seconds: Vec<usize> = fit_final
+                .iter()
+                .copied()
+                .filter(|g| liftable.binary_search(g).is_ok())
+                .collect();
+            for chunk in seconds.chunks(super::search::PARALLEL_CHUNK) {
                 if self.out_of_time() {
                     count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
                     return Ok(None);
                 }
-                // Second grasps: B picks them up here and places them at the target.
-                let seconds: Vec<usize> = up
-                    .iter()
-                    .copied()
-                    .filter(|g| fit_final.binary_search(g).is_ok())
+                let results: Vec<_> = chunk
+                    .par_iter()
+                    .map(|&g2| (g2, self.place(b, pi, g2)))
                     .collect();
-                if seconds.is_empty() {
-                    continue;
-                }
-                let rest_pose = self.rests()[k].world_from_object;
-                for &g1 in down {
-                    if self.out_of_time() {
-                        break;
-                    }
-                    if !picks.contains_key(&g1) {
-                        let r = split(self.pick(a, g1, &start))?;
-                        tally(report, Stage::Pick, &r);
-                        picks.insert(g1, r);
-                    }
-                    let Some(Ok(pick)) = picks.get(&g1) else {
+                for (g2, r) in results {
+                    let r = split(r)?;
+                    tally(report, Stage::Place, &r);
+                    let Ok(place) = r else {
                         continue;
                     };
-                    let pick = pick.clone();
-                    if !downs.contains_key(&(k, g1)) {
-                        let lifted = super::end_of(&pick.lift)?;
-                        let supports = self.rest_supports(k).to_vec();
-                        let r = split(self.place_at(
-                            a,
-                            g1,
-                            &rest_pose,
-                            &supports,
-                            lifted,
-                            REST_SALT | (k as u64) << 20,
-                        ))?;
-                        tally(report, Stage::Rest, &r);
-                        downs.insert((k, g1), r);
-                    }
-                    let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
-                        continue;
-                    };
-                    let down_place = down_place.clone();
-                    for &g2 in &seconds {
-                        if a == b && g2 == g1 {
-                            // The same hand with the same grasp gains nothing.
+                    for (k, down, up) in &rest_edges {
+                        let k = *k;
+                        if up.binary_search(&g2).is_err() {
                             continue;
                         }
                         if self.out_of_time() {
                             break;
                         }
+                        let rest_pose = self.rests()[k].world_from_object;
                         if !ups.contains_key(&(k, g2)) {
                             let supports = self.rest_supports(k).to_vec();
                             let r = split(self.pick_at(
@@ -217,39 +203,65 @@ impl Ctx<'_> {
                             continue;
                         };
                         let up_pick = up_pick.clone();
-                        if !places.contains_key(&(pi, g2)) {
-                            let lifted = super::end_of(&up_pick.lift)?;
-                            let r = split(self.place(b, pi, g2, lifted))?;
-                            tally(report, Stage::Place, &r);
-                            places.insert((pi, g2), r);
-                        }
-                        let Some(Ok(place)) = places.get(&(pi, g2)) else {
-                            continue;
-                        };
-                        let place = place.clone();
-                        let legs = RegraspLegs {
-                            strategy,
-                            pi,
-                            k,
-                            g1,
-                            g2,
-                            pick: &pick,
-                            down: &down_place,
-                            up: &up_pick,
-                            place: &place,
-                        };
-                        match split(self.regrasp_motions(&start, &legs))? {
-                            Ok(segments) => {
-                                count(report, Stage::Motion).accept();
-                                count(report, Stage::Placement).accept();
-                                return Ok(Some(Found {
-                                    segments,
-                                    grasps: vec![(a, g1), (b, g2)],
-                                    placement: pi,
-                                    rests: vec![k],
-                                }));
+                        for &g1 in down {
+                            if a == b && g2 == g1 {
+                                // The same hand with the same grasp gains nothing.
+                                continue;
                             }
-                            Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                            if self.out_of_time() {
+                                break;
+                            }
+                            if !picks.contains_key(&g1) {
+                                let r = split(self.pick(a, g1))?;
+                                tally(report, Stage::Pick, &r);
+                                picks.insert(g1, r);
+                            }
+                            let Some(Ok(pick)) = picks.get(&g1) else {
+                                continue;
+                            };
+                            let pick = pick.clone();
+                            if !downs.contains_key(&(k, g1)) {
+                                let lifted = super::end_of(&pick.lift)?;
+                                let supports = self.rest_supports(k).to_vec();
+                                let r = split(self.place_at(
+                                    a,
+                                    g1,
+                                    &rest_pose,
+                                    &supports,
+                                    lifted,
+                                    REST_SALT | (k as u64) << 20,
+                                ))?;
+                                tally(report, Stage::Rest, &r);
+                                downs.insert((k, g1), r);
+                            }
+                            let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
+                                continue;
+                            };
+                            let down_place = down_place.clone();
+                            let legs = RegraspLegs {
+                                strategy,
+                                pi,
+                                k,
+                                g1,
+                                g2,
+                                pick: &pick,
+                                down: &down_place,
+                                up: &up_pick,
+                                place: &place,
+                            };
+                            match split(self.regrasp_motions(&start, &legs))? {
+                                Ok(segments) => {
+                                    count(report, Stage::Motion).accept();
+                                    count(report, Stage::Placement).accept();
+                                    return Ok(Some(Found {
+                                        segments,
+                                        grasps: vec![(a, g1), (b, g2)],
+                                        placement: pi,
+                                        rests: vec![k],
+                                    }));
+                                }
+                                Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                            }
                         }
                     }
                 }

@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 
 /// Candidates evaluated together on the thread pool (results are used in rank order, so the
 /// outcome does not depend on the thread count).
-const PARALLEL_CHUNK: usize = 16;
+pub(super) const PARALLEL_CHUNK: usize = 16;
 
 /// Picks by the first arm gathered at a time for a handover search (more are gathered when
 /// these find no handover).
@@ -47,8 +47,7 @@ impl Ctx<'_> {
     ) -> Result<Option<Found>> {
         let start = self.setup.start.clone();
         let pickable = self.fitting_at_start(arm, report);
-        let mut pick_cache: BTreeMap<usize, std::result::Result<Pick, Rejection>> =
-            BTreeMap::new();
+        let mut counted = std::collections::BTreeSet::new();
         for (pi, grasps) in self.placement_order(arm, &pickable, report) {
             if self.out_of_time() {
                 count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
@@ -59,23 +58,17 @@ impl Ctx<'_> {
                 if self.out_of_time() {
                     break;
                 }
-                let result = match pick_cache.get(&gi) {
-                    Some(result) => result,
-                    None => {
-                        let result = split(self.pick(arm, gi, &start))?;
-                        match &result {
-                            Ok(_) => count(report, Stage::Pick).accept(),
-                            Err(r) => count(report, Stage::Pick).reject(r.to_string()),
-                        }
-                        pick_cache.entry(gi).or_insert(result)
+                let result = split(self.pick(arm, gi))?;
+                if counted.insert(gi) {
+                    match &result {
+                        Ok(_) => count(report, Stage::Pick).accept(),
+                        Err(r) => count(report, Stage::Pick).reject(r.to_string()),
                     }
-                };
+                }
                 let Ok(pick) = result else {
                     continue;
                 };
-                let pick = pick.clone();
-                let lifted = super::end_of(&pick.lift)?.clone();
-                let place = match split(self.place(arm, pi, gi, &lifted))? {
+                let place = match split(self.place(arm, pi, gi))? {
                     Ok(p) => p,
                     Err(r) => {
                         count(report, Stage::Place).reject(r.to_string());
@@ -199,7 +192,7 @@ impl Ctx<'_> {
         let mut next_pick = 0;
         loop {
             let round = picks.len();
-            self.handover_picks(a, &start, &pickable, &mut next_pick, &mut picks, report)?;
+            self.handover_picks(a, &pickable, &mut next_pick, &mut picks, report)?;
             if picks.len() == round {
                 break;
             }
@@ -221,7 +214,6 @@ impl Ctx<'_> {
                         pi,
                         *g1,
                         (fitting, limit),
-                        &start,
                         &mut places[oi],
                         report,
                     )?;
@@ -317,7 +309,6 @@ impl Ctx<'_> {
     fn handover_picks(
         &self,
         a: Arm,
-        start: &[Real],
         pickable: &[usize],
         next: &mut usize,
         picks: &mut Vec<(usize, Pick)>,
@@ -328,7 +319,7 @@ impl Ctx<'_> {
             let end = (*next + PARALLEL_CHUNK).min(pickable.len());
             let results: Vec<_> = pickable[*next..end]
                 .par_iter()
-                .map(|&gi| (gi, self.pick(a, gi, start)))
+                .map(|&gi| (gi, self.pick(a, gi)))
                 .collect();
             for (gi, result) in results {
                 *next += 1;
@@ -358,7 +349,6 @@ impl Ctx<'_> {
         pi: usize,
         g1: usize,
         (fitting, limit): (&[usize], usize),
-        start: &[Real],
         places: &mut BTreeMap<usize, Option<Place>>,
         report: &mut StrategyReport,
     ) -> Result<Vec<(usize, Place)>> {
@@ -379,7 +369,7 @@ impl Ctx<'_> {
                 .collect();
             let results: Vec<_> = todo
                 .par_iter()
-                .map(|&g2| (g2, self.place(b, pi, g2, start)))
+                .map(|&g2| (g2, self.place(b, pi, g2)))
                 .collect();
             for (g2, result) in results {
                 let place = match split(result)? {
