@@ -216,10 +216,7 @@ impl Strategy {
                 dist(s.pick_arm(), start) + dist(s.place_arm(), target),
             )
         };
-        let mut rest: Vec<Strategy> = Strategy::ALL
-            .into_iter()
-            .filter(|&s| s != first)
-            .collect();
+        let mut rest: Vec<Strategy> = Strategy::ALL.into_iter().filter(|&s| s != first).collect();
         rest.sort_by(|&a, &b| {
             let (ha, ca) = cost(a);
             let (hb, cb) = cost(b);

@@ -32,6 +32,9 @@ pub const MAX_JOINT_STEP: Real = std::f64::consts::PI / 180.0;
 pub const MAX_CARTESIAN_STEP: Real = 0.01;
 /// Within this distance (m) of its start or placed pose the object may touch its support.
 pub const CONTACT_ZONE: Real = 0.006;
+/// Clearance the two hands keep from each other, measured on their links' collision
+/// geometry (m): the planner holds handovers to it.
+pub const HAND_CLEARANCE: Real = 0.01;
 /// Position tolerance for "the object is where the plan says" (m).
 pub const POSE_TOLERANCE: Real = 0.002;
 

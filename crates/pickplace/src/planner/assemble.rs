@@ -6,8 +6,8 @@
 use super::Ctx;
 use crate::error::Result;
 use crate::plan::{
-    Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan,
-    RestInfo, Stats, TrajectoryPoint,
+    Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, RestInfo,
+    Stats, TrajectoryPoint,
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};

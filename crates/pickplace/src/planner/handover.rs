@@ -17,9 +17,12 @@ use pickplace_geometry::math::{
 };
 use pickplace_geometry::obb::Obb;
 use pickplace_grasp::{Grasp, GripperParams};
+use pickplace_robot::collision::BodyId;
 
-/// Clearance kept between the two hands at a handover (m).
-const HAND_CLEARANCE: Real = 0.004;
+/// Clearance kept between the two hands' gripper boxes in the cheap pre-test
+/// ([`hands_overlap`]) (m); the real link geometry is then held to
+/// [`crate::validate::HAND_CLEARANCE`].
+const BOX_CLEARANCE: Real = 0.004;
 
 /// A feasible handover.
 #[derive(Debug, Clone)]
@@ -107,6 +110,16 @@ impl Ctx<'_> {
                 };
             // Both hold: B closes, then A opens and retreats with B holding.
             let both = self.gripping(b, &q_b, grasp2.width);
+            // The two hands, as posed, keep the stated clearance on their real geometry.
+            // (B open at its grasp, both closed, A open: the fingers sweep between them).
+            let gap = self
+                .hands_gap(&q_b)?
+                .min(self.hands_gap(&both)?)
+                .min(self.hands_gap(&self.opened(a, &both))?);
+            if gap < crate::validate::HAND_CLEARANCE {
+                regrasp.reject(Rejection::HandsTooClose.to_string());
+                continue;
+            }
             let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
             let a_open = self.opened(a, &both);
             if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
@@ -157,9 +170,68 @@ impl Ctx<'_> {
     }
 }
 
+impl Ctx<'_> {
+    /// The links of `arm`'s hand: its fingers, the links carrying them and the link carrying
+    /// its tool frame, those with collision geometry.
+    pub(super) fn hand_links(&self, arm: Arm) -> Vec<usize> {
+        let model = &self.setup.model;
+        let a = self.setup.arm(arm);
+        let mut links: Vec<usize> = a
+            .finger_links
+            .iter()
+            .filter_map(|n| model.link_index(n))
+            .collect();
+        let carriers: Vec<usize> = links
+            .iter()
+            .chain(std::iter::once(&a.tcp_link))
+            .filter_map(|&l| model.parent_link(l))
+            .collect();
+        links.extend(carriers);
+        links.sort_unstable();
+        links.dedup();
+        links.retain(|&l| !model.links()[l].collisions.is_empty());
+        links
+    }
+
+    /// The smallest distance (m) between the two hands' links at the full configuration
+    /// `q`, measured on their collision geometry (negative when they overlap); infinite for a
+    /// robot with one arm.
+    ///
+    /// # Errors
+    /// [`crate::Error::Internal`] when the collision library cannot measure a pair.
+    pub(super) fn hands_gap(&self, q: &[Real]) -> crate::Result<Real> {
+        if !(self.setup.has_arm(Arm::Right) && self.setup.has_arm(Arm::Left)) {
+            return Ok(Real::INFINITY);
+        }
+        let (right, left) = (self.hand_links(Arm::Right), self.hand_links(Arm::Left));
+        with_scratch(|scratch| {
+            let mut gap = Real::INFINITY;
+            for &r in &right {
+                for &l in &left {
+                    let d = self
+                        .setup
+                        .world
+                        .signed_distance(
+                            &self.setup.model,
+                            q,
+                            scratch,
+                            BodyId::Link(r),
+                            BodyId::Link(l),
+                        )
+                        .map_err(crate::error::internal("hand clearance"))?;
+                    gap = gap.min(d);
+                }
+            }
+            Ok(gap)
+        })
+    }
+}
+
 /// Whether the gripper of `second` (open) would overlap the gripper of `first` (closed on
 /// the object) when both hold the object: any of their palm and finger boxes intersect
-/// (separating-axis test on oriented boxes, [`Obb::intersects`], object frame), with [`HAND_CLEARANCE`].
+/// (separating-axis test on oriented boxes, [`Obb::intersects`], object frame), with
+/// [`BOX_CLEARANCE`]. A cheap pre-test: the posed hands are then measured on the links'
+/// collision geometry ([`Ctx::hands_gap`]).
 pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Grasp) -> bool {
     let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
         let [f1, f2] = gripper.fingers(opening);
@@ -168,7 +240,7 @@ pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Gra
             .map(|b| Obb {
                 center: grasp.object_from_tcp * b.center,
                 axes: grasp.object_from_tcp.rotation.to_rotation_matrix().matrix() * b.tcp_from_box,
-                half: b.half_extents.add_scalar(HAND_CLEARANCE / 2.0),
+                half: b.half_extents.add_scalar(BOX_CLEARANCE / 2.0),
             })
             .collect()
     };

@@ -6,12 +6,12 @@
 
 use super::Ctx;
 use super::reason::{Attempt, Rejection, Step, split};
-use std::sync::{Mutex, MutexGuard};
 use crate::contact::supports;
 use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, Vector3};
 use pickplace_robot::IkOptions;
 use pickplace_robot::collision::CollisionWorld;
+use std::sync::{Mutex, MutexGuard};
 
 /// IK solutions tried per key pose before it is rejected (see [`Ctx::free_ik`]).
 pub(super) const IK_SOLUTIONS: usize = 4;
@@ -340,7 +340,9 @@ impl Ctx<'_> {
     /// The memo behind `mutex` (a poisoned lock still holds valid entries: each is inserted
     /// whole).
     fn memo_lock<'m, T>(&self, mutex: &'m Mutex<T>) -> MutexGuard<'m, T> {
-        mutex.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+        mutex
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
     /// Places the object with `arm` and grasp `gi` at `world_from_object`, where it rests on
@@ -498,9 +500,9 @@ mod tests {
     #[test]
     fn the_best_reachable_pick_approaches_and_lifts_in_straight_lines() {
         let ctx = ctx("fig9-near.toml");
-        let start = ctx.setup.start.clone();
+
         let (gi, pick) = (0..ctx.grasps.len())
-            .find_map(|gi| ctx.pick(Arm::Right, gi, &start).ok().map(|p| (gi, p)))
+            .find_map(|gi| ctx.pick(Arm::Right, gi).ok().map(|p| (gi, p)))
             .expect("the right hand picks the near can");
         assert!(off_line(&ctx, Arm::Right, &pick.approach) < 1e-3);
         assert!(off_line(&ctx, Arm::Right, &pick.lift) < 1e-3);
@@ -517,9 +519,9 @@ mod tests {
     fn a_grasp_far_from_the_shoulder_is_out_of_reach() {
         // In the far-left scene the can is beyond the right arm's reach.
         let ctx = ctx("fig9-far-left.toml");
-        let start = ctx.setup.start.clone();
+
         for gi in 0..ctx.grasps.len().min(8) {
-            match ctx.pick(Arm::Right, gi, &start) {
+            match ctx.pick(Arm::Right, gi) {
                 Err(Fail::Rejected(r)) => assert_eq!(r, Rejection::OutOfReach),
                 other => panic!("grasp {gi}: {other:?}"),
             }
@@ -543,11 +545,11 @@ mod tests {
     #[test]
     fn rejections_of_a_pick_name_their_step() {
         let ctx = ctx("fig9-near.toml");
-        let start = ctx.setup.start.clone();
+
         // Every rejection of the left hand's picks is a known one, with a step where the
         // pick got past the reach and gripper tests.
         for gi in 0..ctx.grasps.len().min(24) {
-            if let Err(Fail::Rejected(r)) = ctx.pick(Arm::Left, gi, &start) {
+            if let Err(Fail::Rejected(r)) = ctx.pick(Arm::Left, gi) {
                 match &r {
                     Rejection::OutOfReach | Rejection::GripperHits(_) => {}
                     Rejection::At(step, _) => assert!(matches!(

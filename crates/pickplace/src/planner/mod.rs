@@ -170,7 +170,7 @@ struct Ctx<'a> {
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
     rests: OnceLock<Vec<Placement>>,
     /// Environment bodies the object touches at each rest, found once.
-    rest_supports: Vec<OnceLock<Vec<String>>>,
+    rest_supports: OnceLock<Vec<OnceLock<Vec<String>>>>,
     timings: BTreeMap<String, Real>,
 }
 
@@ -266,7 +266,7 @@ impl<'a> Ctx<'a> {
                 (0..n).map(|_| OnceLock::new()).collect(),
             ],
             rests: OnceLock::new(),
-            rest_supports: Vec::new(),
+            rest_supports: OnceLock::new(),
             open_start: {
                 let mut q = setup.start.clone();
                 for a in &setup.arms {
@@ -363,10 +363,6 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     let n_strategies = order.len();
     for (i, strategy) in order.into_iter().enumerate() {
         ctx.share_time(n_strategies - i);
-        if strategy.has_regrasp() && ctx.rest_supports.is_empty() {
-            let n = ctx.rests().len();
-            ctx.rest_supports = (0..n).map(|_| OnceLock::new()).collect();
-        }
         if ctx.out_of_time() {
             reasons.push(format!(
                 "{strategy}: not tried, the time budget of {} s is spent",

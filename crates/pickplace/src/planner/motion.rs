@@ -389,12 +389,7 @@ impl Ctx<'_> {
             None,
             (EventKind::Grasp, a, g1.object_from_tcp.inverse()),
         ));
-        let lift: Vec<Vec<Real>> = legs
-            .pick
-            .lift
-            .iter()
-            .map(|q| graft_a(q, &closed))
-            .collect();
+        let lift: Vec<Vec<Real>> = legs.pick.lift.iter().map(|q| graft_a(q, &closed)).collect();
         segments.push(Segment::reach("lift", a, lift.clone()));
         // Carry to the rest and put it down.
         let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
@@ -426,8 +421,7 @@ impl Ctx<'_> {
         let resting = self.world_with_object_at(&rest);
         let mut current = here(&retreat)?;
         if a != b
-            && let Some(back) =
-                self.back_to_start(a, &resting, &current, start, salt ^ 3)?
+            && let Some(back) = self.back_to_start(a, &resting, &current, start, salt ^ 3)?
         {
             current = here(&back.path)?;
             segments.push(Segment {

@@ -202,6 +202,9 @@ pub enum Rejection {
     },
     /// The placing hand would overlap the picking hand on the object.
     HandsOverlap,
+    /// At the handover the two hands' links come closer than the stated clearance
+    /// (`pickplace::validate::HAND_CLEARANCE`).
+    HandsTooClose,
     /// No second grasp regrasps at this handover pose.
     NoRegrasp,
     /// No second grasp clears the first hand and places the object.
@@ -262,6 +265,11 @@ impl fmt::Display for Rejection {
             Rejection::NoGraspReaches => f.write_str("no grasp reaches it"),
             Rejection::NoMotionForAnyGrasp => f.write_str("no motion for any grasp"),
             Rejection::TimeBudgetSpent => f.write_str("time budget spent"),
+            Rejection::HandsTooClose => write!(
+                f,
+                "hands closer than {:.0} mm",
+                crate::validate::HAND_CLEARANCE * 1e3
+            ),
             Rejection::NoRest => f.write_str("no intermediate resting pose near the start"),
             Rejection::NoRegraspSequence => {
                 f.write_str("no put-down and pick-up sequence reaches it")

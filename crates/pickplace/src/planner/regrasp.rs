@@ -27,6 +27,7 @@ use pickplace_geometry::math::{Point3, Real};
 use pickplace_placement::{Placement, PlacementOptions};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 
 /// Radius (m) around the object's start within which intermediate resting poses are sought
 /// on the surfaces there.
@@ -67,8 +68,8 @@ impl Ctx<'_> {
             set.placements
                 .into_iter()
                 .filter(|p| {
-                    let d = (p.world_from_object.translation.vector - start.translation.vector)
-                        .norm();
+                    let d =
+                        (p.world_from_object.translation.vector - start.translation.vector).norm();
                     let a = p.world_from_object.rotation.angle_to(&start.rotation);
                     d > 0.01 || a > 5f64.to_radians()
                 })
@@ -78,7 +79,15 @@ impl Ctx<'_> {
 
     /// The bodies the object touches at rest `k`, found once.
     fn rest_supports(&self, k: usize) -> &[String] {
-        self.rest_supports[k].get_or_init(|| supports(self.setup, &self.rests()[k].world_from_object))
+        let all = self
+            .rest_supports
+            .get_or_init(|| self.rests().iter().map(|_| OnceLock::new()).collect());
+        match all.get(k) {
+            Some(cell) => {
+                cell.get_or_init(|| supports(self.setup, &self.rests()[k].world_from_object))
+            }
+            None => &[],
+        }
     }
 
     /// Regrasp by placing with `strategy` (`right-place-right`, `right-place-left`, …): arm A
@@ -291,5 +300,123 @@ fn tally<T>(report: &mut StrategyReport, stage: Stage, r: &std::result::Result<T
     match r {
         Ok(_) => count(report, stage).accept(),
         Err(r) => count(report, stage).reject(r.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::ctx;
+    use super::*;
+    use crate::strategy::Arm;
+
+    fn report(strategy: Strategy) -> StrategyReport {
+        StrategyReport {
+            strategy,
+            success: false,
+            stages: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn rests_lie_near_the_start_on_its_table_and_leave_the_start_pose_out() {
+        let ctx = ctx("fig9-near.toml");
+        let start = ctx.setup.object_start;
+        let rests = ctx.rests();
+        assert!(!rests.is_empty());
+        for r in rests {
+            let d = r.world_from_object.translation.vector - start.translation.vector;
+            assert!(d.xy().norm() <= REST_RADIUS + 0.05, "{d:?}");
+            assert!(
+                d.xy().norm() > 0.01
+                    || r.world_from_object.rotation.angle_to(&start.rotation) > 0.08
+            );
+        }
+    }
+
+    #[test]
+    fn the_right_hand_puts_the_can_down_and_picks_it_up_again() {
+        let mut ctx = ctx("fig9-near.toml");
+        let mut r = report(Strategy::RightPlaceRight);
+        let found = ctx
+            .regrasp_strategy(Strategy::RightPlaceRight, &mut r)
+            .expect("no defect")
+            .expect("a regrasp plan");
+        assert_eq!(found.rests.len(), 1);
+        assert_eq!(found.grasps.len(), 2);
+        assert!(found.grasps.iter().all(|(a, _)| *a == Arm::Right));
+        assert_ne!(found.grasps[0].1, found.grasps[1].1, "another grasp");
+        let keys: Vec<&str> = found
+            .segments
+            .iter()
+            .filter_map(|s| s.key.map(|k| k.0))
+            .collect();
+        for k in [
+            "pre-grasp",
+            "grasp",
+            "lift",
+            "pre-rest",
+            "rest",
+            "release-rest",
+            "retreat-rest",
+            "pre-regrasp",
+            "regrasp",
+            "lift-again",
+            "pre-place",
+            "place",
+            "release",
+            "retreat",
+        ] {
+            assert!(keys.contains(&k), "{k} missing from {keys:?}");
+        }
+        // Two grasps and two releases, alternating: the object is never held by two hands.
+        let events: Vec<_> = found
+            .segments
+            .iter()
+            .filter_map(|s| s.event.map(|e| (e.0, e.1)))
+            .collect();
+        use crate::plan::EventKind::{Grasp, Release};
+        assert_eq!(
+            events,
+            [
+                (Grasp, Arm::Right),
+                (Release, Arm::Right),
+                (Grasp, Arm::Right),
+                (Release, Arm::Right)
+            ]
+        );
+    }
+
+    #[test]
+    fn a_regrasp_plan_passes_the_validator_and_lists_its_rest() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let options = super::super::PlanOptions {
+            strategy: crate::scene::StrategyChoice::LeftPlaceRight,
+            timings: false,
+            ..super::super::PlanOptions::for_setup(setup)
+        };
+        let super::super::Outcome::Planned(plan) =
+            super::super::plan(setup, &options).expect("no defect")
+        else {
+            panic!("the left hand puts the can down for the right")
+        };
+        assert_eq!(plan.strategy, Strategy::LeftPlaceRight);
+        assert_eq!(plan.rests.len(), 1);
+        assert_eq!(plan.grasps[0].arm, Arm::Left);
+        assert_eq!(plan.grasps[1].arm, Arm::Right);
+        let report = crate::validate::validate(setup, &plan, std::path::Path::new("plan.json"))
+            .expect("checks");
+        assert!(report.problems.is_empty(), "{:?}", report.problems);
+        // The object rests where the plan says between the release and the second grasp.
+        let rest = plan.rests[0]
+            .world_from_object
+            .to_isometry()
+            .expect("a pose");
+        let released = plan
+            .key_poses
+            .iter()
+            .find(|k| k.name == "release-rest")
+            .expect("a release at the rest");
+        let there = released.world_from_object.to_isometry().expect("a pose");
+        assert!((there.translation.vector - rest.translation.vector).norm() < 1e-3);
     }
 }

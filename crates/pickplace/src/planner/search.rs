@@ -198,8 +198,7 @@ impl Ctx<'_> {
             }
             for (oi, (pi, fitting)) in order.iter().enumerate() {
                 if self.out_of_time() {
-                    count(report, Stage::Placement)
-                        .reject(Rejection::TimeBudgetSpent.to_string());
+                    count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
                     return Ok(None);
                 }
                 let pi = *pi;
@@ -209,17 +208,10 @@ impl Ctx<'_> {
                         break;
                     }
                     let limit = SECOND_GRASPS * (1 + round / HANDOVER_PICKS);
-                    let mine = self.second_grasps(
-                        b,
-                        pi,
-                        *g1,
-                        (fitting, limit),
-                        &mut places[oi],
-                        report,
-                    )?;
+                    let mine =
+                        self.second_grasps(b, pi, *g1, (fitting, limit), &mut places[oi], report)?;
                     if mine.is_empty() {
-                        count(report, Stage::Handover)
-                            .reject(Rejection::NoSecondGrasp.to_string());
+                        count(report, Stage::Handover).reject(Rejection::NoSecondGrasp.to_string());
                         continue;
                     }
                     // The handover: object poses in front of the torso (where the picking
