@@ -25,7 +25,11 @@ pub struct PlacementJson {
     pub env_cluster: Option<usize>,
     /// Stability margin (m), see [`crate::stability`].
     pub stability_margin: Real,
-    /// Distance from the target (m) (none for resting poses).
+    /// Tipping angle (rad): `atan(stability_margin / CoG height)`, see
+    /// [`crate::stability::tipping_angle`].
+    pub tipping_angle: Real,
+    /// Horizontal distance (m) from the target to the CoG's vertical (none for resting poses),
+    /// see [`crate::Placement::distance_to_target`].
     pub distance_to_target: Option<Real>,
     /// Tilt of an edge-face contact (rad).
     pub tilt: Real,
@@ -88,6 +92,7 @@ impl PlacementsJson {
                     object_cluster: Some(p.object_cluster),
                     env_cluster: Some(p.env_cluster),
                     stability_margin: p.stability_margin,
+                    tipping_angle: p.tipping_angle,
                     distance_to_target: Some(p.distance_to_target),
                     tilt: p.tilt,
                 })
@@ -123,6 +128,7 @@ impl PlacementsJson {
                     object_cluster: None,
                     env_cluster: None,
                     stability_margin: p.stability_margin,
+                    tipping_angle: p.tipping_angle,
                     distance_to_target: None,
                     tilt: 0.0,
                 })
