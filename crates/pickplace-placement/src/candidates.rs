@@ -120,7 +120,7 @@ pub const DEFAULT_MIN_MARGIN: Real = 0.002;
 pub const DEFAULT_MIN_TIPPING_ANGLE: Real = 6.0 * std::f64::consts::PI / 180.0;
 
 /// How the object touches the environment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
     /// A face of the object lies on the environment's contact plane.
@@ -500,8 +500,10 @@ pub fn diversify(sorted: Vec<Placement>, max: usize) -> Vec<Placement> {
         }
     }
     let keep = max.max(faces.len());
-    let mut queues: Vec<std::vec::IntoIter<Placement>> =
-        faces.into_iter().map(|(_, list)| list.into_iter()).collect();
+    let mut queues: Vec<std::vec::IntoIter<Placement>> = faces
+        .into_iter()
+        .map(|(_, list)| list.into_iter())
+        .collect();
     let mut out = Vec::new();
     while out.len() < keep {
         let before = out.len();
@@ -973,7 +975,11 @@ fn spread_order(n: usize) -> Vec<usize> {
         r
     };
     let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| radical_inverse(a).total_cmp(&radical_inverse(b)).then(a.cmp(&b)));
+    order.sort_by(|&a, &b| {
+        radical_inverse(a)
+            .total_cmp(&radical_inverse(b))
+            .then(a.cmp(&b))
+    });
     order
 }
 

@@ -193,17 +193,14 @@ impl CollisionMesh {
     ) -> Option<(Real, bool)> {
         use parry3d_f64::query::{Ray, RayCast};
         let ray = Ray::new(parry::point(origin), parry::vector(dir));
-        let hit = self
-            .shape
-            .cast_ray_and_get_normal(&parry::pose(world_from_mesh), &ray, max, false)?;
-        let exits = self
-            .triangles
-            .get(hit.subshape as usize)
-            .is_some_and(|t| {
-                let [a, b, c] = t.map(|i| self.vertices[i as usize]);
-                let n = world_from_mesh.rotation * (b - a).cross(&(c - a));
-                n.dot(dir) > 0.0
-            });
+        let hit =
+            self.shape
+                .cast_ray_and_get_normal(&parry::pose(world_from_mesh), &ray, max, false)?;
+        let exits = self.triangles.get(hit.subshape as usize).is_some_and(|t| {
+            let [a, b, c] = t.map(|i| self.vertices[i as usize]);
+            let n = world_from_mesh.rotation * (b - a).cross(&(c - a));
+            n.dot(dir) > 0.0
+        });
         Some((hit.time_of_impact, exits))
     }
 

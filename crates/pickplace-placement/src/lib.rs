@@ -41,13 +41,12 @@ pub mod stability;
 
 pub use candidates::{
     ContactKind, DEFAULT_MIN_MARGIN, DEFAULT_MIN_TIPPING_ANGLE, EnvironmentModel, ObjectModel,
-    Placement, PlacementOptions, PlacementSet, Rejections, TargetError, candidates,
-    default_target, diversify, horizontal_distance, include_bounding_box,
-    intermediate_placements, select_target,
-};
-pub use rest::{
-    RestOptions, RestState, TargetSurface, TargetSurfaceError, rest_state, target_surface,
+    Placement, PlacementOptions, PlacementSet, Rejections, TargetError, candidates, default_target,
+    diversify, horizontal_distance, include_bounding_box, intermediate_placements, select_target,
 };
 pub use error::{Error, Result};
 pub use region::Region;
+pub use rest::{
+    RestOptions, RestState, TargetSurface, TargetSurfaceError, rest_state, target_surface,
+};
 pub use resting::{RestingOptions, RestingPose, resting_poses};

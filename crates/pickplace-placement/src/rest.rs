@@ -33,7 +33,9 @@ pub struct RestOptions {
     /// (default: 0.002).
     pub max_depth: Real,
     /// Points of the object and of the environment this close (m) to each other, vertically,
-    /// support the object (default: 0.001, the clustering's h_max).
+    /// support the object (default: 0.0005). A can on its side rests on its lowest line of
+    /// vertices and on the neighbouring lines 0.16 mm up (64 facets), not on the next ones
+    /// 0.63 mm up: the support is what would carry a rigid object, not a band of the curve.
     pub contact_tolerance: Real,
     /// Minimum stability margin (m) (default: 0: a start pose is what the scene observed, its
     /// CoG's vertical only has to pass inside the support; see [`RestOptions::placement`]).
@@ -47,7 +49,7 @@ impl Default for RestOptions {
         Self {
             max_gap: 0.003,
             max_depth: 0.002,
-            contact_tolerance: 0.001,
+            contact_tolerance: 0.0005,
             min_margin: 0.0,
             min_tipping_angle: 0.0,
         }
@@ -134,7 +136,10 @@ impl std::fmt::Display for RestState {
                 tipping_angle.to_degrees()
             ),
             RestState::Unstable { .. } => {
-                write!(f, "unstable: it touches the support at a point or a line only")
+                write!(
+                    f,
+                    "unstable: it touches the support at a point or a line only"
+                )
             }
         }
     }
@@ -203,18 +208,11 @@ pub fn rest_state(
     // Vertical gaps: object vertices above the environment, environment vertices below the
     // object, each ray started `max_depth` back so that a slightly sunk point counts.
     let back = options.max_depth + 1e-6;
-    let mut gap = Real::INFINITY;
-    let mut support: Vec<Point3> = Vec::new();
-    let mut on_support = |g: Real, p: Point3, gap: &mut Real| {
-        *gap = gap.min(g);
-        if g <= options.contact_tolerance {
-            support.push(p);
-        }
-    };
+    let mut gaps: Vec<(Real, Point3)> = Vec::new();
     for p in &object_points {
         let from = p + up * back;
         if let Some(t) = env.collision.ray_distance(&identity, &from, &down, MAX_RAY) {
-            on_support(t - back, *p, &mut gap);
+            gaps.push((t - back, *p));
         }
     }
     for p in &env_points {
@@ -224,9 +222,18 @@ pub fn rest_state(
                 .collision
                 .ray_distance(world_from_object, &from, &up, height + back + 0.01)
         {
-            on_support(t - back, *p, &mut gap);
+            gaps.push((t - back, *p));
         }
     }
+    let gap = gaps.iter().map(|g| g.0).fold(Real::INFINITY, Real::min);
+    // The support: points within the tolerance of the environment, or of the lowest point when
+    // the object hangs slightly above it.
+    let reach = gap.max(0.0) + options.contact_tolerance;
+    let mut support: Vec<Point3> = gaps
+        .iter()
+        .filter(|(g, _)| *g <= reach)
+        .map(|(_, p)| *p)
+        .collect();
     if gap > options.max_gap {
         // An edge above an edge is not seen by the rays: lowered by `max_gap`, does the object
         // touch anything?
@@ -246,7 +253,7 @@ pub fn rest_state(
             if o_world.normal().dot(&e.normal()) > -(2f64.to_radians().cos()) {
                 continue;
             }
-            if let Some(points) = common_support(&o_world, e, options) {
+            if let Some(points) = common_support(&o_world, e, options.max_depth, reach) {
                 support.extend(points);
             }
         }
@@ -279,18 +286,14 @@ pub fn rest_state(
 
 /// The corners (world frame) of the supported area of the object region `o` (world frame) on
 /// the environment region `e` (Fig. 7's first two steps) when `o`'s support lies on `e`'s
-/// plane within the tolerances; `None` otherwise.
-fn common_support(o: &Region, e: &Region, options: &RestOptions) -> Option<Vec<Point3>> {
+/// plane, from `max_depth` (m) below it to `reach` (m) above; `None` otherwise.
+fn common_support(o: &Region, e: &Region, max_depth: Real, reach: Real) -> Option<Vec<Point3>> {
     let to_e = |q: &Point2| {
         let w = o.parent_from_plane * Point3::new(q.x, q.y, 0.0);
         e.to_plane(&w)
     };
     let support: Vec<(Point2, Real)> = o.support.iter().map(to_e).collect();
-    if support.len() < 3
-        || support
-            .iter()
-            .any(|(_, h)| *h < -options.max_depth || *h > options.contact_tolerance)
-    {
+    if support.len() < 3 || support.iter().any(|(_, h)| *h < -max_depth || *h > reach) {
         return None;
     }
     let moved = Polygon {
@@ -415,7 +418,10 @@ pub fn target_surface(
             nearest = Some((d, r));
         }
     }
-    on.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cluster_id.cmp(&b.1.cluster_id)));
+    on.sort_by(|a, b| {
+        a.0.total_cmp(&b.0)
+            .then(a.1.cluster_id.cmp(&b.1.cluster_id))
+    });
     if on.is_empty() {
         return Err(TargetSurfaceError::NotOnSurface {
             nearest_cluster: nearest.map_or(usize::MAX, |(_, r)| r.cluster_id),
@@ -464,4 +470,237 @@ pub fn target_surface(
         slope: slope(e),
         fits,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
+    use pickplace_geometry::math::{Translation3, UnitQuaternion};
+    use pickplace_geometry::mesh::{MassProperties, TriMesh};
+    use pickplace_geometry::shapes;
+
+    fn object(mesh: &TriMesh) -> ObjectModel {
+        let clusters = cluster_surface(mesh, &ClusterParams::environment()).expect("clusters");
+        let cog = MassProperties::of(mesh).center_of_mass;
+        ObjectModel::new(mesh, &clusters, cog).expect("object")
+    }
+
+    /// A 1 x 1 m table whose top is z = 0, its edges at x, y = ±0.5.
+    fn table() -> EnvironmentModel {
+        let mesh = shapes::box_builder([0.5, 0.5, 0.025])
+            .translated(Vector3::new(0.0, 0.0, -0.025))
+            .build()
+            .expect("table");
+        let clusters = cluster_surface(&mesh, &ClusterParams::environment()).expect("clusters");
+        EnvironmentModel::new(&mesh, &clusters, &Isometry3::identity()).expect("env")
+    }
+
+    /// The 6 x 4 x 10 cm box standing on the table at (x, y), its bottom `dz` above the top.
+    fn box_at(x: Real, y: Real, dz: Real) -> Isometry3 {
+        Isometry3::translation(x, y, 0.05 + dz)
+    }
+
+    fn boxed() -> ObjectModel {
+        object(&shapes::box_mesh([0.03, 0.02, 0.05]))
+    }
+
+    #[test]
+    fn a_box_on_the_table_rests_with_its_margin() {
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(0.1, 0.0, 0.0),
+            &RestOptions::default(),
+        );
+        let RestState::Resting {
+            margin,
+            tipping_angle,
+        } = state
+        else {
+            panic!("{state}");
+        };
+        assert!((margin - 0.02).abs() < 1e-6, "{margin}");
+        assert!((tipping_angle - (0.02f64).atan2(0.05)).abs() < 1e-6);
+        // Half a millimetre above or below (within the tolerances): still resting.
+        for dz in [5e-4, -5e-4] {
+            let s = rest_state(
+                &boxed(),
+                &table(),
+                &box_at(0.1, 0.0, dz),
+                &RestOptions::default(),
+            );
+            assert!(s.is_resting(), "{dz}: {s}");
+        }
+    }
+
+    #[test]
+    fn a_box_above_the_table_floats() {
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(0.1, 0.0, 0.01),
+            &RestOptions::default(),
+        );
+        let RestState::Floating { gap } = state else {
+            panic!("{state}");
+        };
+        assert!((gap - 0.01).abs() < 1e-6, "{gap}");
+        assert!(state.to_string().contains("10.0 mm"), "{state}");
+        // Beside the table, over nothing.
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(2.0, 0.0, 0.0),
+            &RestOptions::default(),
+        );
+        assert_eq!(
+            state,
+            RestState::Floating {
+                gap: Real::INFINITY
+            }
+        );
+    }
+
+    #[test]
+    fn a_box_sunk_into_the_table_penetrates() {
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(0.1, 0.0, -0.005),
+            &RestOptions::default(),
+        );
+        let RestState::Penetrating { depth } = state else {
+            panic!("{state}");
+        };
+        assert!((depth - 0.005).abs() < 1e-6, "{depth}");
+    }
+
+    #[test]
+    fn a_box_overhanging_the_edge_is_unstable() {
+        // The table's edge at x = 0.5; the box's CoG 2 cm beyond it, its foot 1 cm on the table.
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(0.52, 0.0, 0.0),
+            &RestOptions::default(),
+        );
+        let RestState::Unstable { margin, .. } = state else {
+            panic!("{state}");
+        };
+        assert!((margin + 0.02).abs() < 1e-6, "{margin}");
+        assert!(state.to_string().contains("outside"), "{state}");
+        // Its CoG 1 cm back from the edge it rests, with a 1 cm margin (to the edge).
+        let state = rest_state(
+            &boxed(),
+            &table(),
+            &box_at(0.49, 0.0, 0.0),
+            &RestOptions::default(),
+        );
+        let RestState::Resting { margin, .. } = state else {
+            panic!("{state}");
+        };
+        assert!((margin - 0.01).abs() < 1e-6, "{margin}");
+    }
+
+    #[test]
+    fn a_can_on_its_side_rests_as_a_start_but_is_no_placement() {
+        let can = object(&shapes::can_builder().build().expect("can"));
+        // Axis along y, a line of vertices at the bottom, the neighbouring ones 0.16 mm up.
+        let pose = Isometry3::from_parts(
+            Translation3::new(0.0, 0.06, shapes::CAN_RADIUS),
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI_2),
+        );
+        let state = rest_state(&can, &table(), &pose, &RestOptions::default());
+        let RestState::Resting { margin, .. } = state else {
+            panic!("{state}");
+        };
+        // The bottom line and its neighbours 0.16 mm up: half of 6.5 mm.
+        assert!(margin > 0.003 && margin < 0.0033, "{margin}");
+        let strict = RestOptions::placement(&PlacementOptions::default());
+        let state = rest_state(&can, &table(), &pose, &strict);
+        assert!(matches!(state, RestState::Unstable { .. }), "{state}");
+    }
+
+    const PI_2: Real = std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn target_on_the_table_fits_every_face_of_the_box() {
+        let surface = target_surface(
+            &boxed(),
+            &table(),
+            &Point3::new(0.1, 0.1, 0.0),
+            &PlacementOptions::default(),
+        )
+        .expect("on the table");
+        assert!(surface.slope.abs() < 1e-9);
+        assert_eq!(surface.fits.len(), 6, "{surface:?}");
+        assert!(
+            surface
+                .fits
+                .iter()
+                .all(|(_, k)| *k == ContactKind::FaceFace)
+        );
+    }
+
+    #[test]
+    fn target_in_the_air_is_on_no_surface() {
+        let err = target_surface(
+            &boxed(),
+            &table(),
+            &Point3::new(0.1, 0.1, 0.05),
+            &PlacementOptions::default(),
+        )
+        .expect_err("5 cm above the table");
+        let TargetSurfaceError::NotOnSurface { distance, .. } = err else {
+            panic!("{err}");
+        };
+        assert!((distance - 0.05).abs() < 1e-9, "{distance}");
+        assert!(err.to_string().contains("50.0 mm"), "{err}");
+    }
+
+    #[test]
+    fn target_on_the_table_side_is_too_steep() {
+        let err = target_surface(
+            &boxed(),
+            &table(),
+            &Point3::new(0.5, 0.0, -0.03),
+            &PlacementOptions::default(),
+        )
+        .expect_err("a vertical face");
+        let TargetSurfaceError::TooSteep { slope, .. } = err else {
+            panic!("{err}");
+        };
+        assert!((slope - PI_2).abs() < 1e-6, "{slope}");
+    }
+
+    #[test]
+    fn target_in_the_small_dent_is_too_small_for_the_can() {
+        let can = object(&shapes::can_builder().build().expect("can"));
+        let pallet = shapes::pallet_builder().build().expect("pallet");
+        let clusters = cluster_surface(&pallet, &ClusterParams::environment()).expect("clusters");
+        let env = EnvironmentModel::new(&pallet, &clusters, &Isometry3::identity()).expect("env");
+        let d = &shapes::PALLET_DENTS[1];
+        let floor = Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth);
+        let err = target_surface(&can, &env, &floor, &PlacementOptions::default())
+            .expect_err("the 5 cm dent");
+        let TargetSurfaceError::TooSmall { smallest_face, .. } = err else {
+            panic!("{err}");
+        };
+        // The can's caps (66 mm across) are its only faces that can stand.
+        assert!(
+            (smallest_face[0] - 2.0 * shapes::CAN_RADIUS).abs() < 1e-3,
+            "{err}"
+        );
+        // The large dent (9 x 9 cm) takes the can face-face.
+        let d = &shapes::PALLET_DENTS[0];
+        let floor = Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth);
+        let surface =
+            target_surface(&can, &env, &floor, &PlacementOptions::default()).expect("fits");
+        assert!(
+            surface
+                .fits
+                .contains(&(surface.fits[0].0, ContactKind::FaceFace))
+        );
+    }
 }
