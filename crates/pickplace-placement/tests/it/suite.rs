@@ -266,63 +266,94 @@ fn pallet_dent_floor() -> Point3 {
     Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth)
 }
 
-/// Every placement of every suite object (and of every STL under `meshes/suite/`) on the flat
-/// table, on the pallet's top and in its large dent: at least 99 % hold.
-#[test]
-fn every_suite_placement_passes_the_drop_test() {
+/// Drops every placement of `mesh` on the flat table (at its centre), on the pallet's top (the
+/// default target) and in its large dent; prints the counts and returns (placements, held,
+/// failures).
+fn drop_object(name: &str, mesh: TriMesh) -> (usize, usize, Vec<String>) {
     let options = suite_options();
-    let mut objects = objects();
+    let table = scene(mesh.clone(), flat_table());
+    let pallet = scene(mesh, shapes::pallet_builder().build().expect("pallet"));
+    let top = default_target(&pallet.env, &options).expect("pallet top");
+    let (mut total, mut held, mut failures) = (0, 0, Vec::new());
+    for (env_name, s, target) in [
+        ("table", &table, Point3::origin()),
+        ("pallet top", &pallet, top),
+        ("pallet dent", &pallet, pallet_dent_floor()),
+    ] {
+        let (n, h, f) = drop_all(s, &target, &options);
+        println!("{name} on the {env_name}: {h} of {n} held");
+        total += n;
+        held += h;
+        failures.extend(
+            f.into_iter()
+                .map(|f| format!("{name} on the {env_name}: {f}")),
+        );
+    }
+    (total, held, failures)
+}
+
+/// One test per suite object (they run in parallel, each a few seconds): every placement of
+/// the object on the table, the pallet's top and its large dent. With fewer than 100
+/// placements per object, "at least 99 % hold" means all of them.
+macro_rules! suite_object_tests {
+    ($($test:ident: $name:literal,)*) => {$(
+        #[test]
+        fn $test() {
+            let (name, mesh) = objects()
+                .into_iter()
+                .find(|(n, _)| *n == $name)
+                .expect("a suite object");
+            let (total, held, failures) = drop_object(name, mesh);
+            println!("{name}: {held} of {total} placements held");
+            assert!(total > 0, "{name} has a placement on the table");
+            assert!(held * 100 >= total * 99, "{failures:#?}");
+        }
+    )*};
+}
+
+suite_object_tests! {
+    drop_test_box: "box",
+    drop_test_cereal_box: "cereal box",
+    drop_test_domino: "domino",
+    drop_test_can: "can",
+    drop_test_bottle: "bottle",
+    drop_test_mug: "mug",
+    drop_test_l_shape: "L-shape",
+    drop_test_milk_carton: "milk carton",
+    drop_test_hollow_box: "hollow box",
+    drop_test_duck: "duck",
+    drop_test_noisy_cylinder: "noisy cylinder",
+}
+
+/// The suite has at least 10 shapes and the macro above tests each.
+#[test]
+fn the_suite_has_eleven_shapes() {
+    let names: BTreeSet<&str> = objects().iter().map(|(n, _)| *n).collect();
+    assert_eq!(names.len(), 11);
+}
+
+/// Every STL under `meshes/suite/` (written by the suite's generator, when it exists): at least
+/// 99 % of all their placements hold. Skipped when the folder is absent.
+#[test]
+fn drop_test_meshes_suite() {
     let suite = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes/suite");
-    if let Ok(entries) = std::fs::read_dir(&suite) {
-        let mut paths: Vec<_> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("stl")))
-            .collect();
-        paths.sort();
-        for p in paths {
-            if let Ok(m) = mesh::load(&p, &MeshOptions::default()) {
-                let name: &'static str = Box::leak(p.display().to_string().into_boxed_str());
-                objects.push((name, m));
-            }
-        }
+    let Ok(entries) = std::fs::read_dir(&suite) else {
+        return;
+    };
+    let mut paths: Vec<_> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("stl")))
+        .collect();
+    paths.sort();
+    let (mut total, mut held, mut failures) = (0, 0, Vec::new());
+    for p in paths {
+        let mesh = mesh::load(&p, &MeshOptions::default()).expect("a suite mesh loads");
+        let (n, h, f) = drop_object(&p.display().to_string(), mesh);
+        total += n;
+        held += h;
+        failures.extend(f);
     }
-    let (mut total, mut held) = (0, 0);
-    let mut failures = Vec::new();
-    let mut faces_seen = 0;
-    for (name, mesh) in objects {
-        let table = scene(mesh.clone(), flat_table());
-        let pallet = scene(mesh, shapes::pallet_builder().build().expect("pallet"));
-        let top = default_target(&pallet.env, &options).expect("pallet top");
-        for (env_name, s, target) in [
-            ("table", &table, Point3::origin()),
-            ("pallet top", &pallet, top),
-            ("pallet dent", &pallet, pallet_dent_floor()),
-        ] {
-            let (n, h, f) = drop_all(s, &target, &options);
-            println!("{name} on the {env_name}: {h} of {n} held");
-            total += n;
-            held += h;
-            failures.extend(
-                f.into_iter()
-                    .map(|f| format!("{name} on the {env_name}: {f}")),
-            );
-            if env_name == "table" && n > 0 {
-                faces_seen += 1;
-            }
-        }
-    }
-    println!(
-        "suite drop test: {held} of {total} placements held ({:.2} %)",
-        100.0 * held as Real / total.max(1) as Real
-    );
-    for f in &failures {
-        println!("  failed: {f}");
-    }
-    assert!(
-        faces_seen >= 10,
-        "objects with a placement on the table: {faces_seen}"
-    );
-    assert!(total >= 200, "{total} placements");
+    println!("meshes/suite: {held} of {total} placements held");
     assert!(held * 100 >= total * 99, "{failures:#?}");
 }
 
@@ -411,7 +442,7 @@ fn release_error_calibrates_the_minimum_tipping_angle() {
     let floor = [Obstacle::Mesh(flat_table())];
     let release = 3f64.to_radians();
     let mut fell = Vec::new();
-    for tipping_deg in [2.0, 4.0, 6.0, 9.0] {
+    for tipping_deg in [2.0, 3.0, 3.5, 4.0, 6.0, 9.0] {
         let a: Real = 0.02;
         let height = 2.0 * a / (tipping_deg as Real).to_radians().tan();
         let mesh = shapes::box_mesh([a, a, height / 2.0]);
