@@ -16,11 +16,12 @@
 //! the environment (parry3d-f64, with a small clearance; a convex object is tested as its
 //! convex hull against the environment mesh, others mesh against mesh).
 //!
-//! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
-//! a grid in order of distance to the target so the first candidates are the best ranked;
-//! the stability margin is reported; every rejection is counted with its reason; object regions
-//! and hull segments that cannot pass the stability test are rejected by cheap bounds before
-//! any collision test.
+//! Improvements over the paper: yaw steps finer than the original 2 or 4, visited spread over
+//! the turn; positions searched on a grid in order of distance to the target so the first
+//! candidates are the best ranked; the stability test asks for a minimum margin and a minimum
+//! tipping angle, both reported; the candidates are diversified over the object's resting faces
+//! ([`diversify`]); every rejection is counted with its reason; object regions and hull segments
+//! that cannot pass the stability test are rejected by cheap bounds before any collision test.
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
@@ -375,6 +376,13 @@ pub fn select_target(
 
 /// Candidate placements of the object near `target` (Algorithm 2).
 ///
+/// Every placement passes the stability test (Fig. 7) with [`PlacementOptions::min_margin`]
+/// and [`PlacementOptions::min_tipping_angle`], face-face and edge-face alike. The placements
+/// of each resting face (object cluster, contact kind) are ranked by distance to the target,
+/// then by margin ([`rank`]); the list is in the diversified order of [`diversify`]: the best
+/// placement of every face first, then the second best of every face, and so on, cut to
+/// [`PlacementOptions::max_candidates`] but never below one placement per face.
+///
 /// # Errors
 /// [`TargetError`] when the target is on no environment cluster. An empty
 /// [`PlacementSet::placements`] with its rejection counts means no stable placement exists
@@ -527,7 +535,7 @@ pub fn diversify(sorted: Vec<Placement>, max: usize) -> Vec<Placement> {
 /// within a tenth of a millimetre fall through to the next criterion; then the CoG's height
 /// (lower first: the mug stands on its base rather than on its rim), then the
 /// object cluster, for a total deterministic order.
-fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
+pub fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
     let q = |x: Real| (x / RANK_RESOLUTION).round() as i64;
     let cog_z = (p.world_from_object * object.cog).z;
     (
@@ -1024,4 +1032,95 @@ fn second_contacts(
     });
     out.dedup_by(|a, b| (*a - *b).norm() < 1e-6);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn placement(face: usize, contact: ContactKind, distance: Real) -> Placement {
+        Placement {
+            world_from_object: Isometry3::identity(),
+            contact,
+            object_cluster: face,
+            env_cluster: 0,
+            stability_margin: 0.01,
+            tipping_angle: 0.1,
+            distance_to_target: distance,
+            tilt: 0.0,
+        }
+    }
+
+    #[test]
+    fn yaws_are_spread_over_the_turn() {
+        assert_eq!(spread_order(8), vec![0, 4, 2, 6, 1, 5, 3, 7]);
+        let mut twelve = spread_order(12);
+        twelve.sort_unstable();
+        assert_eq!(twelve, (0..12).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn every_face_comes_before_a_second_variant() {
+        // Face 0 has three variants ranked first, faces 1 and 2 one each after them.
+        let sorted = vec![
+            placement(0, ContactKind::FaceFace, 0.0),
+            placement(0, ContactKind::FaceFace, 0.001),
+            placement(0, ContactKind::FaceFace, 0.002),
+            placement(1, ContactKind::FaceFace, 0.003),
+            placement(2, ContactKind::EdgeFace, 0.004),
+            placement(1, ContactKind::FaceFace, 0.005),
+        ];
+        let out = diversify(sorted.clone(), 100);
+        let order: Vec<(usize, Real)> = out
+            .iter()
+            .map(|p| (p.object_cluster, p.distance_to_target))
+            .collect();
+        assert_eq!(
+            order,
+            vec![
+                (0, 0.0),
+                (1, 0.003),
+                (2, 0.004),
+                (0, 0.001),
+                (1, 0.005),
+                (0, 0.002)
+            ]
+        );
+        // A cap of 2 still keeps the three faces; a cap of 4 adds the second of face 0.
+        assert_eq!(diversify(sorted.clone(), 2).len(), 3);
+        assert_eq!(diversify(sorted, 4).len(), 4);
+    }
+
+    proptest! {
+        /// Whatever the faces and the cap: every face is kept, each face's placements keep
+        /// their order, and no placement is invented or repeated.
+        #[test]
+        fn diversify_keeps_every_face_in_order(
+            faces in proptest::collection::vec((0usize..6, any::<bool>()), 1..40),
+            max in 0usize..50,
+        ) {
+            let sorted: Vec<Placement> = faces
+                .iter()
+                .enumerate()
+                .map(|(i, &(f, edge))| {
+                    let kind = if edge { ContactKind::EdgeFace } else { ContactKind::FaceFace };
+                    placement(f, kind, i as Real)
+                })
+                .collect();
+            let all: std::collections::BTreeSet<_> = sorted.iter().map(face_of).collect();
+            let out = diversify(sorted.clone(), max);
+            let kept: std::collections::BTreeSet<_> = out.iter().map(face_of).collect();
+            prop_assert_eq!(&kept, &all);
+            prop_assert_eq!(out.len(), max.max(all.len()).min(sorted.len()));
+            for face in &all {
+                let d: Vec<Real> = out
+                    .iter()
+                    .filter(|p| face_of(p) == *face)
+                    .map(|p| p.distance_to_target)
+                    .collect();
+                prop_assert!(d.windows(2).all(|w| w[0] < w[1]));
+            }
+        }
+    }
 }
