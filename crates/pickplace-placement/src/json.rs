@@ -160,5 +160,10 @@ mod tests {
             .as_f64()
             .expect("margin");
         assert!((margin - 0.05).abs() < 1e-9, "{margin}");
+        // A cube's CoG is as high as the margin: a 45° tipping angle.
+        let tipping = value["placements"][0]["tipping_angle"]
+            .as_f64()
+            .expect("tipping angle");
+        assert!((tipping - std::f64::consts::FRAC_PI_4).abs() < 1e-9, "{tipping}");
     }
 }

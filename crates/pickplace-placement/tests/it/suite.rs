@@ -223,8 +223,12 @@ fn flat_table() -> TriMesh {
 
 /// The options of the suite's debug test: every placement returned is dropped, so the number
 /// returned is kept small (6 per face and environment region, 24 in all; the diversified order
-/// keeps every resting face).
+/// keeps every resting face). With `PICKPLACE_SUITE_FULL` set in the environment, the default
+/// options (up to 96 placements per search), for a full run in release mode.
 fn suite_options() -> PlacementOptions {
+    if std::env::var_os("PICKPLACE_SUITE_FULL").is_some() {
+        return PlacementOptions::default();
+    }
     PlacementOptions {
         max_per_pair: 6,
         max_candidates: 24,
