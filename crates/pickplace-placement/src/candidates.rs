@@ -16,11 +16,12 @@
 //! the environment (parry3d-f64, with a small clearance; a convex object is tested as its
 //! convex hull against the environment mesh, others mesh against mesh).
 //!
-//! Improvements over the paper: yaw steps finer than the original 2 or 4; positions searched on
-//! a grid in order of distance to the target so the first candidates are the best ranked;
-//! the stability margin is reported; every rejection is counted with its reason; object regions
-//! and hull segments that cannot pass the stability test are rejected by cheap bounds before
-//! any collision test.
+//! Improvements over the paper: yaw steps finer than the original 2 or 4, visited spread over
+//! the turn; positions searched on a grid in order of distance to the target so the first
+//! candidates are the best ranked; the stability test asks for a minimum margin and a minimum
+//! tipping angle, both reported; the candidates are diversified over the object's resting faces
+//! ([`diversify`]); every rejection is counted with its reason; object regions and hull segments
+//! that cannot pass the stability test are rejected by cheap bounds before any collision test.
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
@@ -41,15 +42,20 @@ pub struct PlacementOptions {
     /// Spacing of candidate positions on the environment region (m) (default: 0.005).
     pub position_step: Real,
     /// Maximum number of candidates kept per (object region, environment region) pair
-    /// (default: 8).
+    /// (default: 16). The yaws at a position are visited spread over the turn (0°, 180°, 90°,
+    /// 270°, 45°, …), so the first variants of a face differ most.
     pub max_per_pair: usize,
-    /// Maximum number of candidates returned (default: 32).
+    /// Number of candidates returned (default: 96). A soft cap: the list is in the diversified
+    /// order (every resting face before further variants of one, see [`candidates`]) and is
+    /// never cut below one placement per (object cluster, contact kind), so no cap hides a
+    /// resting face.
     pub max_candidates: usize,
     /// Gap (m) between object and environment in the penetration test: the object is lifted
     /// by this much along the contact normal before testing (default: 0.0005).
     pub clearance: Real,
     /// Minimum stability margin (m): distance from the CoG's vertical to the support hull's
-    /// boundary (default: 0.002).
+    /// boundary (default: [`DEFAULT_MIN_MARGIN`], 2 mm; see docs/placement.md for the drop tests
+    /// behind it). Applied to face-face and edge-face placements alike.
     pub min_margin: Real,
     /// Steepest environment region that can hold the object (rad from horizontal)
     /// (default: 20°).
@@ -74,7 +80,8 @@ pub struct PlacementOptions {
     /// Minimum tipping angle (rad): the object must rotate at least this much about the
     /// nearest edge of its support before its CoG crosses it, `atan(margin / cog height)`.
     /// A margin alone favours tall objects; this is the paper's Fig. 7 test made scale-aware
-    /// (default: 6°).
+    /// (default: [`DEFAULT_MIN_TIPPING_ANGLE`], 6°; see docs/placement.md for the drop tests
+    /// behind it). Applied to face-face and edge-face placements alike.
     pub min_tipping_angle: Real,
 }
 
@@ -83,10 +90,10 @@ impl Default for PlacementOptions {
         Self {
             yaw_steps: 16,
             position_step: 0.005,
-            max_per_pair: 8,
-            max_candidates: 32,
+            max_per_pair: 16,
+            max_candidates: 96,
             clearance: 5e-4,
-            min_margin: 0.002,
+            min_margin: DEFAULT_MIN_MARGIN,
             max_slope: 20f64.to_radians(),
             search_radius: 0.0,
             max_tilt: 60f64.to_radians(),
@@ -95,13 +102,26 @@ impl Default for PlacementOptions {
             edge_segments: 4,
             edge_positions: 64,
             target_tolerance: 0.01,
-            min_tipping_angle: 6f64.to_radians(),
+            min_tipping_angle: DEFAULT_MIN_TIPPING_ANGLE,
         }
     }
 }
 
+/// Default minimum stability margin (m) of placements, resting poses and resting checks: 2 mm,
+/// twice the clustering's h_max (1 mm), so that the support the margin is measured on can be
+/// wrong by a cluster's thickness and the CoG still falls inside. The drop tests of
+/// docs/placement.md: the milk carton upside down on its 1.6 mm sealing fin (margin 0.8 mm)
+/// falls over when released 1° off; every pose with at least this margin and
+/// [`DEFAULT_MIN_TIPPING_ANGLE`] holds.
+pub const DEFAULT_MIN_MARGIN: Real = 0.002;
+
+/// Default minimum tipping angle (rad): 6°. In the release drop test (docs/placement.md) a
+/// box released tilted by 3° about its weakest edge falls over up to a tipping angle of about
+/// 3.5°: 6° leaves a release error of 3° with a margin.
+pub const DEFAULT_MIN_TIPPING_ANGLE: Real = 6.0 * std::f64::consts::PI / 180.0;
+
 /// How the object touches the environment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
     /// A face of the object lies on the environment's contact plane.
@@ -121,9 +141,14 @@ pub struct Placement {
     pub object_cluster: usize,
     /// Environment cluster in contact.
     pub env_cluster: usize,
-    /// Distance from the CoG's vertical to the support hull's boundary (m).
+    /// Distance from the CoG's vertical to the support hull's boundary (m) (Fig. 7).
     pub stability_margin: Real,
-    /// Horizontal distance from the object's contact point to the target (m).
+    /// Angle (rad) the object must turn about the nearest edge of its support before its CoG
+    /// crosses it: `atan(stability_margin / h)`, `h` the CoG's height above the contact plane.
+    pub tipping_angle: Real,
+    /// Horizontal distance (m) from the target point to the vertical line through the placed
+    /// object's CoG: `hypot(c.x - t.x, c.y - t.y)` with `c = world_from_object * cog` and `t`
+    /// the target, world frame (gravity along −z). The validator measures the same.
     pub distance_to_target: Real,
     /// Tilt of the object's contact plane from the environment's (rad; 0 for face-face).
     pub tilt: Real,
@@ -240,7 +265,10 @@ pub struct Rejections {
 pub struct PlacementSet {
     /// Environment cluster the target selected.
     pub target_cluster: usize,
-    /// Candidates, best first (distance to the target, then stability margin).
+    /// Candidates in the diversified order ([`diversify`]): the best placement of every
+    /// resting face (object cluster, contact kind) first, faces ordered by their best
+    /// placement's rank (distance to the target, then stability margin), then the second best
+    /// of every face, and so on.
     pub placements: Vec<Placement>,
     /// Rejection counts per environment cluster searched (cluster id, counts).
     pub rejections: Vec<(usize, Rejections)>,
@@ -348,6 +376,13 @@ pub fn select_target(
 
 /// Candidate placements of the object near `target` (Algorithm 2).
 ///
+/// Every placement passes the stability test (Fig. 7) with [`PlacementOptions::min_margin`]
+/// and [`PlacementOptions::min_tipping_angle`], face-face and edge-face alike. The placements
+/// of each resting face (object cluster, contact kind) are ranked by distance to the target,
+/// then by margin ([`rank`]); the list is in the diversified order of [`diversify`]: the best
+/// placement of every face first, then the second best of every face, and so on, cut to
+/// [`PlacementOptions::max_candidates`] but never below one placement per face.
+///
 /// # Errors
 /// [`TargetError`] when the target is on no environment cluster. An empty
 /// [`PlacementSet::placements`] with its rejection counts means no stable placement exists
@@ -421,7 +456,7 @@ pub fn candidates(
         rejections.push((env_region.cluster_id, counts));
     }
     placements.sort_by_key(|a| rank(a, object));
-    placements.truncate(options.max_candidates);
+    let placements = diversify(placements, options.max_candidates);
     Ok(PlacementSet {
         target_cluster: env.regions[target_index].cluster_id,
         placements,
@@ -429,12 +464,78 @@ pub fn candidates(
     })
 }
 
+/// Stable placements for a regrasp (Wan and Harada's regrasp graph: the object put down in an
+/// intermediate pose and picked again with another grasp): [`candidates`] on the upward-facing
+/// environment region under `around` and on every other one within `radius` (m) of it, with
+/// every resting face of the object that can stand there represented (the diversified order
+/// and the soft cap of [`PlacementOptions::max_candidates`] keep at least one placement per
+/// face). The placements are as robust as any other (the same minimum margin and tipping
+/// angle); each reports its `distance_to_target` from `around`.
+///
+/// # Errors
+/// [`TargetError`] when `around` is on no upward-facing environment region.
+pub fn intermediate_placements(
+    object: &ObjectModel,
+    env: &EnvironmentModel,
+    around: &Point3,
+    radius: Real,
+    options: &PlacementOptions,
+) -> Result<PlacementSet, TargetError> {
+    let options = PlacementOptions {
+        search_radius: radius.max(options.search_radius),
+        ..*options
+    };
+    candidates(object, env, around, &options)
+}
+
+/// The resting face of a placement for [`diversify`]: its object cluster and contact kind.
+pub fn face_of(p: &Placement) -> (usize, ContactKind) {
+    (p.object_cluster, p.contact)
+}
+
+/// The diversified order of placements already sorted best first: round-robin over the resting
+/// faces ([`face_of`]), the faces in the order of their best placement, each face's variants
+/// best first. Round 0 holds the best placement of every face, round 1 the second best of every
+/// face that has one, and so on. The list is then cut to `max` placements, but never below one
+/// placement per face: no cap hides a resting face.
+pub fn diversify(sorted: Vec<Placement>, max: usize) -> Vec<Placement> {
+    let mut faces: Vec<((usize, ContactKind), Vec<Placement>)> = Vec::new();
+    for p in sorted {
+        let key = face_of(&p);
+        match faces.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, list)) => list.push(p),
+            None => faces.push((key, vec![p])),
+        }
+    }
+    let keep = max.max(faces.len());
+    let mut queues: Vec<std::vec::IntoIter<Placement>> = faces
+        .into_iter()
+        .map(|(_, list)| list.into_iter())
+        .collect();
+    let mut out = Vec::new();
+    while out.len() < keep {
+        let before = out.len();
+        for q in &mut queues {
+            if out.len() >= keep {
+                break;
+            }
+            if let Some(p) = q.next() {
+                out.push(p);
+            }
+        }
+        if out.len() == before {
+            break;
+        }
+    }
+    out
+}
+
 /// Ranking key of a placement (smaller is better): the distance to the target, then the
 /// stability margin (larger first), each compared at [`RANK_RESOLUTION`] so that poses equal to
 /// within a tenth of a millimetre fall through to the next criterion; then the CoG's height
 /// (lower first: the mug stands on its base rather than on its rim), then the
 /// object cluster, for a total deterministic order.
-fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
+pub fn rank(p: &Placement, object: &ObjectModel) -> (i64, i64, i64, usize, usize) {
     let q = |x: Real| (x / RANK_RESOLUTION).round() as i64;
     let cog_z = (p.world_from_object * object.cog).z;
     (
@@ -452,7 +553,7 @@ pub const RANK_RESOLUTION: Real = 1e-4;
 /// Which object regions can touch a plane at all: every other object region lies on the inner
 /// side of the region's contact plane. Checked on the regions' boundary points (cheap and exact
 /// for clusters on the convex hull, such as a can's caps or a box's faces).
-fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
+pub(crate) fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
     let tolerance = 0.002;
     let boundary: Vec<Point3> = object
         .regions
@@ -482,7 +583,11 @@ fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
 /// larger than half the support's width (half the short side of its minimum-area rectangle,
 /// which is at least the width). The CoG's height above the contact plane is the same for
 /// every face-face pose, so the tipping-angle bound follows.
-fn face_face_can_be_stable(object: &ObjectModel, o: &Region, options: &PlacementOptions) -> bool {
+pub(crate) fn face_face_can_be_stable(
+    object: &ObjectModel,
+    o: &Region,
+    options: &PlacementOptions,
+) -> bool {
     let Some(rect) = pickplace_geometry::polygon::min_area_rect(&o.support) else {
         return false;
     };
@@ -581,7 +686,10 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
         options,
     } = *pair;
     let (target2, _) = e.to_plane(target);
-    let reference = o.polygon.centroid().unwrap_or_else(Point2::origin);
+    // The object's reference point is the foot of its CoG on its contact plane, so that the
+    // CoG's vertical passes through the grid position (on a horizontal environment plane) and
+    // the grid's order is the order of `distance_to_target`.
+    let (reference, _) = o.to_plane(&object.cog);
     let plane_from_object = o.parent_from_plane.inverse();
     let lift = e.normal() * options.clearance;
     let mut out = Vec::new();
@@ -592,8 +700,9 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
         options.position_step,
         64 * options.max_per_pair.max(1),
     );
+    let yaw_order = spread_order(options.yaw_steps.max(1));
     'positions: for p in positions {
-        for k in 0..options.yaw_steps.max(1) {
+        for &k in &yaw_order {
             let yaw = 2.0 * PI * k as Real / options.yaw_steps.max(1) as Real;
             // Object plane -> environment plane: flip (normals opposite), yaw, then put the
             // object's reference point at p.
@@ -625,7 +734,8 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                 continue;
             };
             let margin = hull.cog_margin(&foot);
-            if !stable(margin, e.to_plane(&cog_world).1, options) {
+            let height = e.to_plane(&cog_world).1;
+            if !stable(margin, height, options) {
                 counts.unstable += 1;
                 continue;
             }
@@ -642,7 +752,8 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                 object_cluster: o.cluster_id,
                 env_cluster: e.cluster_id,
                 stability_margin: margin,
-                distance_to_target: (p - target2).norm(),
+                tipping_angle: stability::tipping_angle(margin, height),
+                distance_to_target: horizontal_distance(&cog_world, target),
                 tilt: 0.0,
             });
             if out.len() >= options.max_per_pair {
@@ -825,7 +936,8 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                 support.extend(second.iter().map(horizontal));
                 let cog = world_from_object * object.cog;
                 let margin = SupportHull::of_points(&support).cog_margin(&horizontal(&cog));
-                if !stable(margin, e.to_plane(&cog).1, options) {
+                let height = e.to_plane(&cog).1;
+                if !stable(margin, height, options) {
                     counts.unstable += 1;
                     continue;
                 }
@@ -835,7 +947,8 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                     object_cluster: o.cluster_id,
                     env_cluster: e.cluster_id,
                     stability_margin: margin,
-                    distance_to_target: (p - target2).norm(),
+                    tipping_angle: stability::tipping_angle(margin, height),
+                    distance_to_target: horizontal_distance(&cog, target),
                     tilt: hi,
                 });
                 if out.len() >= options.max_per_pair {
@@ -845,6 +958,37 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
         }
     }
     out
+}
+
+/// The horizontal distance (m) between two world points: the length of their difference
+/// projected on the xy plane (gravity along −z). [`Placement::distance_to_target`] is this
+/// distance between the placed CoG and the target.
+pub fn horizontal_distance(a: &Point3, b: &Point3) -> Real {
+    (a.x - b.x).hypot(a.y - b.y)
+}
+
+/// The indices `0..n` in a spread order: by the base-2 radical inverse of the index (van der
+/// Corput), so yaw steps `k / n` of a turn come as 0, 1/2, 1/4, 3/4, 1/8, … when `n` is a power
+/// of two: the first few variants of a face cover the whole turn.
+fn spread_order(n: usize) -> Vec<usize> {
+    let radical_inverse = |mut k: usize| {
+        let (mut r, mut f): (Real, Real) = (0.0, 0.5);
+        while k > 0 {
+            if k & 1 == 1 {
+                r += f;
+            }
+            k >>= 1;
+            f *= 0.5;
+        }
+        r
+    };
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| {
+        radical_inverse(a)
+            .total_cmp(&radical_inverse(b))
+            .then(a.cmp(&b))
+    });
+    order
 }
 
 /// A point along the segment laid at `p` with `yaw`, in plane coordinates.
@@ -888,4 +1032,95 @@ fn second_contacts(
     });
     out.dedup_by(|a, b| (*a - *b).norm() < 1e-6);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn placement(face: usize, contact: ContactKind, distance: Real) -> Placement {
+        Placement {
+            world_from_object: Isometry3::identity(),
+            contact,
+            object_cluster: face,
+            env_cluster: 0,
+            stability_margin: 0.01,
+            tipping_angle: 0.1,
+            distance_to_target: distance,
+            tilt: 0.0,
+        }
+    }
+
+    #[test]
+    fn yaws_are_spread_over_the_turn() {
+        assert_eq!(spread_order(8), vec![0, 4, 2, 6, 1, 5, 3, 7]);
+        let mut twelve = spread_order(12);
+        twelve.sort_unstable();
+        assert_eq!(twelve, (0..12).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn every_face_comes_before_a_second_variant() {
+        // Face 0 has three variants ranked first, faces 1 and 2 one each after them.
+        let sorted = vec![
+            placement(0, ContactKind::FaceFace, 0.0),
+            placement(0, ContactKind::FaceFace, 0.001),
+            placement(0, ContactKind::FaceFace, 0.002),
+            placement(1, ContactKind::FaceFace, 0.003),
+            placement(2, ContactKind::EdgeFace, 0.004),
+            placement(1, ContactKind::FaceFace, 0.005),
+        ];
+        let out = diversify(sorted.clone(), 100);
+        let order: Vec<(usize, Real)> = out
+            .iter()
+            .map(|p| (p.object_cluster, p.distance_to_target))
+            .collect();
+        assert_eq!(
+            order,
+            vec![
+                (0, 0.0),
+                (1, 0.003),
+                (2, 0.004),
+                (0, 0.001),
+                (1, 0.005),
+                (0, 0.002)
+            ]
+        );
+        // A cap of 2 still keeps the three faces; a cap of 4 adds the second of face 0.
+        assert_eq!(diversify(sorted.clone(), 2).len(), 3);
+        assert_eq!(diversify(sorted, 4).len(), 4);
+    }
+
+    proptest! {
+        /// Whatever the faces and the cap: every face is kept, each face's placements keep
+        /// their order, and no placement is invented or repeated.
+        #[test]
+        fn diversify_keeps_every_face_in_order(
+            faces in proptest::collection::vec((0usize..6, any::<bool>()), 1..40),
+            max in 0usize..50,
+        ) {
+            let sorted: Vec<Placement> = faces
+                .iter()
+                .enumerate()
+                .map(|(i, &(f, edge))| {
+                    let kind = if edge { ContactKind::EdgeFace } else { ContactKind::FaceFace };
+                    placement(f, kind, i as Real)
+                })
+                .collect();
+            let all: std::collections::BTreeSet<_> = sorted.iter().map(face_of).collect();
+            let out = diversify(sorted.clone(), max);
+            let kept: std::collections::BTreeSet<_> = out.iter().map(face_of).collect();
+            prop_assert_eq!(&kept, &all);
+            prop_assert_eq!(out.len(), max.max(all.len()).min(sorted.len()));
+            for face in &all {
+                let d: Vec<Real> = out
+                    .iter()
+                    .filter(|p| face_of(p) == *face)
+                    .map(|p| p.distance_to_target)
+                    .collect();
+                prop_assert!(d.windows(2).all(|w| w[0] < w[1]));
+            }
+        }
+    }
 }

@@ -160,6 +160,50 @@ impl CollisionMesh {
         out
     }
 
+    /// The mesh's vertices (in the frame it was prepared in).
+    pub fn vertices(&self) -> &[Point3] {
+        &self.vertices
+    }
+
+    /// The distance (m) along the unit direction `dir` from the world point `origin` to this
+    /// mesh's surface, the mesh placed at `world_from_mesh`; `None` when the ray misses it
+    /// within `max` (m).
+    pub fn ray_distance(
+        &self,
+        world_from_mesh: &Isometry3,
+        origin: &Point3,
+        dir: &Vector3,
+        max: Real,
+    ) -> Option<Real> {
+        use parry3d_f64::query::{Ray, RayCast};
+        let ray = Ray::new(parry::point(origin), parry::vector(dir));
+        self.shape
+            .cast_ray(&parry::pose(world_from_mesh), &ray, max, false)
+    }
+
+    /// As [`CollisionMesh::ray_distance`], with whether the ray leaves the solid there: the
+    /// hit triangle's outward normal (from its winding, the mesh placed at `world_from_mesh`)
+    /// points along the ray, so `origin` lies inside a closed, outward-wound mesh.
+    pub fn ray_hit(
+        &self,
+        world_from_mesh: &Isometry3,
+        origin: &Point3,
+        dir: &Vector3,
+        max: Real,
+    ) -> Option<(Real, bool)> {
+        use parry3d_f64::query::{Ray, RayCast};
+        let ray = Ray::new(parry::point(origin), parry::vector(dir));
+        let hit =
+            self.shape
+                .cast_ray_and_get_normal(&parry::pose(world_from_mesh), &ray, max, false)?;
+        let exits = self.triangles.get(hit.subshape as usize).is_some_and(|t| {
+            let [a, b, c] = t.map(|i| self.vertices[i as usize]);
+            let n = world_from_mesh.rotation * (b - a).cross(&(c - a));
+            n.dot(dir) > 0.0
+        });
+        Some((hit.time_of_impact, exits))
+    }
+
     /// Whether this mesh bounds a convex solid (queries then use its convex hull).
     pub fn is_convex(&self) -> bool {
         self.convex.is_some()

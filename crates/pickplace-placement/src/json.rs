@@ -25,7 +25,11 @@ pub struct PlacementJson {
     pub env_cluster: Option<usize>,
     /// Stability margin (m), see [`crate::stability`].
     pub stability_margin: Real,
-    /// Distance from the target (m) (none for resting poses).
+    /// Tipping angle (rad): `atan(stability_margin / CoG height)`, see
+    /// [`crate::stability::tipping_angle`].
+    pub tipping_angle: Real,
+    /// Horizontal distance (m) from the target to the CoG's vertical (none for resting poses),
+    /// see [`crate::Placement::distance_to_target`].
     pub distance_to_target: Option<Real>,
     /// Tilt of an edge-face contact (rad).
     pub tilt: Real,
@@ -88,6 +92,7 @@ impl PlacementsJson {
                     object_cluster: Some(p.object_cluster),
                     env_cluster: Some(p.env_cluster),
                     stability_margin: p.stability_margin,
+                    tipping_angle: p.tipping_angle,
                     distance_to_target: Some(p.distance_to_target),
                     tilt: p.tilt,
                 })
@@ -123,6 +128,7 @@ impl PlacementsJson {
                     object_cluster: None,
                     env_cluster: None,
                     stability_margin: p.stability_margin,
+                    tipping_angle: p.tipping_angle,
                     distance_to_target: None,
                     tilt: 0.0,
                 })
@@ -154,5 +160,10 @@ mod tests {
             .as_f64()
             .expect("margin");
         assert!((margin - 0.05).abs() < 1e-9, "{margin}");
+        // A cube's CoG is as high as the margin: a 45° tipping angle.
+        let tipping = value["placements"][0]["tipping_angle"]
+            .as_f64()
+            .expect("tipping angle");
+        assert!((tipping - std::f64::consts::FRAC_PI_4).abs() < 1e-9, "{tipping}");
     }
 }

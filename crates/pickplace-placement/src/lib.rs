@@ -35,13 +35,18 @@ pub mod collide;
 pub mod error;
 pub mod json;
 pub mod region;
+pub mod rest;
 pub mod resting;
 pub mod stability;
 
 pub use candidates::{
-    ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
-    Rejections, TargetError, candidates, default_target, include_bounding_box, select_target,
+    ContactKind, DEFAULT_MIN_MARGIN, DEFAULT_MIN_TIPPING_ANGLE, EnvironmentModel, ObjectModel,
+    Placement, PlacementOptions, PlacementSet, Rejections, TargetError, candidates, default_target,
+    diversify, horizontal_distance, include_bounding_box, intermediate_placements, select_target,
 };
 pub use error::{Error, Result};
 pub use region::Region;
+pub use rest::{
+    RestOptions, RestState, TargetSurface, TargetSurfaceError, rest_state, target_surface,
+};
 pub use resting::{RestingOptions, RestingPose, resting_poses};

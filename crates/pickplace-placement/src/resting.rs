@@ -36,8 +36,17 @@ pub struct RestingOptions {
     /// object rolls freely on it (default: 0.0005).
     pub neutral_height: Real,
     /// Minimum distance (m) from the CoG's projection to the support polygon's boundary for a
-    /// pose to count as stable (default: 0.0005).
+    /// pose to count as stable (default: [`crate::candidates::DEFAULT_MIN_MARGIN`], 2 mm, as
+    /// for placements).
     pub min_margin: Real,
+    /// Minimum tipping angle (rad), `atan(margin / CoG height)` (default:
+    /// [`crate::candidates::DEFAULT_MIN_TIPPING_ANGLE`], 6°, as for placements).
+    pub min_tipping_angle: Real,
+    /// Report rolling classes (a cylinder on its side): they are neutral about their axis, so
+    /// no margin holds them against a push across it, and the two minimums are not applied to
+    /// them (their margin is the best facet's, their CoG must project inside it). A planner
+    /// that needs placements it can rely on sets this to `false` (default: `true`).
+    pub include_rolling: bool,
 }
 
 impl Default for RestingOptions {
@@ -45,7 +54,9 @@ impl Default for RestingOptions {
         Self {
             smooth_angle: 15f64.to_radians(),
             neutral_height: 5e-4,
-            min_margin: 5e-4,
+            min_margin: crate::candidates::DEFAULT_MIN_MARGIN,
+            min_tipping_angle: crate::candidates::DEFAULT_MIN_TIPPING_ANGLE,
+            include_rolling: true,
         }
     }
 }
@@ -62,6 +73,9 @@ pub struct RestingPose {
     pub stability_margin: Real,
     /// Height (m) of the CoG above the plane.
     pub cog_height: Real,
+    /// Tipping angle (rad): `atan(stability_margin / cog_height)`
+    /// ([`crate::stability::tipping_angle`]).
+    pub tipping_angle: Real,
     /// For a rolling class, the axis (object frame) the object rolls about.
     pub rolling_axis: Option<Vector3>,
     /// Number of hull facets the class stands for.
@@ -115,6 +129,12 @@ pub fn resting_poses(
         Real::INFINITY,
     )?;
     check_option("min_margin", options.min_margin, 0.0, Real::INFINITY)?;
+    check_option(
+        "min_tipping_angle",
+        options.min_tipping_angle,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+    )?;
 
     let (facets, facet_neighbours) = hull_facets(mesh.vertices())?;
     let heights: Vec<Real> = facets
@@ -122,6 +142,15 @@ pub fn resting_poses(
         .map(|f| f.offset - f.normal.dot(&cog.coords))
         .collect();
     let margins: Vec<Real> = facets.iter().map(|f| facet_margin(f, cog)).collect();
+    // The stability test with both minimums (Fig. 7, made robust).
+    let stable = |f: usize| {
+        crate::stability::is_stable(
+            margins[f],
+            heights[f],
+            options.min_margin,
+            options.min_tipping_angle,
+        )
+    };
 
     // Smooth patches: union-find over facet adjacencies with a small dihedral angle.
     let mut parent: Vec<usize> = (0..facets.len()).collect();
@@ -143,7 +172,7 @@ pub fn resting_poses(
     for members in patches.values() {
         if members.len() == 1 {
             let f = members[0];
-            if margins[f] > options.min_margin {
+            if stable(f) {
                 out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
             }
             continue;
@@ -154,6 +183,9 @@ pub fn resting_poses(
                 (lo.min(heights[f]), hi.max(heights[f]))
             });
         if hi - lo <= options.neutral_height {
+            if !options.include_rolling {
+                continue;
+            }
             if let Some(axis) = common_axis(members.iter().map(|&f| facets[f].normal)) {
                 // Rolling class: the facet with the largest margin represents it (ties: lowest index).
                 let best = members.iter().copied().fold(members[0], |b, f| {
@@ -181,7 +213,7 @@ pub fn resting_poses(
                 .iter()
                 .filter(|&&g| members.contains(&g))
                 .all(|&g| heights[f] <= heights[g]);
-            if is_minimum && margins[f] > options.min_margin {
+            if is_minimum && stable(f) {
                 out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
             }
         }
@@ -252,6 +284,7 @@ fn make_pose(
         support_normal: facet.normal,
         stability_margin: margin,
         cog_height: height,
+        tipping_angle: crate::stability::tipping_angle(margin, height),
         rolling_axis,
         facet_count,
         support_polygon: polygon,

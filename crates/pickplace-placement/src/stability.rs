@@ -109,7 +109,15 @@ pub fn is_stable(
     min_margin: Real,
     min_tipping_angle: Real,
 ) -> bool {
-    margin >= min_margin && margin.atan2(cog_height.max(1e-9)) >= min_tipping_angle
+    margin >= min_margin && tipping_angle(margin, cog_height) >= min_tipping_angle
+}
+
+/// The tipping angle (rad) of a support: how far the object must turn about the nearest edge
+/// of its support before its CoG, `cog_height` (m) above the support, crosses that edge:
+/// `atan2(margin, cog_height)`, the height clamped to at least 1 nm as in [`is_stable`].
+/// Negative when the margin is (the CoG's vertical misses the support).
+pub fn tipping_angle(margin: Real, cog_height: Real) -> Real {
+    margin.atan2(cog_height.max(1e-9))
 }
 
 /// Where the vertical line through a CoG at `cog_in_world` meets the plane of the environment

@@ -3,3 +3,4 @@
 mod candidates;
 mod resting;
 mod simulate;
+mod suite;
