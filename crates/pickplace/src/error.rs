@@ -98,6 +98,20 @@ pub enum Error {
         /// 0 touching.
         distance: f64,
     },
+    /// The object is not resting where the scene says it starts: floating, penetrating the
+    /// environment, or unable to stand there. An infeasible scene (exit status 1).
+    #[error("object: not resting where the scene puts it: {state}")]
+    ObjectNotResting {
+        /// How it is (`floating 50.0 mm above the nearest support`, …).
+        state: String,
+    },
+    /// The target is on no surface the object can stand on. An infeasible scene (exit
+    /// status 1).
+    #[error("target: {reason}")]
+    TargetUnusable {
+        /// Why (`the target is not on any surface: …`, too steep, too small).
+        reason: String,
+    },
     /// A lower layer failed on input the façade had checked: a bug, reported with its cause.
     #[error("internal error in {stage}: {reason}")]
     Internal {
@@ -110,9 +124,15 @@ pub enum Error {
 
 impl Error {
     /// True for a well-formed scene that has no solution (a start state in collision): the
-    /// CLI's exit status 1; every other error is bad input or a defect (exit status 2).
+    /// CLI's exit status 1 (the start state in collision, the object not resting, the target
+    /// on no usable surface); every other error is bad input or a defect (exit status 2).
     pub fn is_infeasible(&self) -> bool {
-        matches!(self, Self::StartInCollision { .. })
+        matches!(
+            self,
+            Self::StartInCollision { .. }
+                | Self::ObjectNotResting { .. }
+                | Self::TargetUnusable { .. }
+        )
     }
 }
 

@@ -7,7 +7,7 @@
 use crate::contact::OBJECT_NAME;
 use crate::error::{Error, Result};
 use crate::setup::Setup;
-use pickplace_geometry::math::{Isometry3, Real};
+use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_robot::collision::{CheckOptions, CollisionScratch};
 
 /// Checks the start configuration with the object at its start pose: robot self-collision,
@@ -20,6 +20,53 @@ use pickplace_robot::collision::{CheckOptions, CollisionScratch};
 /// [`Error::Internal`] when the collision library fails.
 pub fn check_start(setup: &Setup) -> Result<()> {
     check_state(setup, &setup.start, &setup.object_start)
+}
+
+/// The scene checked before any search (issue 17): the start state free of collisions
+/// ([`check_start`]), the object resting where the scene says (on a support, not floating,
+/// not penetrating, its centre of gravity over its support: paper Fig. 7 at the start pose,
+/// `pickplace_placement::rest_state`), and the target on a surface some face of the object
+/// can stand on (`pickplace_placement::target_surface`). Each failure is reported at once,
+/// with its reason, instead of as the failure of every strategy after a search.
+///
+/// # Errors
+/// [`Error::StartInCollision`], [`Error::ObjectNotResting`], [`Error::TargetUnusable`]
+/// (infeasible scenes); [`Error::Internal`] when the collision library fails.
+pub fn check_scene(setup: &Setup) -> Result<()> {
+    check_start(setup)?;
+    check_object(setup, &setup.object_start)?;
+    check_target(setup, &setup.scene.target_point())
+}
+
+/// The object at `world_from_object` rests on a support ([`check_scene`]).
+fn check_object(setup: &Setup, world_from_object: &Isometry3) -> Result<()> {
+    let state = pickplace_placement::rest_state(
+        &setup.placement_object,
+        &setup.placement_env,
+        world_from_object,
+        &pickplace_placement::RestOptions::default(),
+    );
+    if state.is_resting() {
+        Ok(())
+    } else {
+        Err(Error::ObjectNotResting {
+            state: state.to_string(),
+        })
+    }
+}
+
+/// `target` lies on a surface a face of the object can stand on ([`check_scene`]).
+fn check_target(setup: &Setup, target: &Point3) -> Result<()> {
+    pickplace_placement::target_surface(
+        &setup.placement_object,
+        &setup.placement_env,
+        target,
+        &pickplace_placement::PlacementOptions::default(),
+    )
+    .map(|_| ())
+    .map_err(|e| Error::TargetUnusable {
+        reason: e.to_string(),
+    })
 }
 
 /// [`check_start`] for the configuration `start` and the object at `world_from_object`.
@@ -57,6 +104,38 @@ fn check_state(setup: &Setup, start: &[Real], world_from_object: &Isometry3) -> 
 mod tests {
     use super::*;
     use pickplace_geometry::math::Translation3;
+
+    #[test]
+    fn the_shipped_scenes_pass_the_checks_before_the_search() {
+        for scene in [
+            "fig9-near.toml",
+            "fig9-far-left.toml",
+            "fig10a-edge.toml",
+            "fig10b-mug.toml",
+        ] {
+            let setup = crate::testing::setup(scene);
+            if let Err(e) = check_scene(setup) {
+                panic!("{scene}: {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_floating_or_sunken_object_and_a_target_in_the_air_are_refused_before_the_search() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let up = Translation3::new(0.0, 0.0, 0.05) * setup.object_start;
+        let e = check_object(setup, &up).expect_err("floating");
+        assert!(e.is_infeasible());
+        assert!(e.to_string().contains("floating 50.0 mm"), "{e}");
+        let down = Translation3::new(0.0, 0.0, -0.01) * setup.object_start;
+        let e = check_object(setup, &down).expect_err("sunken");
+        assert!(e.to_string().contains("penetrating"), "{e}");
+        let air =
+            setup.scene.target_point() + pickplace_geometry::math::Vector3::new(0.0, 0.0, 0.15);
+        let e = check_target(setup, &air).expect_err("in the air");
+        assert!(e.is_infeasible());
+        assert!(e.to_string().starts_with("target: "), "{e}");
+    }
 
     #[test]
     fn the_shipped_start_states_are_free() {

@@ -301,13 +301,15 @@ impl<'a> Ctx<'a> {
 ///
 /// # Errors
 /// [`Error::StartInCollision`] when the start state is in collision (checked first, naming the
-/// pair and the depth); [`Error::Target`] when the target point is on no environment cluster;
+/// pair and the depth), [`Error::ObjectNotResting`] and [`Error::TargetUnusable`] (checked
+/// next, `crate::start::check_scene`); [`Error::Target`] when the target point is on no environment cluster;
 /// [`Error::Internal`]
 /// when a lower layer fails on checked input (the collision library, the motion planner).
 /// An infeasible scene is not an error: it is [`Outcome::NoPlan`] with the reasons.
 pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
-    // The start state, before any search: in collision, the scene is infeasible at once.
-    crate::start::check_start(setup)?;
+    // The scene, before any search: the start state free, the object resting, the target
+    // on a surface; otherwise the scene is infeasible at once.
+    crate::start::check_scene(setup)?;
     let t_all = Instant::now();
     let mut timings = BTreeMap::new();
     let target = setup.scene.target_point();
