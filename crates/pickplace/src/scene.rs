@@ -516,6 +516,10 @@ point = [0.45, 0.1, 0.02]
         assert_eq!(s.environment[0].mesh, PathBuf::from("/abs/pallet.stl"));
         assert_eq!(s.planner, PlannerOptions::default());
         assert_eq!(s.object.start_pose.orientation, [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(s.target.tolerance, None);
+        assert_eq!(s.target.tolerance(), DEFAULT_TARGET_TOLERANCE);
+        let s = parse(&MINIMAL.replace("[target]", "[target]\ntolerance = 0.01")).expect("valid");
+        assert_eq!(s.target.tolerance(), 0.01);
     }
 
     #[test]
@@ -532,6 +536,8 @@ point = [0.45, 0.1, 0.02]
                 .contains("object.start_pose: orientation quaternion is zero"),
             "{err}"
         );
+        let err = parse(&MINIMAL.replace("[target]", "[target]\ntolerance = -0.01")).unwrap_err();
+        assert!(err.to_string().contains("target.tolerance"), "{err}");
         let err = parse(&format!("{MINIMAL}\n[planner]\nh_max_finger = -1")).unwrap_err();
         assert!(err.to_string().contains("planner.h_max_finger"), "{err}");
         let err = parse("[robot").unwrap_err();

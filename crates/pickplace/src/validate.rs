@@ -26,7 +26,7 @@
 
 use crate::contact::{OBJECT_NAME, SUPPORT_DISTANCE};
 use crate::error::{Error, Result, internal};
-use crate::plan::{EventKind, Plan};
+use crate::plan::{EventKind, Plan, TrajectoryPoint};
 use crate::setup::Setup;
 use crate::strategy::Arm;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
@@ -226,7 +226,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         );
     }
     let limits: Vec<_> = model.variable_limits().copied().collect();
-    let windows = closing_windows(setup, plan, &events);
+    let windows = closing_windows(setup, &plan.trajectory, &events);
     let closing_at = |now: Real| {
         Arm::BOTH.map(|a| {
             windows
@@ -458,8 +458,11 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
 /// whichever hand and in whatever sequence (a direct plan, the second hand at a handover, a
 /// regrasp after a rest); the fingers' own joints are not part of the arm, so they may move
 /// in the window.
-fn closing_windows(setup: &Setup, plan: &Plan, events: &[Ev]) -> Vec<(Arm, Real, Real)> {
-    let traj = &plan.trajectory;
+fn closing_windows(
+    setup: &Setup,
+    traj: &[TrajectoryPoint],
+    events: &[Ev],
+) -> Vec<(Arm, Real, Real)> {
     let at_rest = |arm: Arm, i: usize, k: usize| {
         setup
             .arm(arm)
@@ -1069,5 +1072,163 @@ impl HandClearance {
             left: self.world.body_name(l).to_owned(),
             distance,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pickplace_geometry::math::Translation3;
+
+    #[test]
+    fn every_grasp_and_release_of_either_hand_has_its_touch_window() {
+        // A synthetic handover followed by a regrasp: the right hand picks, the left takes
+        // the object over, the right lets go, the left puts it down and grasps it again.
+        // Each hand may touch the object from the start of its closing (its arm at rest) to
+        // the grasp, and from a release to the end of its opening.
+        let setup = crate::testing::setup("fig9-near.toml");
+        let r = setup.arm(Arm::Right).variables[0];
+        let l = setup.arm(Arm::Left).variables[0];
+        let rf = setup.arm(Arm::Right).finger_variables[0];
+        let lf = setup.arm(Arm::Left).finger_variables[0];
+        // (right arm, left arm, right fingers, left fingers) per second.
+        let samples = [
+            (0.0, 0.0, 0.0, 0.0),
+            (0.1, 0.0, 0.0, 0.0),
+            (0.2, 0.0, 0.0, 0.0),  // the right arm arrives
+            (0.2, 0.0, 0.01, 0.0), // its fingers close
+            (0.2, 0.0, 0.02, 0.0), // grasp (right)
+            (0.3, 0.0, 0.02, 0.0),
+            (0.3, 0.1, 0.02, 0.0),
+            (0.3, 0.2, 0.02, 0.0),  // the left arm arrives
+            (0.3, 0.2, 0.02, 0.01), // its fingers close
+            (0.3, 0.2, 0.02, 0.02), // grasp (left)
+            (0.3, 0.2, 0.02, 0.02), // release (right)
+            (0.3, 0.2, 0.0, 0.02),  // the right fingers open
+            (0.4, 0.2, 0.0, 0.02),  // the right arm leaves
+            (0.4, 0.3, 0.0, 0.02),  // the left arm places
+            (0.4, 0.3, 0.0, 0.02),  // release (left)
+            (0.4, 0.3, 0.0, 0.0),   // its fingers open
+            (0.4, 0.3, 0.0, 0.02),  // regrasp (left), fingers closed again
+            (0.4, 0.4, 0.0, 0.02),
+        ];
+        let traj: Vec<TrajectoryPoint> = samples
+            .iter()
+            .enumerate()
+            .map(|(i, &(qr, ql, fr, fl))| {
+                let mut q = setup.start.clone();
+                q[r] += qr;
+                q[l] += ql;
+                q[rf] += fr;
+                q[lf] += fl;
+                TrajectoryPoint {
+                    time_from_start: i as Real,
+                    positions: q,
+                }
+            })
+            .collect();
+        let ev = |time: Real, kind: EventKind, arm: Arm| Ev {
+            time,
+            kind,
+            arm,
+            link_from_object: Isometry3::identity(),
+        };
+        let events = [
+            ev(4.0, EventKind::Grasp, Arm::Right),
+            ev(9.0, EventKind::Grasp, Arm::Left),
+            ev(10.0, EventKind::Release, Arm::Right),
+            ev(14.0, EventKind::Release, Arm::Left),
+            ev(16.0, EventKind::Grasp, Arm::Left),
+        ];
+        let windows = closing_windows(setup, &traj, &events);
+        assert_eq!(
+            windows,
+            [
+                (Arm::Right, 2.0, 4.0),
+                (Arm::Left, 7.0, 9.0),
+                (Arm::Right, 10.0, 11.0),
+                (Arm::Left, 14.0, 16.0),
+                (Arm::Left, 13.0, 16.0),
+            ]
+        );
+    }
+
+    /// The can upright with its base centre at `(x, y, z)`.
+    fn can_at(setup: &Setup, x: Real, y: Real, z: Real) -> Isometry3 {
+        let start = setup.object_start;
+        let t = start.translation.vector;
+        Translation3::new(x - t.x, y - t.y, z - t.z) * start
+    }
+
+    fn rest_problems(x: Real, z: Real) -> (Vec<String>, Option<Real>) {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let mut v = Validator::new(setup).expect("validator");
+        let margin = v.rest_check(1.0, &can_at(setup, x, -0.25, z), "the placed object");
+        (v.problems, margin)
+    }
+
+    #[test]
+    fn a_resting_pose_must_stand_on_a_support_without_penetrating_or_tipping() {
+        // The pallet's top is at z = 0.76, its edge at x = 0.30.
+        let (problems, margin) = rest_problems(0.36, 0.76);
+        assert!(problems.is_empty(), "{problems:?}");
+        assert!(margin.is_some_and(|m| m > 0.02), "{margin:?}");
+        // Overhanging the edge: the CoG 1 cm beyond it.
+        let (problems, margin) = rest_problems(0.29, 0.76);
+        assert!(margin.is_some_and(|m| m < 0.0), "{margin:?}");
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].contains("the placed object is unstable"),
+            "{problems:?}"
+        );
+        // In mid-air.
+        let (problems, margin) = rest_problems(0.36, 0.80);
+        assert_eq!(margin, None);
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].contains("does not rest on a support"),
+            "{problems:?}"
+        );
+        // Sunk 5 mm into the pallet.
+        let (problems, _) = rest_problems(0.36, 0.755);
+        assert!(
+            problems
+                .iter()
+                .any(|p| p.contains("penetrates the environment")),
+            "{problems:?}"
+        );
+    }
+
+    #[test]
+    fn the_hands_clearance_is_measured_between_the_hands_links_only() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let hands = HandClearance::new(setup)
+            .expect("hand links")
+            .expect("two arms");
+        let mut scratch = CollisionScratch::default();
+        let gap = hands
+            .distance(setup, &setup.start, &mut scratch)
+            .expect("distance");
+        // At the start the hands are far apart (and the arms touch nothing else either).
+        assert!(gap.distance > 0.1, "{gap:?}");
+        assert!(gap.right.starts_with("RARM"), "{gap:?}");
+        assert!(gap.left.starts_with("LARM"), "{gap:?}");
+        assert_eq!(
+            hands
+                .closer_than(setup, &setup.start, HAND_CLEARANCE, &mut scratch)
+                .expect("query"),
+            None
+        );
+        // The margin query finds the same pair once the margin covers the gap.
+        let near = hands
+            .closer_than(setup, &setup.start, gap.distance + 0.01, &mut scratch)
+            .expect("query")
+            .expect("within the margin");
+        assert!(
+            (near.distance - gap.distance).abs() < 1e-6,
+            "{near:?} {gap:?}"
+        );
+        let links = hand_links(setup, Arm::Right).expect("links");
+        assert!(links.len() > setup.arm(Arm::Right).finger_links.len());
     }
 }
