@@ -237,6 +237,9 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     let mut object = setup.object_start;
     // Holders: arm and link_from_object, in the order of their grasps.
     let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
+    // Counts the changes of `holders`: the collision worlds of a holding state are cached
+    // under it (a regrasp by the same hand holds the object differently).
+    let mut holding = 0;
     let mut last_object: Option<Isometry3> = None;
     let mut final_margin: Option<Option<Real>> = None;
     let mut next_event = 0;
@@ -285,6 +288,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     }
                     holders.retain(|(h, _)| *h != e.arm);
                     holders.push((e.arm, e.link_from_object));
+                    holding += 1;
                     v.grip_reported.retain(|&h| h != e.arm);
                 }
                 EventKind::Release => {
@@ -296,6 +300,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                         continue;
                     }
                     holders.retain(|(h, _)| *h != e.arm);
+                    holding += 1;
                     if holders.is_empty() {
                         // The object is left: it must rest where it is. The last such rest
                         // is the placement.
@@ -321,7 +326,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             object = v.tcp(arm, &p.positions) * link_from_object;
         }
         if i + 1 == plan.trajectory.len() {
-            v.check_state(t, &p.positions, &holders, &object, closing_at(t))?;
+            v.check_state(t, &p.positions, (&holders, holding), &object, closing_at(t))?;
             break;
         }
         let n_next = &plan.trajectory[i + 1];
@@ -392,7 +397,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     );
                 }
             }
-            v.check_state(now, &q, &holders, &obj, closing_at(now))?;
+            v.check_state(now, &q, (&holders, holding), &obj, closing_at(now))?;
             // The grip is checked while the held object moves (the fingers open and close
             // with the hand at rest).
             let moved = last_object.is_some_and(|l: Isometry3| {
@@ -501,9 +506,10 @@ enum WorldKey {
     /// The object lies free at rest `usize`; the right and left hand closing on it or opening
     /// from it (their fingers may touch it).
     Free(usize, bool, bool),
-    /// Held by one or two arms; `Option<usize>`: the rest it is near (it may touch that rest's
+    /// Held (by one or two arms) in the holding state `usize` (the number of grasps and
+    /// releases before it); `Option<usize>`: the rest it is near (it may touch that rest's
     /// supports); the last two: the right and left hand closing or opening.
-    Held(Arm, Option<Arm>, Option<usize>, bool, bool),
+    Held(usize, Option<usize>, bool, bool),
 }
 
 struct Validator<'a> {
@@ -714,7 +720,7 @@ impl<'a> Validator<'a> {
         let mut w = setup.world.clone();
         let mut acm = w.acm().clone();
         let closing = match key {
-            WorldKey::Free(_, right, left) | WorldKey::Held(_, _, _, right, left) => {
+            WorldKey::Free(_, right, left) | WorldKey::Held(_, _, right, left) => {
                 [(Arm::Right, right), (Arm::Left, left)]
             }
         };
@@ -736,7 +742,7 @@ impl<'a> Validator<'a> {
                 w.set_acm(acm);
                 w.add_environment(OBJECT_NAME, setup.object_shape.clone(), object);
             }
-            WorldKey::Held(_, _, near, _, _) => {
+            WorldKey::Held(_, near, _, _) => {
                 if let Some(r) = near.and_then(|r| self.rests.get(r)) {
                     for s in &r.supports {
                         acm.allow(
@@ -781,16 +787,26 @@ impl<'a> Validator<'a> {
         &mut self,
         t: Real,
         q: &[Real],
-        holders: &[(Arm, Isometry3)],
+        (holders, holding): (&[(Arm, Isometry3)], usize),
         object: &Isometry3,
         closing: [bool; 2],
     ) -> Result<()> {
         self.states += 1;
         let [right, left] = closing;
-        let key = match holders {
-            [] => WorldKey::Free(self.near(object).unwrap_or(usize::MAX), right, left),
-            [(a, _)] => WorldKey::Held(*a, None, self.near(object), right, left),
-            [(a, _), (b, _), ..] => WorldKey::Held(*a, Some(*b), self.near(object), right, left),
+        let near = self.near(object);
+        let key = if holders.is_empty() {
+            match near {
+                Some(r) => WorldKey::Free(r, right, left),
+                None => {
+                    // Left where no rest was foreseen (an event between samples): a world
+                    // of its own, never reused.
+                    let key = WorldKey::Free(usize::MAX, right, left);
+                    self.worlds.remove(&key);
+                    key
+                }
+            }
+        } else {
+            WorldKey::Held(holding, near, right, left)
         };
         self.world(key, holders, object)?;
         let model = &self.setup.model;
@@ -1151,6 +1167,68 @@ mod tests {
                 (Arm::Left, 13.0, 16.0),
             ]
         );
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 200, ..Default::default() })]
+
+        /// A touch window runs exactly over the samples where the hand's arm stands where it
+        /// is at the event: it ends (grasp) or starts (release) at the event, and the sample
+        /// just outside it has the arm elsewhere.
+        #[test]
+        fn a_touch_window_spans_exactly_the_arm_at_rest(
+            moves in proptest::collection::vec(proptest::bool::ANY, 2..40),
+            at in 0usize..40,
+            grasp in proptest::bool::ANY,
+            left in proptest::bool::ANY,
+        ) {
+            let setup = crate::testing::setup("fig9-near.toml");
+            let arm = if left { Arm::Left } else { Arm::Right };
+            let v = setup.arm(arm).variables[0];
+            let mut value = 0.0;
+            let traj: Vec<TrajectoryPoint> = moves
+                .iter()
+                .enumerate()
+                .map(|(i, &m)| {
+                    if m {
+                        value += 0.01;
+                    }
+                    let mut q = setup.start.clone();
+                    q[v] += value;
+                    TrajectoryPoint { time_from_start: i as Real * 0.5, positions: q }
+                })
+                .collect();
+            let k = at % traj.len();
+            let kind = if grasp { EventKind::Grasp } else { EventKind::Release };
+            let event = Ev {
+                time: traj[k].time_from_start,
+                kind,
+                arm,
+                link_from_object: Isometry3::identity(),
+            };
+            let windows = closing_windows(setup, &traj, &[event]);
+            proptest::prop_assert_eq!(windows.len(), 1);
+            let (w, t0, t1) = windows[0];
+            proptest::prop_assert_eq!(w, arm);
+            proptest::prop_assert!(t0 <= t1);
+            let at_event = if grasp { t1 } else { t0 };
+            proptest::prop_assert_eq!(at_event, event.time);
+            let here = traj[k].positions[v];
+            for p in &traj {
+                let inside = p.time_from_start >= t0 && p.time_from_start <= t1;
+                if inside {
+                    proptest::prop_assert_eq!(p.positions[v], here);
+                }
+            }
+            let before = traj.iter().rposition(|p| p.time_from_start < t0);
+            let after = traj.iter().position(|p| p.time_from_start > t1);
+            if let Some(b) = before.filter(|_| grasp) {
+                proptest::prop_assert!(traj[b].positions[v] != here);
+            }
+            if let Some(a) = after.filter(|_| !grasp) {
+                proptest::prop_assert!(traj[a].positions[v] != here);
+            }
+        }
     }
 
     /// The can upright with its base centre at `(x, y, z)`.
