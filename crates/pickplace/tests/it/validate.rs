@@ -7,6 +7,7 @@ use pickplace::geometry::math::{Isometry3, Real, Translation3, Vector3};
 use pickplace::plan::{EventKind, TrajectoryPoint};
 use pickplace::planner::{Outcome, PlanOptions};
 use pickplace::robot::collision::CollisionScratch;
+use pickplace::robot::gripper::GripObject;
 use pickplace::robot::ik::IkOptions;
 use pickplace::scene::PoseSpec;
 use pickplace::validate::{HAND_CLEARANCE, HandClearance, ValidationReport, validate};
@@ -152,6 +153,32 @@ fn the_handover_plan_breaks_no_rule_but_the_hands_clearance() {
         report.problems
     );
     assert!(report.stability_margin.expect("rests on the pallet") > 0.0);
+    // The second hand's pads touch the object (they squeeze it) in its closing motion, before
+    // its grasp event, while the first hand holds it: accepted, it is its touch window.
+    let second = plan
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Grasp)
+        .nth(1)
+        .expect("the handover grasp");
+    let i = sample_at(plan, second.time);
+    let q = &plan.trajectory[i].positions;
+    let world_from_links: Vec<Isometry3> = setup
+        .model
+        .link_poses(q)
+        .expect("fk")
+        .into_iter()
+        .map(|p| setup.world_from_root * p)
+        .collect();
+    let tcp = setup.world_from_root * setup.arm(second.arm).ik.chain().pose(q);
+    let object = tcp * second.link_from_object.to_isometry().expect("pose");
+    let grip = GripObject::new(&setup.object_mesh).expect("grip object");
+    let gaps = setup
+        .arm(second.arm)
+        .gripper
+        .finger_gaps(&world_from_links, &grip, &object)
+        .expect("gaps");
+    assert!(gaps.iter().all(|&g| g <= 5e-5), "{gaps:?}");
 }
 
 #[test]
