@@ -48,9 +48,6 @@ pub const MAX_CARTESIAN_STEP: Real = 0.01;
 /// Within this distance (m) of a resting pose (the start, an intermediate rest, the final
 /// pose) the object may touch the support it rests on there.
 pub const CONTACT_ZONE: Real = 0.006;
-/// Clearance the two hands keep from each other, measured on their links' collision
-/// geometry (m): the planner holds handovers to it.
-pub const HAND_CLEARANCE: Real = 0.01;
 /// Position tolerance for "the object is where the plan says" (m).
 pub const POSE_TOLERANCE: Real = 0.002;
 /// Least distance (m) between the two hands' links (each arm's gripper links and the link

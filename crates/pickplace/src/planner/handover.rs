@@ -17,7 +17,6 @@ use pickplace_geometry::math::{
 };
 use pickplace_geometry::obb::Obb;
 use pickplace_grasp::{Grasp, GripperParams};
-use pickplace_robot::collision::BodyId;
 
 /// Clearance kept between the two hands' gripper boxes in the cheap pre-test
 /// ([`hands_overlap`]) (m); the real link geometry is then held to
@@ -112,11 +111,10 @@ impl Ctx<'_> {
             let both = self.gripping(b, &q_b, grasp2.width);
             // The two hands, as posed, keep the stated clearance on their real geometry.
             // (B open at its grasp, both closed, A open: the fingers sweep between them).
-            let gap = self
-                .hands_gap(&q_b)?
-                .min(self.hands_gap(&both)?)
-                .min(self.hands_gap(&self.opened(a, &both))?);
-            if gap < crate::validate::HAND_CLEARANCE {
+            if self.hands_too_close(&q_b)?
+                || self.hands_too_close(&both)?
+                || self.hands_too_close(&self.opened(a, &both))?
+            {
                 regrasp.reject(Rejection::HandsTooClose.to_string());
                 continue;
             }
@@ -171,58 +169,29 @@ impl Ctx<'_> {
 }
 
 impl Ctx<'_> {
-    /// The links of `arm`'s hand: its fingers, the links carrying them and the link carrying
-    /// its tool frame, those with collision geometry.
-    pub(super) fn hand_links(&self, arm: Arm) -> Vec<usize> {
-        let model = &self.setup.model;
-        let a = self.setup.arm(arm);
-        let mut links: Vec<usize> = a
-            .finger_links
-            .iter()
-            .filter_map(|n| model.link_index(n))
-            .collect();
-        let carriers: Vec<usize> = links
-            .iter()
-            .chain(std::iter::once(&a.tcp_link))
-            .filter_map(|&l| model.parent_link(l))
-            .collect();
-        links.extend(carriers);
-        links.sort_unstable();
-        links.dedup();
-        links.retain(|&l| !model.links()[l].collisions.is_empty());
-        links
-    }
-
-    /// The smallest distance (m) between the two hands' links at the full configuration
-    /// `q`, measured on their collision geometry (negative when they overlap); infinite for a
-    /// robot with one arm.
+    /// Whether the two hands' links come closer than [`crate::validate::HAND_CLEARANCE`] at
+    /// the full configuration `q`, measured on their collision geometry by the validator's
+    /// own check ([`crate::validate::HandClearance`]); never for a robot with one arm.
     ///
     /// # Errors
     /// [`crate::Error::Internal`] when the collision library cannot measure a pair.
-    pub(super) fn hands_gap(&self, q: &[Real]) -> crate::Result<Real> {
-        if !(self.setup.has_arm(Arm::Right) && self.setup.has_arm(Arm::Left)) {
-            return Ok(Real::INFINITY);
-        }
-        let (right, left) = (self.hand_links(Arm::Right), self.hand_links(Arm::Left));
-        with_scratch(|scratch| {
-            let mut gap = Real::INFINITY;
-            for &r in &right {
-                for &l in &left {
-                    let d = self
-                        .setup
-                        .world
-                        .signed_distance(
-                            &self.setup.model,
-                            q,
-                            scratch,
-                            BodyId::Link(r),
-                            BodyId::Link(l),
-                        )
-                        .map_err(crate::error::internal("hand clearance"))?;
-                    gap = gap.min(d);
-                }
+    pub(super) fn hands_too_close(&self, q: &[Real]) -> crate::Result<bool> {
+        let check = match self.hand_clearance.get_or_init(|| {
+            crate::validate::HandClearance::new(self.setup).map_err(|e| e.to_string())
+        }) {
+            Ok(Some(check)) => check,
+            Ok(None) => return Ok(false),
+            Err(reason) => {
+                return Err(crate::Error::Internal {
+                    stage: "hand clearance",
+                    reason: reason.clone(),
+                });
             }
-            Ok(gap)
+        };
+        with_scratch(|scratch| {
+            check
+                .closer_than(self.setup, q, crate::validate::HAND_CLEARANCE, scratch)
+                .map(|gap| gap.is_some())
         })
     }
 }
@@ -231,7 +200,7 @@ impl Ctx<'_> {
 /// the object) when both hold the object: any of their palm and finger boxes intersect
 /// (separating-axis test on oriented boxes, [`Obb::intersects`], object frame), with
 /// [`BOX_CLEARANCE`]. A cheap pre-test: the posed hands are then measured on the links'
-/// collision geometry ([`Ctx::hands_gap`]).
+/// collision geometry ([`Ctx::hands_too_close`]).
 pub(super) fn hands_overlap(gripper: &GripperParams, first: &Grasp, second: &Grasp) -> bool {
     let boxes = |grasp: &Grasp, opening: Real| -> Vec<Obb> {
         let [f1, f2] = gripper.fingers(opening);

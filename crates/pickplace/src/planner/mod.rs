@@ -167,6 +167,8 @@ struct Ctx<'a> {
     /// Places per (arm, placement, grasp), shared by the strategies.
     place_memo:
         Mutex<BTreeMap<(Arm, usize, usize), std::result::Result<keypose::Place, Rejection>>>,
+    /// The hands' clearance check, built once (`Ctx::hands_too_close`).
+    hand_clearance: OnceLock<std::result::Result<Option<crate::validate::HandClearance>, String>>,
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
     rests: OnceLock<Vec<Placement>>,
     /// Environment bodies the object touches at each rest, found once.
@@ -267,6 +269,7 @@ impl<'a> Ctx<'a> {
             ],
             rests: OnceLock::new(),
             rest_supports: OnceLock::new(),
+            hand_clearance: OnceLock::new(),
             open_start: {
                 let mut q = setup.start.clone();
                 for a in &setup.arms {

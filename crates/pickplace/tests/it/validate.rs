@@ -137,21 +137,12 @@ fn a_valid_plan_has_no_problem() {
 }
 
 #[test]
-fn the_handover_plan_breaks_no_rule_but_the_hands_clearance() {
-    // The planner does not keep HAND_CLEARANCE at the handover yet (issue 17: its hands'
-    // test is too coarse; the rewritten planner uses validate::HAND_CLEARANCE): its hands
-    // pass ~6 mm apart. Every other rule holds, including the second hand's touch window.
-    // Once the planner keeps the clearance, this plan has no problem at all.
+fn the_handover_plan_breaks_no_rule() {
+    // The planner keeps HAND_CLEARANCE at the handover (the same check as the validator's),
+    // and every other rule holds, including the second hand's touch window.
     let (setup, plan) = handover();
     let report = check(setup, plan);
-    assert!(
-        report
-            .problems
-            .iter()
-            .all(|p| p.contains("(hand clearance 10 mm)")),
-        "{:#?}",
-        report.problems
-    );
+    assert!(report.problems.is_empty(), "{:#?}", report.problems);
     assert!(report.stability_margin.expect("rests on the pallet") > 0.0);
     // The second hand's pads touch the object (they squeeze it) in its closing motion, before
     // its grasp event, while the first hand holds it: accepted, it is its touch window.
