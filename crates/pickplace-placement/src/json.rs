@@ -164,6 +164,9 @@ mod tests {
         let tipping = value["placements"][0]["tipping_angle"]
             .as_f64()
             .expect("tipping angle");
-        assert!((tipping - std::f64::consts::FRAC_PI_4).abs() < 1e-9, "{tipping}");
+        assert!(
+            (tipping - std::f64::consts::FRAC_PI_4).abs() < 1e-9,
+            "{tipping}"
+        );
     }
 }
