@@ -9,6 +9,7 @@ use pickplace_placement::{
     ContactKind, EnvironmentModel, ObjectModel, PlacementOptions, RestOptions, RestState,
     rest_state, target_surface,
 };
+use std::f64::consts::FRAC_1_SQRT_2;
 use std::path::Path;
 
 fn load(name: &str) -> TriMesh {
@@ -27,7 +28,7 @@ fn pose(p: [Real; 3], q: [Real; 4]) -> Isometry3 {
 }
 
 const IDENTITY: [Real; 4] = [0.0, 0.0, 0.0, 1.0];
-const TABLE_TURN: [Real; 4] = [0.0, 0.0, -0.707_106_78, 0.707_106_78];
+const TABLE_TURN: [Real; 4] = [0.0, 0.0, -FRAC_1_SQRT_2, FRAC_1_SQRT_2];
 
 fn environment(parts: &[(&str, [Real; 3], [Real; 4])]) -> EnvironmentModel {
     let params = ClusterParams::environment();
@@ -101,7 +102,7 @@ fn shipped_scenes_start_resting_and_aim_at_surfaces_that_fit() {
         (
             "box.stl",
             [0.44, -0.12, 0.72],
-            [0.0, 0.0, 0.707_106_78, 0.707_106_78],
+            [0.0, 0.0, FRAC_1_SQRT_2, FRAC_1_SQRT_2],
         ),
     ]);
     let state = rest_state(
