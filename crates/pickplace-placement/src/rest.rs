@@ -624,6 +624,48 @@ mod tests {
 
     const PI_2: Real = std::f64::consts::FRAC_PI_2;
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        /// Anywhere on the table, turned about z: resting with the face's margin; lifted by
+        /// more than `max_gap`: floating by the lift; sunk by more than `max_depth`: penetrating
+        /// by the sink.
+        #[test]
+        fn the_state_follows_the_height(
+            x in -0.4f64..0.4,
+            y in -0.4f64..0.4,
+            yaw in 0.0f64..std::f64::consts::TAU,
+            lift in 0.004f64..0.05,
+            sink in 0.003f64..0.04,
+        ) {
+            let (object, env) = (boxed(), table());
+            let at = |dz: Real| {
+                Isometry3::from_parts(
+                    Translation3::new(x, y, 0.05 + dz),
+                    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), yaw),
+                )
+            };
+            let options = RestOptions::default();
+            match rest_state(&object, &env, &at(0.0), &options) {
+                RestState::Resting { margin, .. } => {
+                    proptest::prop_assert!((margin - 0.02).abs() < 1e-6, "{}", margin)
+                }
+                other => proptest::prop_assert!(false, "{}", other),
+            }
+            match rest_state(&object, &env, &at(lift), &options) {
+                RestState::Floating { gap } => {
+                    proptest::prop_assert!((gap - lift).abs() < 1e-6, "{} vs {}", gap, lift)
+                }
+                other => proptest::prop_assert!(false, "{}", other),
+            }
+            match rest_state(&object, &env, &at(-sink), &options) {
+                RestState::Penetrating { depth } => {
+                    proptest::prop_assert!((depth - sink).abs() < 1e-6, "{} vs {}", depth, sink)
+                }
+                other => proptest::prop_assert!(false, "{}", other),
+            }
+        }
+    }
+
     #[test]
     fn target_on_the_table_fits_every_face_of_the_box() {
         let surface = target_surface(
