@@ -221,11 +221,6 @@ fn malformed_scenes_exit_2_naming_the_file() {
             ),
             "NO_SUCH_JOINT",
         ),
-        (
-            "target.toml",
-            good.replace("point = [0.40, -0.20, 0.745]", "point = [0.40, -0.20, 1.5]"),
-            "target",
-        ),
     ];
     for (name, text, expected) in cases {
         let path = dir.file(name, text.as_bytes());
@@ -237,6 +232,21 @@ fn malformed_scenes_exit_2_naming_the_file() {
         assert!(!err.contains("panicked"), "{name}: {err}");
         assert!(!out.exists(), "{name}: no plan file");
     }
+    // A target in the air is an infeasible scene, refused before any search.
+    let path = dir.file(
+        "target.toml",
+        good.replace("point = [0.40, -0.20, 0.745]", "point = [0.40, -0.20, 1.5]")
+            .as_bytes(),
+    );
+    let out = dir.join("plan.json");
+    let o = run(crate::args!["plan", path, "--out", out]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("target: the target is not on any surface"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists(), "no plan file");
 }
 
 #[test]

@@ -159,7 +159,7 @@ struct Ctx<'a> {
     placement_supports: Vec<OnceLock<Vec<String>>>,
     /// Per arm (right, left) and placement: the grasps whose closed gripper fits there
     /// (`Ctx::grasp_fits`), found once.
-    placement_fits: [Vec<OnceLock<Vec<usize>>>; 2],
+    placement_fits: [Vec<OnceLock<(Vec<usize>, String)>>; 2],
     /// The start configuration with both hands open: the seed of every place.
     open_start: Vec<Real>,
     /// Picks at the start per (arm, grasp), shared by the strategies.

@@ -213,6 +213,9 @@ pub enum Rejection {
     NoHandover,
     /// No grasp both picks the object and places it here.
     NoGraspReaches,
+    /// No grasp fits the placing hand here at all (the cheap tests: reach, gripper against
+    /// the environment); the most frequent reason.
+    NoGraspFits(String),
     /// Grasps pick and place, but no motion joins their key poses.
     NoMotionForAnyGrasp,
     /// The plan's wall-clock budget was spent before this candidate.
@@ -265,6 +268,7 @@ impl fmt::Display for Rejection {
             Rejection::NoGraspReaches => f.write_str("no grasp reaches it"),
             Rejection::NoMotionForAnyGrasp => f.write_str("no motion for any grasp"),
             Rejection::TimeBudgetSpent => f.write_str("time budget spent"),
+            Rejection::NoGraspFits(why) => write!(f, "no grasp fits the hand here ({why})"),
             Rejection::HandsTooClose => write!(
                 f,
                 "hands closer than {:.0} mm",

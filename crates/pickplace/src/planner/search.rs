@@ -122,13 +122,25 @@ impl Ctx<'_> {
     }
 
     /// The grasps whose closed gripper fits `arm` at placement `pi` ([`Ctx::grasp_fits`]),
-    /// best first; computed once per arm and placement.
-    pub(super) fn fitting_at_placement(&self, arm: Arm, pi: usize) -> &[usize] {
+    /// best first, and the most frequent reason of the others; computed once per arm and
+    /// placement.
+    pub(super) fn fitting_at_placement(&self, arm: Arm, pi: usize) -> &(Vec<usize>, String) {
         self.placement_fits[arm.index()][pi].get_or_init(|| {
             let pose = self.placements[pi].world_from_object;
-            (0..self.grasps.len())
-                .filter(|&gi| self.grasp_fits(arm, gi, &pose, false).is_ok())
-                .collect()
+            let mut fits = Vec::new();
+            let mut reasons: BTreeMap<String, usize> = BTreeMap::new();
+            for gi in 0..self.grasps.len() {
+                match self.grasp_fits(arm, gi, &pose, false) {
+                    Ok(()) => fits.push(gi),
+                    Err(r) => *reasons.entry(r.to_string()).or_default() += 1,
+                }
+            }
+            let top = reasons
+                .into_iter()
+                .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|(r, _)| r)
+                .unwrap_or_default();
+            (fits, top)
         })
     }
 
@@ -144,20 +156,23 @@ impl Ctx<'_> {
         usable: &[usize],
         report: &mut StrategyReport,
     ) -> Vec<(usize, Vec<usize>)> {
-        let fits: Vec<Vec<usize>> = (0..self.placements.len())
+        let fits: Vec<(Vec<usize>, Option<String>)> = (0..self.placements.len())
             .into_par_iter()
             .map(|pi| {
-                let here = self.fitting_at_placement(arm, pi);
-                usable
+                let (here, why) = self.fitting_at_placement(arm, pi);
+                let grasps: Vec<usize> = usable
                     .iter()
                     .copied()
                     .filter(|g| here.binary_search(g).is_ok())
-                    .collect()
+                    .collect();
+                (grasps, here.is_empty().then(|| why.clone()))
             })
             .collect();
         let mut order: Vec<(usize, Vec<usize>)> = Vec::new();
-        for (pi, grasps) in fits.into_iter().enumerate() {
-            if grasps.is_empty() {
+        for (pi, (grasps, none_fits)) in fits.into_iter().enumerate() {
+            if let Some(why) = none_fits {
+                count(report, Stage::Placement).reject(Rejection::NoGraspFits(why).to_string());
+            } else if grasps.is_empty() {
                 count(report, Stage::Placement).reject(Rejection::NoGraspReaches.to_string());
             } else {
                 order.push((pi, grasps));
