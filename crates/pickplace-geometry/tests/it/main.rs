@@ -7,3 +7,4 @@ mod loaders;
 mod mesh;
 mod polygon;
 mod support;
+mod timing;
