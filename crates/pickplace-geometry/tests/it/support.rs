@@ -102,7 +102,13 @@ pub fn height_field(n: usize, size: Real, amplitude: Real, rng: &mut Rng) -> Tri
 /// A UV ellipsoid with semi-axes `radii`, `rings` latitude bands and `segments` longitudes,
 /// vertices moved radially by up to `noise` (m, poles excepted): a fruit, a duck's body, a
 /// scanned-looking blob. Closed, outward wound.
-pub fn ellipsoid(radii: [Real; 3], rings: usize, segments: usize, noise: Real, rng: &mut Rng) -> TriMesh {
+pub fn ellipsoid(
+    radii: [Real; 3],
+    rings: usize,
+    segments: usize,
+    noise: Real,
+    rng: &mut Rng,
+) -> TriMesh {
     ellipsoid_builder(radii, rings, segments, noise, rng)
         .build()
         .expect("valid ellipsoid")
@@ -150,7 +156,14 @@ pub fn ellipsoid_builder(
 
 /// A closed cylinder (axis z, base at 0) with `rings` bands along its height, vertices of the
 /// side moved radially by up to `noise` (m).
-pub fn noisy_cylinder(radius: Real, height: Real, segments: usize, rings: usize, noise: Real, rng: &mut Rng) -> TriMesh {
+pub fn noisy_cylinder(
+    radius: Real,
+    height: Real,
+    segments: usize,
+    rings: usize,
+    noise: Real,
+    rng: &mut Rng,
+) -> TriMesh {
     let mut b = MeshBuilder::default();
     let mut bands = Vec::new();
     for i in 0..=rings {
