@@ -569,13 +569,16 @@ impl<'a> Engine<'a> {
     /// fits; passes repeat until one merges nothing, so no mergeable adjacent pair is left.
     pub fn merge_adjacent(&mut self) {
         let adjacency = self.mesh.adjacency();
+        // A pair of clusters neither of which changed in the last pass was tried then and
+        // failed: only pairs with a changed cluster are tried again (all in the first pass).
+        let mut changed = vec![true; self.clusters.len()];
         loop {
             let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
             for t in 0..self.mesh.triangle_count() {
                 let a = self.cluster_of[t];
                 for &nb in adjacency.neighbours(t) {
                     let b = self.cluster_of[nb as usize];
-                    if a < b && b != u32::MAX {
+                    if a < b && b != u32::MAX && (changed[a as usize] || changed[b as usize]) {
                         let dot = self.clusters[a as usize]
                             .normal
                             .dot(&self.clusters[b as usize].normal);
@@ -587,12 +590,14 @@ impl<'a> Engine<'a> {
             pairs.dedup_by(|p, q| (p.1, p.2) == (q.1, q.2));
             pairs.sort_by(|p, q| q.0.total_cmp(&p.0).then((p.1, p.2).cmp(&(q.1, q.2))));
             let mut merged = false;
+            changed.fill(false);
             for &(_, a, b) in &pairs {
                 if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
                     continue;
                 }
                 if let Some(m) = self.try_merge(a, b, None) {
                     self.absorb(a, b, m);
+                    changed[a as usize] = true;
                     merged = true;
                 }
             }

@@ -1,8 +1,9 @@
 //! Clustering time on the shipped meshes and a ~5000-triangle mesh (printed with
-//! `--nocapture`; the only assertion is a generous ceiling against a quadratic blow-up).
+//! `--nocapture`, best of five runs; the only assertion is a generous ceiling against a quadratic blow-up).
 
 use crate::support::{Rng, ellipsoid};
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
+use pickplace_geometry::math::Real;
 use pickplace_geometry::mesh::MeshOptions;
 use std::path::Path;
 use std::time::Instant;
@@ -23,9 +24,14 @@ fn clustering_time_is_reported() {
     ));
     for (name, mesh) in &meshes {
         for params in [ClusterParams::environment(), ClusterParams::finger()] {
-            let start = Instant::now();
-            let c = cluster_surface(mesh, &params).expect("valid");
-            let ms = start.elapsed().as_secs_f64() * 1e3;
+            // The best of five runs: the machine is shared.
+            let mut ms = Real::INFINITY;
+            let mut c = cluster_surface(mesh, &params).expect("valid");
+            for _ in 0..5 {
+                let start = Instant::now();
+                c = cluster_surface(mesh, &params).expect("valid");
+                ms = ms.min(start.elapsed().as_secs_f64() * 1e3);
+            }
             println!(
                 "{name} ({} triangles, {}): {} clusters, {} pairs, {ms:.1} ms",
                 mesh.triangle_count(),
