@@ -20,7 +20,7 @@
 //! After growth a final pass merges adjacent clusters while the union still respects the
 //! limits, until no adjacent pair can be merged. In finger mode every final cluster then casts
 //! its own ray and pairs with every opposite cluster where the ray leaves the object more than
-//! `h_max` away (so the outer walls of an open, thin-walled mesh pair across the object).
+//! [`MIN_WALL_THICKNESS`] away (so the outer walls of an open, thin-walled mesh pair across the object).
 //!
 //! Everything is deterministic and independent of the input's triangle order and of the
 //! vertex rotation within triangles: triangles are visited in a canonical order of their
@@ -49,6 +49,7 @@ mod pairs;
 pub use geometry::PlaneFrame;
 pub use grow::MAX_FIT_DEVIATION;
 pub use json::{CLUSTERS_JSON_FORMAT, ClusterJson, ClusterPairJson, ClustersJson};
+pub use pairs::MIN_WALL_THICKNESS;
 
 use crate::error::{Error, Result};
 use crate::math::{Point2, Point3, Real, Vector3};
@@ -311,7 +312,7 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
     engine.merge_adjacent();
     let raw_pairs = match params.mode {
         ContactMode::Environment => Vec::new(),
-        ContactMode::Finger => pairs::find_pairs(&engine, params.opposite_dot, params.h_max),
+        ContactMode::Finger => pairs::find_pairs(&engine, params.opposite_dot),
     };
     // Final ids: live clusters ordered by the canonical rank of their first triangle, so they
     // do not depend on the input's triangle order.

@@ -5,6 +5,10 @@ use super::{Cluster, ClusterPair};
 use crate::math::Real;
 use crate::polygon::{self, Polygon};
 
+/// Thinnest wall whose two sides pair (m): 2 mm. Two opposite surfaces closer than this are
+/// the two sides of one sheet, not two sides of an object a parallel gripper closes across.
+pub const MIN_WALL_THICKNESS: Real = 0.002;
+
 /// Grows clusters seed by seed, each seed's antipode towards the opposite normal (§III-A.1).
 ///
 /// For each seed (an open Step-1 cluster, in canonical order): grow it with Step 2
@@ -44,12 +48,12 @@ pub(super) fn grow_finger(engine: &mut Engine<'_>, opposite_dot: Real) {
 ///
 /// From the centroid of every live cluster `x` a ray is cast through the object along
 /// `-n_x`; every triangle where it leaves the object belongs to a candidate `y`. `y` pairs with
-/// `x` when it faces the other way (`n_y·n_x ≤ opposite_dot`) and lies more than `h_max`
-/// behind `x`'s centroid: the two sides of a wall thinner than the pads' flexible sheet are
-/// not a grip, and a ray that crosses such a wall goes on to the far side of the object, so
-/// the outer walls of a hollow or open mesh pair with each other. Returns engine id pairs
+/// `x` when it faces the other way (`n_y·n_x ≤ opposite_dot`) and lies more than
+/// [`MIN_WALL_THICKNESS`] behind `x`'s centroid: the two sides of a sheet (a 1 mm wall of
+/// cardboard or plastic) are not a grip, and a ray that crosses such a wall goes on to the far
+/// side of the object, so the outer walls of a hollow or open mesh pair with each other. Returns engine id pairs
 /// `(lower, higher)`, each once, sorted.
-pub(super) fn find_pairs(engine: &Engine<'_>, opposite_dot: Real, h_max: Real) -> Vec<(u32, u32)> {
+pub(super) fn find_pairs(engine: &Engine<'_>, opposite_dot: Real) -> Vec<(u32, u32)> {
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     for (x, cx) in engine.clusters.iter().enumerate() {
         if !cx.alive {
@@ -58,7 +62,7 @@ pub(super) fn find_pairs(engine: &Engine<'_>, opposite_dot: Real, h_max: Real) -
         let x = x as u32;
         for (hit, distance) in engine.exit_hits(&cx.centroid, &-cx.normal, x) {
             let y = engine.cluster_of[hit as usize];
-            if distance <= h_max
+            if distance <= MIN_WALL_THICKNESS
                 || engine.clusters[y as usize].normal.dot(&cx.normal) > opposite_dot
             {
                 continue;
