@@ -586,7 +586,7 @@ impl<'a> Engine<'a> {
                     }
                 }
             }
-            pairs.sort_unstable_by(|p, q| (p.1, p.2).cmp(&(q.1, q.2)));
+            pairs.sort_unstable_by_key(|p| (p.1, p.2));
             pairs.dedup_by(|p, q| (p.1, p.2) == (q.1, q.2));
             pairs.sort_by(|p, q| q.0.total_cmp(&p.0).then((p.1, p.2).cmp(&(q.1, q.2))));
             let mut merged = false;
