@@ -562,9 +562,10 @@ impl Context<'_> {
         let denominator = second.normal.dot(&n1);
         let plane_width = second.normal.dot(&(on_first - second.point)) / denominator;
         let middle = on_first - n1 * (0.5 * plane_width);
-        // The width measured on the mesh (issue 17): where the grasp line crosses the two
-        // contact patches, outermost crossing on each side. The planes of curved patches or of
-        // walls of different flatness lie up to h away from the surface under the pad.
+        // The width measured on the mesh (issue 17) starts where the grasp line crosses the two
+        // contact patches, outermost crossing on each side (the planes of curved patches lie up
+        // to h away from the surface); each approach direction then moves the pads out to the
+        // highest point of their patch under them (`shared_checks`).
         let measured = self
             .planner
             .crossing(&middle, &n1, &first.triangles)
@@ -582,7 +583,7 @@ impl Context<'_> {
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
             let angle = TAU * k as Real / self.options.approach_count as Real;
-            let candidate = Candidate {
+            let mut candidate = Candidate {
                 site,
                 pair,
                 first,
@@ -591,7 +592,7 @@ impl Context<'_> {
                 width,
                 angle,
             };
-            match self.shared_checks(&candidate) {
+            match self.shared_checks(&mut candidate) {
                 Ok((contact_area, pad_depth)) => out.extend(
                     flips
                         .iter()
@@ -605,8 +606,9 @@ impl Context<'_> {
 
     /// The checks a 180° turn about the approach axis does not change (the pads and the fingers
     /// are symmetric under it): local width, pad tilt and depth, contact area, finger collision.
+    /// Moves the pads (the candidate's TCP and width) out to where they first touch the mesh.
     /// Returns the contact area and the pad depth.
-    fn shared_checks(&self, c: &Candidate<'_>) -> std::result::Result<(Real, Real), Rejection> {
+    fn shared_checks(&self, c: &mut Candidate<'_>) -> std::result::Result<(Real, Real), Rejection> {
         let (g, o) = (self.gripper, self.options);
         if !(c.width.is_finite()
             && c.width >= g.opening_min
@@ -627,26 +629,29 @@ impl Context<'_> {
                 return Err(Rejection::PadTilt);
             }
         }
-        // The patch under each pad may rise towards the pad beyond the contact point at the
-        // centre (a curved or concave patch): the flexible sheet absorbs up to h_max.
+        // The patch under each pad may rise towards the pad above the grasp line's crossing (a
+        // curved or concave patch): the rigid pad first touches the highest point under it, and
+        // the flexible sheet of depth h_max reaches the rest of the patch only if the rise stays
+        // within h_max (§III-A, Fig. 2). The width is the distance between the pads there.
         let pad1 = c.tcp + c.first.normal * (0.5 * c.width);
         let footprint = Footprint {
             lateral,
             approach,
             half: (hw, hd),
         };
-        let depth = self
+        let rise1 = self
             .planner
-            .rise(&pad1, &c.first.normal, &footprint, &c.first.triangles)
-            .max(
-                self.planner
-                    .rise(&pad2, &(-c.first.normal), &footprint, &c.second.triangles),
-            );
+            .rise(&pad1, &c.first.normal, &footprint, &c.first.triangles);
+        let rise2 = self
+            .planner
+            .rise(&pad2, &(-c.first.normal), &footprint, &c.second.triangles);
+        let depth = rise1.max(rise2);
         if depth > h_max + 1e-9 {
             return Err(Rejection::PadTilt);
         }
-        // The gripper must open wide enough to bring the pads over the patches.
-        if c.width + 2.0 * (o.clearance + depth) > g.opening_max {
+        c.width += rise1 + rise2;
+        c.tcp += c.first.normal * (0.5 * (rise1 - rise2));
+        if c.width > g.opening_max - 2.0 * o.clearance {
             return Err(Rejection::Width);
         }
         // Contact: the pad (on S1, in the first frame) against the overlap region.
@@ -657,10 +662,9 @@ impl Context<'_> {
         if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
             return Err(Rejection::Contact);
         }
-        // Fingers open by the clearance (and the sheet's give) on each side and grown by the
-        // clearance along their other axes.
+        // Fingers open by the clearance on each side and grown by it along their other axes.
         let object_from_tcp = self.pose(c, 1.0);
-        for mut finger in g.fingers(c.width + 2.0 * (o.clearance + depth)) {
+        for mut finger in g.fingers(c.width + 2.0 * o.clearance) {
             finger.half_extents += Vector3::new(o.clearance, 0.0, o.clearance);
             if self.planner.collider.hits(&object_from_tcp, &finger, 0.0) {
                 return Err(Rejection::Finger);

@@ -16,10 +16,10 @@ pub struct GraspQuality {
     /// Signed distance from the pad centre to the boundary of the overlap region (m),
     /// positive inside.
     pub boundary_margin: Real,
-    /// How far the contact patch under either pad rises towards that pad beyond the contact
-    /// point at the grasp centre (m): what the pads' flexible sheet absorbs on a curved or
-    /// uneven patch (§III-A, Fig. 2), at most `h_max`; 0 on flat faces. The fingers are
-    /// checked for collision opened by it on each side.
+    /// How far the contact patch under either pad rises towards that pad above the point
+    /// where the grasp line through the TCP crosses it (m): the pad touches the highest point
+    /// under it, and the flexible sheet (§III-A, Fig. 2) must reach down this far to the rest
+    /// of a curved or concave patch; at most `h_max`, 0 on flat faces.
     #[serde(default)]
     pub pad_depth: Real,
 }

@@ -13,9 +13,10 @@
 //! - **environment** (§III-A.2): Step 1, then Step 2 from every Step-1 cluster in turn;
 //! - **finger** (§III-A.1, after the paper's ref. \[15\]): from a seed cluster grow `C_x`, cast a
 //!   ray from its centroid through the object along `-n_x`, grow the cluster at the antipode
-//!   keeping its normal opposite to `n_x`, and record the pair ([`ClusterPair`]) with the
-//!   distance between the planes and the overlap of the two regions; every Step-1 cluster not
-//!   yet used becomes a seed in turn, so the pairs cover the object.
+//!   keeping its normal opposite to `n_x`; every Step-1 cluster not yet used becomes a seed in
+//!   turn. Once the clusters are final, every cluster casts its ray and pairs
+//!   ([`ClusterPair`]) with the opposite clusters it meets, with the distance between the
+//!   planes and the overlap of the two regions.
 //!
 //! After growth a final pass merges adjacent clusters while the union still respects the
 //! limits, until no adjacent pair can be merged. In finger mode every final cluster then casts
@@ -212,9 +213,9 @@ impl Cluster {
 /// Two clusters with parallel, opposite contact planes: where a parallel gripper can close.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClusterPair {
-    /// The seed cluster's id.
+    /// The lower of the two cluster ids.
     pub first: u32,
-    /// The antipodal cluster's id.
+    /// The higher of the two cluster ids.
     pub second: u32,
     /// Distance between the two contact planes (m), measured along their mean normal.
     pub width: Real,
@@ -234,9 +235,10 @@ pub struct ClusterPair {
 pub struct Clustering {
     /// Parameters used.
     pub params: ClusterParams,
-    /// Clusters, ordered by their lowest triangle index.
+    /// Clusters, ordered by the canonical rank of their first triangle (see the module
+    /// documentation: by vertex positions, not by triangle index).
     pub clusters: Vec<Cluster>,
-    /// Opposite cluster pairs (finger mode only), in seed order.
+    /// Opposite cluster pairs (finger mode only), each once, ordered by `(first, second)`.
     pub pairs: Vec<ClusterPair>,
 }
 
@@ -286,9 +288,11 @@ pub fn fit_plane(mesh: &TriMesh, triangles: &[u32]) -> Option<(Vector3, Point3)>
 /// [`Error::InvalidParameter`] when `params` is invalid.
 ///
 /// # Performance
-/// Linear in the triangle count for flat regions; a merge is checked against stored extents
-/// first and scans the cluster's vertices only when those cannot decide. Finger mode adds one
-/// ray cast (linear in the triangle count) per seed.
+/// Linear in the triangle count for flat regions, plus a sort of the triangles for the
+/// canonical order; a merge is checked against stored extents first and scans the cluster's
+/// vertices only when those cannot decide. The final merge pass lists the adjacent pairs once
+/// per pass. Finger mode adds one ray cast (linear in the triangle count) per seed and per
+/// final cluster.
 pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Clustering> {
     params.validate()?;
     let mut engine = Engine::new(

@@ -80,8 +80,40 @@ fn hollow_brick(half: Real, height: Real, wall: Real, rim: bool) -> TriMesh {
     b.build().expect("valid brick")
 }
 
+/// A square tube with an open top and a floor: the profile revolved with four segments, so
+/// the corners are at `corner` from the axis and the walls at `corner/√2`; the walls (and the
+/// floor) are `wall/√2` thick.
+fn square_tube(corner: Real, height: Real, wall: Real) -> TriMesh {
+    let i = corner - wall;
+    let profile = [
+        [0.0, 0.0],
+        [corner, 0.0],
+        [corner, height],
+        [i, height],
+        [i, wall],
+        [0.0, wall],
+    ];
+    shapes::revolve_builder(&profile, 4)
+        .build()
+        .expect("valid square tube")
+}
+
 #[test]
-fn widths_across_a_tube_wall_are_the_wall_thickness() {
+fn widths_across_a_square_tube_wall_are_the_wall_thickness() {
+    // Walls 8.5 mm thick, 49 mm across.
+    let wall = 0.0085;
+    let mesh = square_tube(0.035, 0.09, wall * std::f64::consts::SQRT_2);
+    let gripper = support::gripper();
+    let Planned { set, .. } = support::plan(mesh, &gripper, &GraspOptions::default());
+    let across: Vec<&Grasp> = set.grasps.iter().filter(|g| g.width < 0.02).collect();
+    assert!(across.len() >= 10, "{} wall grasps", across.len());
+    for g in &across {
+        assert!((g.width - wall).abs() < 2e-4, "width {} vs {wall}", g.width);
+    }
+}
+
+#[test]
+fn widths_across_a_round_tube_wall_are_where_the_pads_touch() {
     // A tube (a mug without handle) with an 8.5 mm wall, 96 facets around.
     let (ro, wall, h, floor) = (0.04, 0.0085, 0.09, 0.006);
     let ri = ro - wall;
@@ -100,28 +132,45 @@ fn widths_across_a_tube_wall_are_the_wall_thickness() {
     let Planned { set, .. } = support::plan(mesh, &gripper, &GraspOptions::default());
     let across: Vec<&Grasp> = set.grasps.iter().filter(|g| g.width < 0.02).collect();
     assert!(across.len() >= 10, "{} wall grasps", across.len());
+    let (hw, hd) = (0.5 * gripper.pad_width, 0.5 * gripper.pad_depth);
     for g in &across {
-        let closing = support::closing(g, &gripper);
-        assert!(closing.z.abs() < 0.05, "radial closing: {g:?}");
-        // The grasp line's distance from the axis, perpendicular to the closing direction.
         let p = tcp(g);
-        let radial = Vector3::new(p.x, p.y, 0.0);
-        let off = (radial - closing * closing.dot(&radial)).norm();
-        let chord = (ro * ro - off * off).sqrt() - (ri * ri - off * off).sqrt();
-        assert!(
-            (g.width - chord).abs() < 2e-4,
-            "width {} vs {chord} at {off} m off the axis",
-            g.width
-        );
-        if off < 0.003 {
-            assert!((g.width - wall).abs() < 2e-4, "width {} vs {wall}", g.width);
+        let mut c = support::closing(g, &gripper);
+        assert!(c.z.abs() < 0.05, "radial closing: {g:?}");
+        if c.dot(&Vector3::new(p.x, p.y, 0.0)) < 0.0 {
+            c = -c;
         }
+        let tangent = Vector3::z().cross(&c);
+        let (l, a) = (
+            g.object_from_tcp.rotation * gripper.lateral(),
+            support::approach(g, &gripper),
+        );
+        // Through the TCP: the wall's chord along the closing axis.
+        let chord = |t: Real| (ro * ro - t * t).sqrt() - (ri * ri - t * t).sqrt();
+        let centre = chord(p.coords.dot(&tangent));
+        // Rigid pads over the whole footprint: the outer pad stops at the highest point of the
+        // outer wall under it, the inner pad at the innermost point of the inner wall.
+        let (mut outer, mut inner) = (Real::NEG_INFINITY, Real::INFINITY);
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let q =
+                    p + l * (hw * (i as Real / 20.0 - 1.0)) + a * (hd * (j as Real / 20.0 - 1.0));
+                let t = q.coords.dot(&tangent);
+                if (0.0..=h).contains(&q.z) && t.abs() < ro {
+                    outer = outer.max((ro * ro - t * t).sqrt());
+                }
+                if (floor..=h).contains(&q.z) && t.abs() < ri {
+                    inner = inner.min((ri * ri - t * t).sqrt());
+                }
+            }
+        }
+        assert!(
+            g.width >= centre - 2e-4 && g.width <= outer - inner + 2e-4,
+            "width {} vs {centre} through the TCP and {} for rigid pads",
+            g.width,
+            outer - inner
+        );
     }
-    assert!(across.iter().any(|g| {
-        let p = tcp(g);
-        let c = support::closing(g, &gripper);
-        (Vector3::new(p.x, p.y, 0.0) - c * c.dot(&p.coords)).norm() < 0.003
-    }));
 }
 
 #[test]

@@ -90,10 +90,10 @@ pub fn body_hits(mesh: &TriMesh, b: &Obb) -> bool {
 }
 
 /// The gripper bodies of a grasp as checked by the planner without the growth: fingers open by
-/// the clearance and the pad depth (the flexible sheet's give) on each side, the palm as given.
+/// the clearance on each side, the palm as given.
 pub fn bodies(g: &Grasp, gripper: &GripperParams, clearance: Real) -> Vec<Obb> {
     let mut out: Vec<Obb> = gripper
-        .fingers(g.width + 2.0 * (clearance + g.quality.pad_depth))
+        .fingers(g.width + 2.0 * clearance)
         .iter()
         .map(|f| obb(&g.object_from_tcp, f))
         .collect();
