@@ -23,8 +23,9 @@ use crate::hash::hash_bytes;
 /// First eight bytes of every cluster database.
 pub const MAGIC: [u8; 8] = *b"PPCLUSTR";
 /// Version of the format written and read by this build. Bump it whenever a serialized type
-/// or the mesh hash changes.
-pub const FORMAT_VERSION: u32 = 1;
+/// or the mesh hash changes, or when the clustering algorithm changes what it computes (2: the
+/// merge pass, canonical triangle order and pairing of issue 17).
+pub const FORMAT_VERSION: u32 = 2;
 
 #[derive(Debug, serde::Serialize, serde::Deserialize)]
 struct Header {

@@ -57,6 +57,19 @@ pub enum Error {
         /// Number of clusters.
         count: usize,
     },
+    /// A cluster names a triangle the planner's mesh does not have: the clustering was made on
+    /// another mesh.
+    #[error(
+        "cluster {cluster} refers to triangle {triangle}, but the object mesh has {count} triangles"
+    )]
+    ForeignClustering {
+        /// The cluster id.
+        cluster: u32,
+        /// The triangle index.
+        triangle: u32,
+        /// Number of triangles of the planner's mesh.
+        count: usize,
+    },
     /// A pair's overlap region is too large for the grid spacing.
     #[error(
         "grid_step = {grid_step} m is too fine for cluster pair {pair}: more than {limit} grid nodes"

@@ -32,6 +32,10 @@ pub struct GraspJson {
     pub torque_arm: Real,
     /// Signed distance from the pad centre to the overlap boundary (m).
     pub boundary_margin: Real,
+    /// How far a patch rises towards its pad above the contact point (m), absorbed by the
+    /// pads' flexible sheet.
+    #[serde(default)]
+    pub pad_depth: Real,
 }
 
 /// The `pickplace grasps --json` document.
@@ -90,6 +94,7 @@ impl GraspsJson {
                     contact_area: g.quality.contact_area,
                     torque_arm: g.quality.torque_arm,
                     boundary_margin: g.quality.boundary_margin,
+                    pad_depth: g.quality.pad_depth,
                 })
                 .collect(),
         }

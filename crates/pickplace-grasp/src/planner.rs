@@ -162,11 +162,14 @@ pub struct Grasp {
 pub struct RejectionCounts {
     /// Pairs whose width does not fit the opening range (whole pairs, not candidates).
     pub pair_width: usize,
-    /// Candidates whose local width (between the two contact planes at the grasp centre) does
-    /// not fit the opening range.
+    /// Candidates whose width, measured on the mesh along the closing axis through the grasp
+    /// centre, does not fit the opening range (the gripper opening by the clearance and the
+    /// pad depth on each side), or whose grasp line misses one of the two contact patches.
     pub width: usize,
-    /// Candidates whose pad on the second cluster deviates from that cluster's contact plane
-    /// by more than `h_max` at a corner (the planes are not parallel enough there).
+    /// Candidates whose pad on the second cluster turns away from that cluster's plane by more
+    /// than `h_max` at a corner (the planes are not parallel enough), or where the contact
+    /// patch under a pad rises more than `h_max` towards the pad above the contact point at
+    /// the grasp centre: more than the pads' flexible sheet can absorb.
     pub pad_tilt: usize,
     /// Candidates with less than `min_contact_ratio` of the pad on both clusters.
     pub contact: usize,
@@ -195,6 +198,9 @@ pub struct GraspSet {
 #[derive(Debug, Clone)]
 pub struct GraspPlanner {
     collider: ObjectCollider,
+    /// The mesh's vertices and triangles, where the width is measured.
+    vertices: Vec<Point3>,
+    triangles: Vec<[u32; 3]>,
     center_of_mass: Point3,
     /// Half the diagonal of the object's bounding box (m): the torque arm's scale.
     radius: Real,
@@ -230,6 +236,8 @@ impl GraspPlanner {
         let radius = (0.5 * (hi - lo).norm()).max(1e-9);
         Ok(Self {
             collider,
+            vertices: mesh.vertices().to_vec(),
+            triangles: mesh.triangles().to_vec(),
             center_of_mass,
             radius,
         })
@@ -254,8 +262,9 @@ impl GraspPlanner {
     ///
     /// # Errors
     /// [`Error::InvalidGripper`], [`Error::InvalidOption`], [`Error::MissingCluster`] when
-    /// a pair names a cluster the clustering does not have, [`Error::GridTooFine`] when a pair's
-    /// grid would exceed [`MAX_GRID_NODES`].
+    /// a pair names a cluster the clustering does not have, [`Error::ForeignClustering`] when a
+    /// paired cluster names a triangle the planner's mesh does not have,
+    /// [`Error::GridTooFine`] when a pair's grid would exceed [`MAX_GRID_NODES`].
     ///
     /// # Performance
     /// Linear in the number of candidates; each costs a few polygon clips against the pad and
@@ -284,9 +293,24 @@ impl GraspPlanner {
         let mut sites = Vec::new();
         let max_width = gripper.opening_max - 2.0 * options.clearance;
         for (index, pair) in clustering.pairs.iter().enumerate() {
-            cluster(index, pair.first)?;
-            cluster(index, pair.second)?;
-            if pair.width < gripper.opening_min || pair.width > max_width {
+            for c in [cluster(index, pair.first)?, cluster(index, pair.second)?] {
+                if let Some(&t) = c
+                    .triangles
+                    .iter()
+                    .find(|&&t| t as usize >= self.triangles.len())
+                {
+                    return Err(Error::ForeignClustering {
+                        cluster: c.id,
+                        triangle: t,
+                        count: self.triangles.len(),
+                    });
+                }
+            }
+            // The measured widths lie between the planes' distance less both thicknesses and
+            // the planes' distance.
+            let h = clustering.clusters[pair.first as usize].h
+                + clustering.clusters[pair.second as usize].h;
+            if pair.width < gripper.opening_min || pair.width - h > max_width {
                 rejected.pair_width += 1;
                 continue;
             }
@@ -344,6 +368,135 @@ impl GraspPlanner {
             rejected,
         })
     }
+}
+
+impl GraspPlanner {
+    /// The outermost crossing of the line `origin + s·dir` with the triangles `triangles`
+    /// (indices checked by [`GraspPlanner::plan`]): the largest `s` (of either sign) at which
+    /// the line meets one of them; `None` when it meets none.
+    fn crossing(&self, origin: &Point3, dir: &Vector3, triangles: &[u32]) -> Option<Real> {
+        let mut best: Option<Real> = None;
+        for &t in triangles {
+            let Some(tri) = self.triangles.get(t as usize) else {
+                continue;
+            };
+            let [a, b, c] = tri.map(|v| self.vertices[v as usize]);
+            if let Some(s) = line_triangle(origin, dir, &a, &b, &c)
+                && best.is_none_or(|b| s > b)
+            {
+                best = Some(s);
+            }
+        }
+        best
+    }
+}
+
+/// A pad's rectangle: its in-plane axes (unit) and half sizes along them (m).
+struct Footprint {
+    lateral: Vector3,
+    approach: Vector3,
+    half: (Real, Real),
+}
+
+impl GraspPlanner {
+    /// How far the triangles `triangles` rise above `contact` towards `toward` (unit, the
+    /// direction from the surface to the pad) within the pad's rectangle centred on `contact`
+    /// (0 when nothing rises). Each triangle is projected onto the pad plane and clipped to the
+    /// rectangle; the height is affine over a triangle, so its maximum over the clipped
+    /// polygon is at one of the polygon's corners. Triangles seen edge-on do not count.
+    fn rise(
+        &self,
+        contact: &Point3,
+        toward: &Vector3,
+        footprint: &Footprint,
+        triangles: &[u32],
+    ) -> Real {
+        let (hw, hd) = footprint.half;
+        let mut best: Real = 0.0;
+        for &t in triangles {
+            let Some(tri) = self.triangles.get(t as usize) else {
+                continue;
+            };
+            let corners = tri.map(|v| {
+                let d = self.vertices[v as usize] - contact;
+                [
+                    d.dot(&footprint.lateral),
+                    d.dot(&footprint.approach),
+                    d.dot(toward),
+                ]
+            });
+            // Quick exits: entirely outside the rectangle, or nowhere above the best so far.
+            if corners.iter().all(|q| q[0] > hw)
+                || corners.iter().all(|q| q[0] < -hw)
+                || corners.iter().all(|q| q[1] > hd)
+                || corners.iter().all(|q| q[1] < -hd)
+                || corners.iter().all(|q| q[2] <= best)
+            {
+                continue;
+            }
+            let mut poly: Vec<[Real; 3]> = corners.to_vec();
+            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, hd)] {
+                poly = clip(&poly, axis, sign, limit);
+                if poly.is_empty() {
+                    break;
+                }
+            }
+            for q in &poly {
+                best = best.max(q[2]);
+            }
+        }
+        best
+    }
+}
+
+/// Sutherland–Hodgman: the part of a polygon (points `[x, y, height]`) where
+/// `sign · p[axis] ≤ limit`, the height interpolated along the cut edges.
+fn clip(poly: &[[Real; 3]], axis: usize, sign: Real, limit: Real) -> Vec<[Real; 3]> {
+    let inside = |p: &[Real; 3]| sign * p[axis] <= limit;
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    for (i, p) in poly.iter().enumerate() {
+        let q = &poly[(i + 1) % poly.len()];
+        if inside(p) {
+            out.push(*p);
+        }
+        if inside(p) != inside(q) {
+            let (a, b) = (sign * p[axis] - limit, sign * q[axis] - limit);
+            let t = a / (a - b);
+            out.push([
+                p[0] + (q[0] - p[0]) * t,
+                p[1] + (q[1] - p[1]) * t,
+                p[2] + (q[2] - p[2]) * t,
+            ]);
+        }
+    }
+    out
+}
+
+/// Möller–Trumbore line/triangle intersection (two-sided, either direction along the line):
+/// the line parameter of the crossing, `None` when the line misses the triangle or runs
+/// parallel to it. A crossing on an edge counts (tolerance 1e-9 in barycentric coordinates),
+/// so a line through a shared edge meets the patch.
+fn line_triangle(o: &Point3, d: &Vector3, a: &Point3, b: &Point3, c: &Point3) -> Option<Real> {
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = d.cross(&e2);
+    let det = e1.dot(&p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = s.dot(&p) * inv;
+    if !(-1e-9..=1.0 + 1e-9).contains(&u) {
+        return None;
+    }
+    let q = s.cross(&e1);
+    let v = d.dot(&q) * inv;
+    if v < -1e-9 || u + v > 1.0 + 1e-9 {
+        return None;
+    }
+    let t = e2.dot(&q) * inv;
+    t.is_finite().then_some(t)
 }
 
 /// Most grid nodes scanned over one pair's overlap region.
@@ -405,10 +558,23 @@ impl Context<'_> {
         let second = &self.clustering.clusters[pair.second as usize];
         let n1 = first.normal;
         let on_first = first.frame.to_3d(&site.on_first);
-        // Width at this centre: from the first plane along −n1 to the second plane.
+        // The grasp line: through the site along n1, from the first plane to the second.
         let denominator = second.normal.dot(&n1);
-        let width = second.normal.dot(&(on_first - second.point)) / denominator;
-        let tcp = on_first - n1 * (0.5 * width);
+        let plane_width = second.normal.dot(&(on_first - second.point)) / denominator;
+        let middle = on_first - n1 * (0.5 * plane_width);
+        // The width measured on the mesh (issue 17) starts where the grasp line crosses the two
+        // contact patches, outermost crossing on each side (the planes of curved patches lie up
+        // to h away from the surface); each approach direction then moves the pads out to the
+        // highest point of their patch under them (`shared_checks`).
+        let measured = self
+            .planner
+            .crossing(&middle, &n1, &first.triangles)
+            .zip(self.planner.crossing(&middle, &(-n1), &second.triangles));
+        let (width, tcp) = match measured {
+            Some((out1, out2)) => (out1 + out2, middle + n1 * (0.5 * (out1 - out2))),
+            // The line misses a patch (a site over a gap of the region): no contact there.
+            None => (Real::NAN, middle),
+        };
         let flips: &[Real] = if self.options.flip_closing {
             &[1.0, -1.0]
         } else {
@@ -417,7 +583,7 @@ impl Context<'_> {
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
             let angle = TAU * k as Real / self.options.approach_count as Real;
-            let candidate = Candidate {
+            let mut candidate = Candidate {
                 site,
                 pair,
                 first,
@@ -426,11 +592,11 @@ impl Context<'_> {
                 width,
                 angle,
             };
-            match self.shared_checks(&candidate) {
-                Ok(contact_area) => out.extend(
+            match self.shared_checks(&mut candidate) {
+                Ok((contact_area, pad_depth)) => out.extend(
                     flips
                         .iter()
-                        .map(|&flip| self.finish(&candidate, contact_area, flip)),
+                        .map(|&flip| self.finish(&candidate, contact_area, pad_depth, flip)),
                 ),
                 Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
             }
@@ -439,9 +605,10 @@ impl Context<'_> {
     }
 
     /// The checks a 180° turn about the approach axis does not change (the pads and the fingers
-    /// are symmetric under it): local width, pad tilt, contact area, finger collision. Returns
-    /// the contact area.
-    fn shared_checks(&self, c: &Candidate<'_>) -> std::result::Result<Real, Rejection> {
+    /// are symmetric under it): local width, pad tilt and depth, contact area, finger collision.
+    /// Moves the pads (the candidate's TCP and width) out to where they first touch the mesh.
+    /// Returns the contact area and the pad depth.
+    fn shared_checks(&self, c: &mut Candidate<'_>) -> std::result::Result<(Real, Real), Rejection> {
         let (g, o) = (self.gripper, self.options);
         if !(c.width.is_finite()
             && c.width >= g.opening_min
@@ -450,16 +617,42 @@ impl Context<'_> {
             return Err(Rejection::Width);
         }
         let (approach, lateral) = c.axes(1.0);
-        // Pad 2 lies on the plane through `tcp − n1·w/2` parallel to S1; its corners must stay
-        // within h_max of S2 for the flexible sheet to conform.
+        // Pad 2 lies on the plane through its contact point `tcp − n1·w/2` parallel to S1; its
+        // corners must stay within h_max of the plane through that point parallel to S2: the
+        // pads are parallel enough to the second patch for the flexible sheet to conform.
         let h_max = self.clustering.params.h_max;
         let pad2 = c.tcp - c.first.normal * (0.5 * c.width);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
         for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-            let corner = pad2 + lateral * (a * hw) + approach * (b * hd);
-            if c.second.plane_distance(&corner).abs() > h_max + 1e-9 {
+            let offset = lateral * (a * hw) + approach * (b * hd);
+            if c.second.normal.dot(&offset).abs() > h_max + 1e-9 {
                 return Err(Rejection::PadTilt);
             }
+        }
+        // The patch under each pad may rise towards the pad above the grasp line's crossing (a
+        // curved or concave patch): the rigid pad first touches the highest point under it, and
+        // the flexible sheet of depth h_max reaches the rest of the patch only if the rise stays
+        // within h_max (§III-A, Fig. 2). The width is the distance between the pads there.
+        let pad1 = c.tcp + c.first.normal * (0.5 * c.width);
+        let footprint = Footprint {
+            lateral,
+            approach,
+            half: (hw, hd),
+        };
+        let rise1 = self
+            .planner
+            .rise(&pad1, &c.first.normal, &footprint, &c.first.triangles);
+        let rise2 = self
+            .planner
+            .rise(&pad2, &(-c.first.normal), &footprint, &c.second.triangles);
+        let depth = rise1.max(rise2);
+        if depth > h_max + 1e-9 {
+            return Err(Rejection::PadTilt);
+        }
+        c.width += rise1 + rise2;
+        c.tcp += c.first.normal * (0.5 * (rise1 - rise2));
+        if c.width > g.opening_max - 2.0 * o.clearance {
+            return Err(Rejection::Width);
         }
         // Contact: the pad (on S1, in the first frame) against the overlap region.
         let approach_2d = Vector2::new(c.angle.cos(), c.angle.sin());
@@ -477,7 +670,7 @@ impl Context<'_> {
                 return Err(Rejection::Finger);
             }
         }
-        Ok(contact_area)
+        Ok((contact_area, depth))
     }
 
     /// The TCP pose of a candidate: the canonical axes (lateral, closing, approach) go to the
@@ -499,6 +692,7 @@ impl Context<'_> {
         &self,
         c: &Candidate<'_>,
         contact_area: Real,
+        pad_depth: Real,
         flip: Real,
     ) -> std::result::Result<Grasp, Rejection> {
         let object_from_tcp = self.pose(c, flip);
@@ -518,6 +712,7 @@ impl Context<'_> {
             contact_area,
             torque_arm,
             boundary_margin,
+            pad_depth,
         };
         let (positive_cluster, negative_cluster) = if flip > 0.0 {
             (c.first.id, c.second.id)
@@ -625,9 +820,22 @@ mod tests {
                 first.frame.u * g.approach_angle.cos() + first.frame.v * g.approach_angle.sin();
             assert!((g.object_from_tcp.rotation * Vector3::z() - expected).norm() < 1e-9);
         }
-        // The best grasp holds the box across its 4 cm side near the centre of gravity.
-        let best = &set.grasps[0];
-        assert!((best.width - 0.04).abs() < 1e-9, "{best:?}");
+        // Widths measured on the mesh: the box's sides.
+        for g in &set.grasps {
+            assert!(
+                (g.width - 0.04).abs() < 1e-9 || (g.width - 0.06).abs() < 1e-9,
+                "{g:?}"
+            );
+        }
+        // Among the best grasps one holds the box across its 4 cm side through the centre of
+        // gravity (scores saturate: several share the best score).
+        let best = set.grasps[0].score;
+        assert!(
+            set.grasps
+                .iter()
+                .take_while(|g| g.score == best)
+                .any(|g| (g.width - 0.04).abs() < 1e-9 && g.quality.torque_arm < 1e-9),
+        );
     }
 
     #[test]

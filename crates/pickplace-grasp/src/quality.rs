@@ -16,6 +16,12 @@ pub struct GraspQuality {
     /// Signed distance from the pad centre to the boundary of the overlap region (m),
     /// positive inside.
     pub boundary_margin: Real,
+    /// How far the contact patch under either pad rises towards that pad above the point
+    /// where the grasp line through the TCP crosses it (m): the pad touches the highest point
+    /// under it, and the flexible sheet (§III-A, Fig. 2) must reach down this far to the rest
+    /// of a curved or concave patch; at most `h_max`, 0 on flat faces.
+    #[serde(default)]
+    pub pad_depth: Real,
 }
 
 /// Weights and scales of the score.
@@ -200,11 +206,13 @@ mod tests {
             contact_area: 1.0,
             torque_arm: 0.0,
             boundary_margin: 5.0,
+            pad_depth: 0.0,
         };
         let worst = GraspQuality {
             contact_area: 0.0,
             torque_arm: 3.0,
             boundary_margin: -1.0,
+            pad_depth: 0.0,
         };
         assert!((m.score(&best) - 1.0).abs() < 1e-12);
         assert_eq!(m.score(&worst), 0.0);
@@ -212,6 +220,7 @@ mod tests {
             contact_area: 0.5,
             torque_arm: 0.5,
             boundary_margin: 0.5,
+            pad_depth: 0.0,
         };
         assert!((m.score(&mid) - 0.5).abs() < 1e-12);
     }

@@ -24,7 +24,7 @@ pub(crate) struct Moments {
 }
 
 impl Moments {
-    fn triangle(a: &Vector3, b: &Vector3, c: &Vector3) -> Self {
+    pub fn triangle(a: &Vector3, b: &Vector3, c: &Vector3) -> Self {
         let scaled = (b - a).cross(&(c - a));
         let area = 0.5 * scaled.norm();
         let s = a + b + c;
@@ -39,7 +39,7 @@ impl Moments {
         }
     }
 
-    fn add(&self, o: &Self) -> Self {
+    pub fn add(&self, o: &Self) -> Self {
         Self {
             area: self.area + o.area,
             first: self.first + o.first,
@@ -51,15 +51,37 @@ impl Moments {
     /// The regression plane `P`: area-weighted least-squares plane of the triangles' surface
     /// (normal = eigenvector of the smallest eigenvalue of the area covariance), oriented to
     /// agree with the triangles' outward normals. Returns (unit normal, centroid).
+    ///
+    /// A fit whose normal turns more than [`MAX_FIT_DEVIATION`] away from the area-weighted
+    /// normal of the triangles is ill-conditioned (a strip of triangles nearly one-dimensional,
+    /// whose plane may turn freely about the strip): the area-weighted normal is used instead,
+    /// so a cluster's normal always agrees with its own triangles (issue 17).
     pub fn plane(&self) -> (Vector3, Vector3) {
         let c = self.first / self.area;
         let cov = self.second / self.area - c * c.transpose();
-        let n = smallest_eigenvector(&cov, &self.normal_sum)
-            .unwrap_or_else(|| self.normal_sum.normalize());
-        let n = if n.dot(&self.normal_sum) < 0.0 { -n } else { n };
+        let mean = self.normal_sum.try_normalize(0.0);
+        let fitted = smallest_eigenvector(&cov, &self.normal_sum);
+        let n = match (fitted, mean) {
+            (Some(n), Some(mean)) => {
+                let n = if n.dot(&mean) < 0.0 { -n } else { n };
+                if angle(&n, &mean) > MAX_FIT_DEVIATION {
+                    mean
+                } else {
+                    n
+                }
+            }
+            (Some(n), None) => n,
+            (None, Some(mean)) => mean,
+            (None, None) => Vector3::z(),
+        };
         (n, c)
     }
 }
+
+/// Largest angle between a cluster's fitted normal (`Cluster::normal`) and the area-weighted normal of its
+/// triangles (rad): 20°. Beyond it the fit is ill-conditioned and the area-weighted normal is
+/// used ([`Moments::plane`]).
+pub const MAX_FIT_DEVIATION: Real = 20.0 * std::f64::consts::PI / 180.0;
 
 /// Unit eigenvector of the smallest eigenvalue of a symmetric positive semi-definite 3×3
 /// matrix `m` (an area covariance).
@@ -172,6 +194,11 @@ pub(crate) struct Engine<'a> {
     pub points: Vec<Vector3>,
     pub origin: Point3,
     pub tri_normals: Vec<Vector3>,
+    /// Each triangle's vertices rotated to start at its lexicographically smallest position
+    /// (same winding): moments and normals do not depend on the vertex rotation of the input.
+    tris: Vec<[u32; 3]>,
+    /// Canonical rank of each triangle (see [`canonical_ranks`]).
+    pub rank: Vec<u32>,
     pub cluster_of: Vec<u32>,
     pub clusters: Vec<Work>,
     limits: Limits,
@@ -192,14 +219,37 @@ impl<'a> Engine<'a> {
         let (lo, hi) = mesh.aabb();
         let origin = Point3::from((lo.coords + hi.coords) * 0.5);
         let points: Vec<Vector3> = mesh.vertices().iter().map(|p| p - origin).collect();
-        let tri_normals = (0..mesh.triangle_count())
-            .map(|t| mesh.triangle_normal(t))
+        let vertices = mesh.vertices();
+        let tris: Vec<[u32; 3]> = mesh
+            .triangles()
+            .iter()
+            .map(|&t| {
+                let k = (0..3)
+                    .min_by(|&a, &b| {
+                        lex(&vertices[t[a] as usize], &vertices[t[b] as usize]).then(a.cmp(&b))
+                    })
+                    .unwrap_or(0);
+                [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+            })
             .collect();
+        let tri_normals = tris
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| points[v as usize]);
+                (b - a)
+                    .cross(&(c - a))
+                    .try_normalize(0.0)
+                    .unwrap_or_else(Vector3::z)
+            })
+            .collect();
+        let rank = canonical_ranks(mesh);
         Self {
             mesh,
             points,
             origin,
             tri_normals,
+            tris,
+            rank,
             cluster_of: vec![u32::MAX; mesh.triangle_count()],
             clusters: Vec::new(),
             limits,
@@ -209,7 +259,7 @@ impl<'a> Engine<'a> {
     }
 
     fn tri_moments(&self, t: u32) -> Moments {
-        let [a, b, c] = self.mesh.triangles()[t as usize].map(|v| self.points[v as usize]);
+        let [a, b, c] = self.tris[t as usize].map(|v| self.points[v as usize]);
         Moments::triangle(&a, &b, &c)
     }
 
@@ -223,7 +273,7 @@ impl<'a> Engine<'a> {
         let (mut lo, mut hi, mut r2, mut min_dot) =
             (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real, 1.0 as Real);
         let (mut lo_v, mut hi_v) = (NO_VERTEX, NO_VERTEX);
-        let tris_idx = self.mesh.triangles();
+        let tris_idx = &self.tris;
         for &t in tris {
             min_dot = min_dot.min(self.tri_normals[t as usize].dot(&dir));
             for &v in &tris_idx[t as usize] {
@@ -324,9 +374,13 @@ impl<'a> Engine<'a> {
     /// Step 1 of Algorithm 1: every triangle not yet clustered is paired with its free
     /// neighbour whose normal is closest to its own (`SelectNeighborTriangle`), provided the
     /// pair respects the limits; otherwise it starts a cluster alone. Triangles are visited in
-    /// mesh order, neighbours by decreasing normal agreement then increasing index.
+    /// canonical order ([`canonical_ranks`]), neighbours by decreasing normal agreement then
+    /// canonical rank, so the clusters do not depend on the input's triangle order.
     pub fn step1(&mut self) {
-        for j in 0..self.mesh.triangle_count() {
+        let mut order: Vec<u32> = (0..self.mesh.triangle_count() as u32).collect();
+        order.sort_unstable_by_key(|&t| self.rank[t as usize]);
+        for j in order {
+            let j = j as usize;
             if self.cluster_of[j] != u32::MAX {
                 continue;
             }
@@ -339,7 +393,10 @@ impl<'a> Engine<'a> {
                 .filter(|&&t| self.cluster_of[t as usize] == u32::MAX)
                 .map(|&t| (nj.dot(&self.tri_normals[t as usize]), t))
                 .collect();
-            cands.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            cands.sort_by(|a, b| {
+                b.0.total_cmp(&a.0)
+                    .then(self.rank[a.1 as usize].cmp(&self.rank[b.1 as usize]))
+            });
             let mut chosen = None;
             for &(_, t) in &cands {
                 let m = self.tri_moments(j as u32).add(&self.tri_moments(t));
@@ -482,26 +539,75 @@ impl<'a> Engine<'a> {
             let Some(m) = self.try_merge(x, a, constraint) else {
                 continue;
             };
-            let moved = std::mem::take(&mut self.clusters[a as usize].triangles);
-            for &t in &moved {
-                self.cluster_of[t as usize] = x;
-            }
-            self.clusters[a as usize].alive = false;
-            // Neighbours of the absorbed triangles join the frontier.
-            self.clusters[a as usize].triangles = moved;
+            // Neighbours of the absorbed triangles join the frontier (`a` itself is stamped).
             self.push_neighbours(x, a, &mut frontier);
-            let moved = std::mem::take(&mut self.clusters[a as usize].triangles);
-            let cx = &mut self.clusters[x as usize];
-            cx.triangles.extend_from_slice(&moved);
-            cx.moments = m.moments;
-            cx.normal = m.normal;
-            cx.centroid = m.centroid;
-            cx.extent = m.extent;
+            self.absorb(x, a, m);
         }
         self.clusters[x as usize].closed = true;
     }
 
-    /// Step-1 clusters in seed order: mesh order of their first triangle, i.e. their ids.
+    /// Moves cluster `a` into `x`, whose new moments, plane and extent are `m`.
+    fn absorb(&mut self, x: u32, a: u32, m: Merged) {
+        let moved = std::mem::take(&mut self.clusters[a as usize].triangles);
+        for &t in &moved {
+            self.cluster_of[t as usize] = x;
+        }
+        self.clusters[a as usize].alive = false;
+        let cx = &mut self.clusters[x as usize];
+        cx.triangles.extend_from_slice(&moved);
+        cx.moments = m.moments;
+        cx.normal = m.normal;
+        cx.centroid = m.centroid;
+        cx.extent = m.extent;
+    }
+
+    /// The final pass after growth (issue 17): Step 2 grows one cluster at a time, and a
+    /// neighbour rejected early in a growth, or grown later from its own seed, can leave two
+    /// adjacent clusters whose union still respects the limits (`h ≤ h_max`, every triangle
+    /// within `max_facet_angle` of the refitted normal). Every pass lists the adjacent pairs of
+    /// live clusters by decreasing normal agreement (ties by ids) and merges each pair that
+    /// fits; passes repeat until one merges nothing, so no mergeable adjacent pair is left.
+    pub fn merge_adjacent(&mut self) {
+        let adjacency = self.mesh.adjacency();
+        // A pair of clusters neither of which changed in the last pass was tried then and
+        // failed: only pairs with a changed cluster are tried again (all in the first pass).
+        let mut changed = vec![true; self.clusters.len()];
+        loop {
+            let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
+            for t in 0..self.mesh.triangle_count() {
+                let a = self.cluster_of[t];
+                for &nb in adjacency.neighbours(t) {
+                    let b = self.cluster_of[nb as usize];
+                    if a < b && b != u32::MAX && (changed[a as usize] || changed[b as usize]) {
+                        let dot = self.clusters[a as usize]
+                            .normal
+                            .dot(&self.clusters[b as usize].normal);
+                        pairs.push((dot, a, b));
+                    }
+                }
+            }
+            pairs.sort_unstable_by_key(|p| (p.1, p.2));
+            pairs.dedup_by(|p, q| (p.1, p.2) == (q.1, q.2));
+            pairs.sort_by(|p, q| q.0.total_cmp(&p.0).then((p.1, p.2).cmp(&(q.1, q.2))));
+            let mut merged = false;
+            changed.fill(false);
+            for &(_, a, b) in &pairs {
+                if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
+                    continue;
+                }
+                if let Some(m) = self.try_merge(a, b, None) {
+                    self.absorb(a, b, m);
+                    changed[a as usize] = true;
+                    merged = true;
+                }
+            }
+            if !merged {
+                break;
+            }
+        }
+    }
+
+    /// Step-1 clusters in seed order: canonical order of their first triangle, i.e. their ids.
     /// (Ordering by area was tried: equal-area facets then come in an order set by rounding
     /// noise, which fragments a tessellated cylinder into uneven strips.)
     pub fn seed_order(&self) -> Vec<u32> {
@@ -512,21 +618,68 @@ impl<'a> Engine<'a> {
     /// object (triangle normal along `dir`), skipping the triangles of cluster `skip`.
     /// Coordinates relative to the engine origin. Returns the triangle and its distance.
     pub fn exit_hit(&self, origin: &Vector3, dir: &Vector3, skip: u32) -> Option<(u32, Real)> {
-        let mut best: Option<(u32, Real)> = None;
-        for (t, tri) in self.mesh.triangles().iter().enumerate() {
+        self.exit_hits(origin, dir, skip).into_iter().next()
+    }
+
+    /// Every surface crossing of the ray `origin + t·dir` (t > 0) where the ray leaves the
+    /// object, skipping the triangles of cluster `skip`, by increasing distance (ties by
+    /// canonical rank). Returns triangles and distances.
+    pub fn exit_hits(&self, origin: &Vector3, dir: &Vector3, skip: u32) -> Vec<(u32, Real)> {
+        let mut hits = Vec::new();
+        for (t, tri) in self.tris.iter().enumerate() {
             if self.cluster_of[t] == skip || self.tri_normals[t].dot(dir) <= 0.0 {
                 continue;
             }
             let [a, b, c] = tri.map(|v| self.points[v as usize]);
             if let Some(d) = ray_triangle(origin, dir, &a, &b, &c)
                 && d > 1e-12
-                && best.is_none_or(|(_, bd)| d < bd)
             {
-                best = Some((t as u32, d));
+                hits.push((t as u32, d));
             }
         }
-        best
+        hits.sort_by(|p, q| {
+            p.1.total_cmp(&q.1)
+                .then(self.rank[p.0 as usize].cmp(&self.rank[q.0 as usize]))
+        });
+        hits
     }
+}
+
+/// Lexicographic order of two points (x, then y, then z; total order on floats).
+fn lex(a: &Point3, b: &Point3) -> std::cmp::Ordering {
+    a.x.total_cmp(&b.x)
+        .then(a.y.total_cmp(&b.y))
+        .then(a.z.total_cmp(&b.z))
+}
+
+/// Canonical rank of every triangle: triangles sorted by their three vertex positions (each
+/// triangle's positions sorted lexicographically, then compared lexicographically), ties
+/// (coincident triangles) by index. Depends on the geometry only, not on the order of the
+/// triangles or on the rotation of their vertices.
+pub(crate) fn canonical_ranks(mesh: &TriMesh) -> Vec<u32> {
+    let vertices = mesh.vertices();
+    let keys: Vec<[Point3; 3]> = mesh
+        .triangles()
+        .iter()
+        .map(|t| {
+            let mut k = t.map(|v| vertices[v as usize]);
+            k.sort_unstable_by(lex);
+            k
+        })
+        .collect();
+    let mut order: Vec<u32> = (0..keys.len() as u32).collect();
+    order.sort_unstable_by(|&a, &b| {
+        let (ka, kb) = (&keys[a as usize], &keys[b as usize]);
+        lex(&ka[0], &kb[0])
+            .then(lex(&ka[1], &kb[1]))
+            .then(lex(&ka[2], &kb[2]))
+            .then(a.cmp(&b))
+    });
+    let mut rank = vec![0u32; keys.len()];
+    for (r, &t) in order.iter().enumerate() {
+        rank[t as usize] = r as u32;
+    }
+    rank
 }
 
 /// Möller–Trumbore ray/triangle intersection (two-sided); returns the ray parameter.

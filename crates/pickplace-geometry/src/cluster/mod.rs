@@ -13,12 +13,22 @@
 //! - **environment** (§III-A.2): Step 1, then Step 2 from every Step-1 cluster in turn;
 //! - **finger** (§III-A.1, after the paper's ref. \[15\]): from a seed cluster grow `C_x`, cast a
 //!   ray from its centroid through the object along `-n_x`, grow the cluster at the antipode
-//!   keeping its normal opposite to `n_x`, and record the pair ([`ClusterPair`]) with the
-//!   distance between the planes and the overlap of the two regions; every Step-1 cluster not
-//!   yet used becomes a seed in turn, so the pairs cover the object.
+//!   keeping its normal opposite to `n_x`; every Step-1 cluster not yet used becomes a seed in
+//!   turn. Once the clusters are final, every cluster casts its ray and pairs
+//!   ([`ClusterPair`]) with the opposite clusters it meets, with the distance between the
+//!   planes and the overlap of the two regions.
 //!
-//! Everything is deterministic: seeds are the Step-1 clusters in mesh order,
-//! neighbours by decreasing normal agreement then index.
+//! After growth a final pass merges adjacent clusters while the union still respects the
+//! limits, until no adjacent pair can be merged. In finger mode every final cluster then casts
+//! its own ray and pairs with every opposite cluster where the ray leaves the object more than
+//! [`MIN_WALL_THICKNESS`] away (so the outer walls of an open, thin-walled mesh pair across the object).
+//!
+//! Everything is deterministic and independent of the input's triangle order and of the
+//! vertex rotation within triangles: triangles are visited in a canonical order of their
+//! vertex positions, seeds are the Step-1 clusters in that order, neighbours by decreasing
+//! normal agreement then canonical rank. A fitted plane whose normal turns more than
+//! [`MAX_FIT_DEVIATION`] from the area-weighted normal of the cluster's triangles is
+//! ill-conditioned and replaced by that normal.
 //!
 //! # Example
 //! ```
@@ -38,7 +48,9 @@ mod json;
 mod pairs;
 
 pub use geometry::PlaneFrame;
+pub use grow::MAX_FIT_DEVIATION;
 pub use json::{CLUSTERS_JSON_FORMAT, ClusterJson, ClusterPairJson, ClustersJson};
+pub use pairs::MIN_WALL_THICKNESS;
 
 use crate::error::{Error, Result};
 use crate::math::{Point2, Point3, Real, Vector3};
@@ -201,9 +213,9 @@ impl Cluster {
 /// Two clusters with parallel, opposite contact planes: where a parallel gripper can close.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ClusterPair {
-    /// The seed cluster's id.
+    /// The lower of the two cluster ids.
     pub first: u32,
-    /// The antipodal cluster's id.
+    /// The higher of the two cluster ids.
     pub second: u32,
     /// Distance between the two contact planes (m), measured along their mean normal.
     pub width: Real,
@@ -223,9 +235,10 @@ pub struct ClusterPair {
 pub struct Clustering {
     /// Parameters used.
     pub params: ClusterParams,
-    /// Clusters, ordered by their lowest triangle index.
+    /// Clusters, ordered by the canonical rank of their first triangle (see the module
+    /// documentation: by vertex positions, not by triangle index).
     pub clusters: Vec<Cluster>,
-    /// Opposite cluster pairs (finger mode only), in seed order.
+    /// Opposite cluster pairs (finger mode only), each once, ordered by `(first, second)`.
     pub pairs: Vec<ClusterPair>,
 }
 
@@ -244,15 +257,42 @@ impl Clustering {
     }
 }
 
+/// The contact plane a cluster made of `triangles` of `mesh` would have: its unit outer
+/// normal `n` (the regression plane of §III-A, or the area-weighted normal of the triangles
+/// when the fit is ill-conditioned, see [`MAX_FIT_DEVIATION`]) and its area centroid. The
+/// clustering accepts a set of triangles (and the final pass merges two adjacent clusters)
+/// exactly when their vertices lie within `h_max` along this normal and every triangle is
+/// within `max_facet_angle` of it.
+///
+/// Returns `None` when `triangles` is empty or names a triangle `mesh` does not have.
+pub fn fit_plane(mesh: &TriMesh, triangles: &[u32]) -> Option<(Vector3, Point3)> {
+    let (lo, hi) = mesh.aabb();
+    let origin = Point3::from((lo.coords + hi.coords) * 0.5);
+    let mut moments: Option<grow::Moments> = None;
+    for &t in triangles {
+        let tri = mesh.triangles().get(t as usize)?;
+        let [a, b, c] = tri.map(|v| mesh.vertices()[v as usize] - origin);
+        let m = grow::Moments::triangle(&a, &b, &c);
+        moments = Some(match moments {
+            Some(acc) => acc.add(&m),
+            None => m,
+        });
+    }
+    let (n, c) = moments?.plane();
+    Some((n, origin + c))
+}
+
 /// Clusters a mesh's surface (Algorithm 1) in the mode of `params`.
 ///
 /// # Errors
 /// [`Error::InvalidParameter`] when `params` is invalid.
 ///
 /// # Performance
-/// Linear in the triangle count for flat regions; a merge is checked against stored extents
-/// first and scans the cluster's vertices only when those cannot decide. Finger mode adds one
-/// ray cast (linear in the triangle count) per seed.
+/// Linear in the triangle count for flat regions, plus a sort of the triangles for the
+/// canonical order; a merge is checked against stored extents first and scans the cluster's
+/// vertices only when those cannot decide. The final merge pass lists the adjacent pairs once
+/// per pass. Finger mode adds one ray cast (linear in the triangle count) per seed and per
+/// final cluster.
 pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Clustering> {
     params.validate()?;
     let mut engine = Engine::new(
@@ -263,26 +303,39 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
         },
     );
     engine.step1();
-    let raw_pairs = match params.mode {
+    match params.mode {
         ContactMode::Environment => {
             for x in engine.seed_order() {
                 if engine.clusters[x as usize].alive && !engine.clusters[x as usize].closed {
                     engine.grow(x, None);
                 }
             }
-            Vec::new()
         }
-        ContactMode::Finger => pairs::grow_pairs(&mut engine, params.opposite_dot),
+        ContactMode::Finger => pairs::grow_finger(&mut engine, params.opposite_dot),
+    }
+    engine.merge_adjacent();
+    let raw_pairs = match params.mode {
+        ContactMode::Environment => Vec::new(),
+        ContactMode::Finger => pairs::find_pairs(&engine, params.opposite_dot),
     };
-    // Final ids: alive clusters ordered by their lowest triangle.
+    // Final ids: live clusters ordered by the canonical rank of their first triangle, so they
+    // do not depend on the input's triangle order.
+    for c in engine.clusters.iter_mut().filter(|c| c.alive) {
+        c.triangles.sort_unstable();
+    }
     let mut alive: Vec<(u32, u32)> = engine
         .clusters
-        .iter_mut()
+        .iter()
         .enumerate()
         .filter(|(_, c)| c.alive)
         .map(|(i, c)| {
-            c.triangles.sort_unstable();
-            (c.triangles[0], i as u32)
+            let first = c
+                .triangles
+                .iter()
+                .map(|&t| engine.rank[t as usize])
+                .min()
+                .unwrap_or(u32::MAX);
+            (first, i as u32)
         })
         .collect();
     alive.sort_unstable();
@@ -292,14 +345,19 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
         new_id[old as usize] = k as u32;
         clusters.push(geometry::finish_cluster(&engine, old, k as u32));
     }
-    let pairs = raw_pairs
+    // Each pair once, the cluster with the lower final id first, ordered by ids.
+    let mut ordered: Vec<(u32, u32)> = raw_pairs
         .into_iter()
-        .filter_map(|(a, b)| {
-            pairs::pair_geometry(
-                &clusters[new_id[a as usize] as usize],
-                &clusters[new_id[b as usize] as usize],
-            )
+        .map(|(a, b)| {
+            let (a, b) = (new_id[a as usize], new_id[b as usize]);
+            (a.min(b), a.max(b))
         })
+        .collect();
+    ordered.sort_unstable();
+    ordered.dedup();
+    let pairs = ordered
+        .into_iter()
+        .filter_map(|(a, b)| pairs::pair_geometry(&clusters[a as usize], &clusters[b as usize]))
         .collect();
     Ok(Clustering {
         params: *params,

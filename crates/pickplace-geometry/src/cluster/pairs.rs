@@ -5,16 +5,19 @@ use super::{Cluster, ClusterPair};
 use crate::math::Real;
 use crate::polygon::{self, Polygon};
 
-/// Grows clusters seed by seed and pairs each with the cluster grown at its antipode.
+/// Thinnest wall whose two sides pair (m): 2 mm. Two opposite surfaces closer than this are
+/// the two sides of one sheet, not two sides of an object a parallel gripper closes across.
+pub const MIN_WALL_THICKNESS: Real = 0.002;
+
+/// Grows clusters seed by seed, each seed's antipode towards the opposite normal (§III-A.1).
 ///
-/// For each seed (an open Step-1 cluster, in mesh order): grow it with Step 2
+/// For each seed (an open Step-1 cluster, in canonical order): grow it with Step 2
 /// into `C_x`; cast a ray from its centroid along `-n_x` and take the first triangle where the
 /// ray leaves the object. If that triangle's cluster is still open and faces opposite
-/// (`n·n_x ≤ opposite_dot`), grow it towards `-n_x` keeping its normal opposite; if it was
-/// already grown, use it as is. The two form a pair when their normals are opposite.
-/// Returns pairs of engine cluster ids.
-pub(super) fn grow_pairs(engine: &mut Engine<'_>, opposite_dot: Real) -> Vec<(u32, u32)> {
-    let mut pairs: Vec<(u32, u32)> = Vec::new();
+/// (`n·n_x ≤ opposite_dot`), grow it towards `-n_x` keeping its normal opposite; otherwise
+/// grow it as an ordinary cluster. The pairs are found afterwards by [`find_pairs`], once the
+/// clusters are final.
+pub(super) fn grow_finger(engine: &mut Engine<'_>, opposite_dot: Real) {
     for x in engine.seed_order() {
         let cx = &engine.clusters[x as usize];
         if !cx.alive || cx.closed {
@@ -32,21 +35,43 @@ pub(super) fn grow_pairs(engine: &mut Engine<'_>, opposite_dot: Real) -> Vec<(u3
         let cy = &engine.clusters[y as usize];
         if !cy.closed {
             if cy.normal.dot(&nx) > opposite_dot {
-                // The antipode does not face the other way: an ordinary cluster, no pair.
                 engine.grow(y, None);
                 continue;
             }
             engine.grow(y, Some((-nx, -opposite_dot)));
         }
-        let ny = engine.clusters[y as usize].normal;
-        if ny.dot(&nx) <= opposite_dot
-            && !pairs
-                .iter()
-                .any(|&(a, b)| (a, b) == (x, y) || (a, b) == (y, x))
-        {
-            pairs.push((x, y));
+    }
+}
+
+/// Pairs of opposite clusters (§III-A.1), found from every final cluster in turn (issue 17:
+/// a cluster grown as another's antipode looks for its own opposite too).
+///
+/// From the centroid of every live cluster `x` a ray is cast through the object along
+/// `-n_x`; every triangle where it leaves the object belongs to a candidate `y`. `y` pairs with
+/// `x` when it faces the other way (`n_y·n_x ≤ opposite_dot`) and lies more than
+/// [`MIN_WALL_THICKNESS`] behind `x`'s centroid: the two sides of a sheet (a 1 mm wall of
+/// cardboard or plastic) are not a grip, and a ray that crosses such a wall goes on to the far
+/// side of the object, so the outer walls of a hollow or open mesh pair with each other. Returns engine id pairs
+/// `(lower, higher)`, each once, sorted.
+pub(super) fn find_pairs(engine: &Engine<'_>, opposite_dot: Real) -> Vec<(u32, u32)> {
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (x, cx) in engine.clusters.iter().enumerate() {
+        if !cx.alive {
+            continue;
+        }
+        let x = x as u32;
+        for (hit, distance) in engine.exit_hits(&cx.centroid, &-cx.normal, x) {
+            let y = engine.cluster_of[hit as usize];
+            if distance <= MIN_WALL_THICKNESS
+                || engine.clusters[y as usize].normal.dot(&cx.normal) > opposite_dot
+            {
+                continue;
+            }
+            pairs.push((x.min(y), x.max(y)));
         }
     }
+    pairs.sort_unstable();
+    pairs.dedup();
     pairs
 }
 

@@ -98,3 +98,94 @@ pub fn height_field(n: usize, size: Real, amplitude: Real, rng: &mut Rng) -> Tri
     }
     b.build().expect("valid height field")
 }
+
+/// A UV ellipsoid with semi-axes `radii`, `rings` latitude bands and `segments` longitudes,
+/// vertices moved radially by up to `noise` (m, poles excepted): a fruit, a duck's body, a
+/// scanned-looking blob. Closed, outward wound.
+pub fn ellipsoid(
+    radii: [Real; 3],
+    rings: usize,
+    segments: usize,
+    noise: Real,
+    rng: &mut Rng,
+) -> TriMesh {
+    ellipsoid_builder(radii, rings, segments, noise, rng)
+        .build()
+        .expect("valid ellipsoid")
+}
+
+/// The builder of [`ellipsoid`].
+pub fn ellipsoid_builder(
+    radii: [Real; 3],
+    rings: usize,
+    segments: usize,
+    noise: Real,
+    rng: &mut Rng,
+) -> MeshBuilder {
+    use std::f64::consts::{PI, TAU};
+    let mut b = MeshBuilder::default();
+    let south = b.vertex(Point3::new(0.0, 0.0, -radii[2]));
+    let mut bands = Vec::new();
+    for i in 1..rings {
+        let theta = PI * i as Real / rings as Real;
+        let band: Vec<u32> = (0..segments)
+            .map(|j| {
+                let phi = TAU * j as Real / segments as Real;
+                let s = 1.0 + rng.range(-noise, noise) / radii[0].min(radii[1]).min(radii[2]);
+                b.vertex(Point3::new(
+                    s * radii[0] * theta.sin() * phi.cos(),
+                    s * radii[1] * theta.sin() * phi.sin(),
+                    -s * radii[2] * theta.cos(),
+                ))
+            })
+            .collect();
+        bands.push(band);
+    }
+    let north = b.vertex(Point3::new(0.0, 0.0, radii[2]));
+    for j in 0..segments {
+        let k = (j + 1) % segments;
+        b.triangle(south, bands[0][k], bands[0][j]);
+        for w in bands.windows(2) {
+            b.quad(w[0][j], w[0][k], w[1][k], w[1][j]);
+        }
+        let last = &bands[bands.len() - 1];
+        b.triangle(last[j], last[k], north);
+    }
+    b
+}
+
+/// A closed cylinder (axis z, base at 0) with `rings` bands along its height, vertices of the
+/// side moved radially by up to `noise` (m).
+pub fn noisy_cylinder(
+    radius: Real,
+    height: Real,
+    segments: usize,
+    rings: usize,
+    noise: Real,
+    rng: &mut Rng,
+) -> TriMesh {
+    let mut b = MeshBuilder::default();
+    let mut bands = Vec::new();
+    for i in 0..=rings {
+        let z = height * i as Real / rings as Real;
+        let band: Vec<u32> = (0..segments)
+            .map(|j| {
+                let a = std::f64::consts::TAU * j as Real / segments as Real;
+                let r = radius + rng.range(-noise, noise);
+                b.vertex(Point3::new(r * a.cos(), r * a.sin(), z))
+            })
+            .collect();
+        bands.push(band);
+    }
+    let bottom = b.vertex(Point3::new(0.0, 0.0, 0.0));
+    let top = b.vertex(Point3::new(0.0, 0.0, height));
+    for j in 0..segments {
+        let k = (j + 1) % segments;
+        for w in bands.windows(2) {
+            b.quad(w[0][j], w[0][k], w[1][k], w[1][j]);
+        }
+        b.triangle(bottom, bands[0][k], bands[0][j]);
+        b.triangle(bands[rings][j], bands[rings][k], top);
+    }
+    b.build().expect("valid cylinder")
+}

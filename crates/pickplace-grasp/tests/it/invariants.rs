@@ -50,9 +50,21 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
         for (sign, id) in [(1.0, g.positive_cluster), (-1.0, g.negative_cluster)] {
             let c = &clustering.clusters[id as usize];
             let pad = support::pad_points(g, gripper, sign);
+            // The pad centre is on the patch (width measured on the mesh); the pad stays
+            // within the sheet's depth of the patch's plane beyond the patch's own thickness.
+            if c.plane_distance(&pad[0]) > 1e-9 || c.plane_distance(&pad[0]) < -c.h - 1e-9 {
+                return Err(format!(
+                    "grasp {i}: pad centre {} m off cluster {id}'s plane (h = {})",
+                    c.plane_distance(&pad[0]),
+                    c.h
+                ));
+            }
+            if g.quality.pad_depth > h_max + 1e-9 {
+                return Err(format!("grasp {i}: pad depth {}", g.quality.pad_depth));
+            }
             if let Some(p) = pad
                 .iter()
-                .find(|p| c.plane_distance(p).abs() > h_max + 1e-9)
+                .find(|p| c.plane_distance(p).abs() > h_max + c.h + 1e-9)
             {
                 return Err(format!(
                     "grasp {i}: pad point {p} is {} m off cluster {id}'s plane",

@@ -3,4 +3,5 @@
 mod gripper_file;
 mod invariants;
 mod objects;
+mod real;
 mod support;

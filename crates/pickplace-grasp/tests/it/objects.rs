@@ -90,9 +90,13 @@ fn mug_gets_body_and_rim_grasps_and_none_through_the_handle() {
         &gripper,
         &GraspOptions::default(),
     );
-    // The mug's pairs pinch its 5 mm wall (the rim-to-base pair is 0.095 m, too wide).
+    // The mug's pairs pinch its 5 mm wall (the rim-to-base pair is 0.095 m and the body 0.08 m:
+    // too wide).
     assert!(set.candidates >= 500);
-    assert!(set.grasps.iter().all(|g| g.width < 0.012));
+    // Widths where the rigid pads touch: the 5 mm wall plus the concave inner wall's rise under
+    // the pad (up to 2.3 mm with the pad's 25 mm along the wall), or the handle's 12 mm tube.
+    let widest = set.grasps.iter().map(|g| g.width).fold(0.0, Real::max);
+    assert!(widest < 0.013, "{widest}");
     let rim_z = MUG_HEIGHT;
     let pad_top = |g: &Grasp| tcp_z(g) + 0.5 * gripper.pad_depth;
     // Body grasps: the whole pad on the wall below the rim.
@@ -112,11 +116,12 @@ fn mug_gets_body_and_rim_grasps_and_none_through_the_handle() {
     pairs.sort_unstable();
     pairs.dedup();
     assert!(pairs.len() >= 4, "{pairs:?}");
-    // The handle (on +x) blocks the wall behind it: no grasp has a finger there.
+    // The handle (on +x) blocks the wall behind it: no grasp has a finger there (grasps of the
+    // handle itself, farther out, are fine).
     for g in &set.grasps {
         let p = g.object_from_tcp.translation.vector;
         assert!(
-            !(p.x > 0.03 && p.y.abs() < 0.015),
+            !(p.x > 0.03 && p.y.abs() < 0.015 && p.x.hypot(p.y) < shapes::MUG_RADIUS + 0.002),
             "grasp through the handle: {g:?}"
         );
     }
