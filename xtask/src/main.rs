@@ -55,7 +55,8 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      scene suite (scenes/suite, meshes/suite), or plan and validate every scene of it with \
      the release CLI and check each expectation (docs/suite.md)\n  \
      test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
-     from PyPI into target/robots-venv, once) and run cargo test --workspace";
+     from PyPI into target/robots-venv, once), run cargo test --workspace, then cargo \
+     xtask suite run";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {

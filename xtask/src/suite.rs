@@ -31,8 +31,9 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
                 }
                 std::fs::write(&full, bytes).with_context(|| format!("writing {path}"))?;
             }
+            write_doc_table(root)?;
             println!(
-                "wrote {} files: {} scenes in scenes/suite, their meshes in meshes/suite",
+                "wrote {} files and the table of docs/suite.md: {} scenes in scenes/suite, their meshes in meshes/suite",
                 files.len(),
                 scenes().len()
             );
@@ -267,14 +268,14 @@ pub fn scenes() -> Vec<Spec> {
     let mut sc = base("can-left", "a can near the left hand moved along the table", "can", [0.40, 0.22], on_table(0.48, 0.08));
     sc.tags = vec!["table", "left"];
     s.push(sc);
-    let mut sc = base("cereal-box-right", "the 3 cm deep cereal box of issue 17, standing", "cereal", [0.45, -0.20], on_table(0.42, -0.02));
+    let mut sc = base("cereal-box-right", "the 3 cm deep cereal box of issue 17, standing, its narrow side to the robot", "cereal", [0.54, -0.20], on_table(0.42, -0.02));
     sc.tags = vec!["table", "thin"];
     s.push(sc);
-    let mut sc = base("cereal-box-left-turned", "the cereal box turned 60° on the table", "cereal", [0.45, 0.20], on_table(0.40, 0.03));
+    let mut sc = base("cereal-box-left-turned", "the cereal box turned 60° on the table", "cereal", [0.50, 0.20], on_table(0.40, 0.03));
     sc.yaw = PI / 3.0;
     sc.tags = vec!["table", "thin"];
     s.push(sc);
-    let mut sc = base("carton-right", "a gable-top milk carton moved along the table", "carton", [0.40, -0.18], on_table(0.50, -0.05));
+    let mut sc = base("carton-right", "a gable-top milk carton moved along the table", "carton", [0.50, -0.18], on_table(0.42, -0.03));
     sc.tags = vec!["table"];
     s.push(sc);
     let mut sc = base("domino-on-end", "a domino standing on its end (24 x 7.5 mm base)", "domino", [0.40, -0.15], on_table(0.46, -0.02));
@@ -293,7 +294,7 @@ pub fn scenes() -> Vec<Spec> {
     let mut sc = base("duck-right", "a rubber duck (body and head, doubly curved)", "duck", [0.40, -0.20], on_table(0.47, -0.06));
     sc.tags = vec!["table", "curved"];
     s.push(sc);
-    let mut sc = base("l-shape-right", "an L-shaped block standing on its foot", "l-shape", [0.40, -0.22], on_table(0.48, -0.08));
+    let mut sc = base("l-shape-right", "an L-shaped block standing on its foot", "l-shape", [0.50, -0.20], on_table(0.42, -0.05));
     sc.tags = vec!["table"];
     s.push(sc);
     let mut sc = base("dense-can-right", "a can of 6656 sliver triangles", "dense-can", [0.40, -0.20], on_table(0.48, -0.06));
@@ -302,7 +303,7 @@ pub fn scenes() -> Vec<Spec> {
     let mut sc = base("scanned-box-left", "a scanned-looking box (3072 noisy triangles)", "scanned-box", [0.40, 0.20], on_table(0.48, 0.06));
     sc.tags = vec!["table", "thousands-of-triangles"];
     s.push(sc);
-    let mut sc = base("bottle-right", "a bottle with a punted base and a neck", "bottle", [0.40, -0.20], on_table(0.48, -0.06));
+    let mut sc = base("bottle-right", "a bottle with a punted base and a neck", "bottle", [0.50, -0.20], on_table(0.42, -0.04));
     sc.tags = vec!["table", "punted"];
     s.push(sc);
 
@@ -312,7 +313,7 @@ pub fn scenes() -> Vec<Spec> {
     sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "on-side", "punted"];
     s.push(sc);
-    let mut sc = base("carton-on-side", "a milk carton lying on its side", "carton", [0.42, -0.18], on_table(0.46, -0.02));
+    let mut sc = base("carton-on-side", "a milk carton lying on its side", "carton", [0.50, -0.18], on_table(0.44, -0.02));
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "on-side"];
@@ -355,7 +356,7 @@ pub fn scenes() -> Vec<Spec> {
     s.push(sc);
 
     // --- Shelves.
-    let (sh, top) = shelf(0.50, -0.20);
+    let (sh, top) = shelf(0.55, -0.20);
     let mut sc = base("box-onto-shelf", "the box object onto a shelf board 15 cm above the table", "box", [0.38, 0.0], top);
     sc.parts.push(sh.clone());
     sc.tags = vec!["shelf"];
@@ -368,7 +369,7 @@ pub fn scenes() -> Vec<Spec> {
     sc.parts.push(sh.clone());
     sc.tags = vec!["shelf"];
     s.push(sc);
-    let (shl, topl) = shelf(0.50, 0.20);
+    let (shl, topl) = shelf(0.55, 0.20);
     let mut sc = base("carton-onto-left-shelf", "a milk carton onto a shelf on the left", "carton", [0.38, 0.0], topl);
     sc.parts.push(shl);
     sc.tags = vec!["shelf", "left"];
@@ -388,7 +389,7 @@ pub fn scenes() -> Vec<Spec> {
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap"];
     s.push(sc);
-    let mut sc = base("cereal-box-into-gap", "the cereal box standing into the 7 cm gap", "cereal", [0.38, 0.08], gap_target);
+    let mut sc = base("cereal-box-into-gap", "the cereal box standing into the 7 cm gap", "cereal", [0.50, 0.08], gap_target);
     sc.yaw = FRAC_PI_2;
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap", "thin"];
@@ -415,14 +416,16 @@ pub fn scenes() -> Vec<Spec> {
     ]);
     sc.tags = vec!["clutter"];
     s.push(sc);
-    let mut sc = base("bottle-before-wall", "a bottle set down 8 cm in front of a wall", "bottle", [0.38, -0.10], on_table(0.50, -0.15));
+    let mut sc = base("bottle-before-wall", "a bottle set down 8 cm in front of a wall", "bottle", [0.40, 0.0], on_table(0.50, -0.15));
     sc.parts.push(part("wall", "wall", 0.60, -0.15));
     sc.tags = vec!["clutter", "punted"];
     s.push(sc);
-    let mut sc = base("cereal-box-clutter-both", "the cereal box from among obstacles to a spot before a wall", "cereal", [0.40, -0.22], on_table(0.44, 0.02));
+    let mut sc = base("cereal-box-clutter-both", "the cereal box from among obstacles to a spot before a wall", "cereal", [0.50, -0.22], on_table(0.44, 0.02));
+    sc.yaw = FRAC_PI_2;
     sc.parts.extend([
-        part("obstacle-a", "obstacle", 0.40, -0.33),
-        part("obstacle-b", "low-box", 0.52, -0.22),
+        part("obstacle-a", "obstacle", 0.50, -0.36),
+        part("obstacle-b", "low-box", 0.60, -0.22),
+        part("obstacle-c", "low-box", 0.50, -0.06),
         part("wall", "wall", 0.58, 0.02),
     ]);
     sc.tags = vec!["clutter", "thin"];
@@ -486,31 +489,31 @@ pub fn scenes() -> Vec<Spec> {
     let mut sc = base("can-into-narrow-gap", "a can (6.6 cm) into a 5 cm gap", "can", [0.38, 0.05], gap_target);
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.05));
     sc.tags = vec!["no-solution", "gap"];
-    sc.expect = infeasible("placement", "no placement");
+    sc.expect = infeasible("placement", "no stable placement");
     s.push(sc);
-    let mut sc = base("start-in-collision", "the right forearm starts inside the table", "can", [0.42, 0.10], on_table(0.46, 0.0));
-    sc.start_state = vec![("RARM_JOINT1", -1.2), ("RARM_JOINT2", -0.3)];
+    let mut sc = base("start-in-collision", "the right hand starts 1.6 cm inside the table top (shoulder and elbow pitched down)", "can", [0.42, 0.10], on_table(0.46, 0.0));
+    sc.start_state = vec![("RARM_JOINT1", -0.4), ("RARM_JOINT2", -0.9)];
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("start state", "in collision");
     s.push(sc);
-    let mut sc = base("object-floating", "the can 5 cm above the table", "can", [0.42, -0.20], on_table(0.46, -0.02));
+    let mut sc = base("object-floating", "the can 5 cm above the table", "can", [0.45, 0.0], on_table(0.46, -0.15));
     sc.lift = 0.05;
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("object", "not resting");
     s.push(sc);
-    let mut sc = base("object-in-table", "the can 1 cm into the table", "can", [0.42, -0.20], on_table(0.46, -0.02));
+    let mut sc = base("object-in-table", "the can 1 cm into the table", "can", [0.45, 0.0], on_table(0.46, -0.15));
     sc.lift = -0.01;
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("object", "penetrat");
     s.push(sc);
     let mut sc = base("target-in-mid-air", "the target 15 cm above the table, on nothing", "can", [0.42, -0.20], [0.46, -0.02, TABLE_TOP + 0.15]);
     sc.tags = vec!["no-solution"];
-    sc.expect = infeasible("target", "not on");
+    sc.expect = infeasible("target", "no upward-facing");
     s.push(sc);
     let mut sc = base("target-on-ramp", "the target on a 45° ramp, where nothing stays without friction", "box", [0.40, 0.10], [0.46, -0.20, TABLE_TOP + 0.06]);
     sc.parts.push(part("ramp", "ramp", 0.46, -0.20));
     sc.tags = vec!["no-solution"];
-    sc.expect = infeasible("target", "surface");
+    sc.expect = infeasible("target", "no upward-facing");
     s.push(sc);
     s
 }
@@ -672,6 +675,54 @@ fn manifest(specs: &[Spec]) -> anyhow::Result<String> {
     Ok(t)
 }
 
+/// Opening marker of the generated table in `docs/suite.md`.
+pub const TABLE_BEGIN: &str = "<!-- xtask suite gen: begin -->";
+/// Closing marker.
+pub const TABLE_END: &str = "<!-- xtask suite gen: end -->";
+
+/// The table of scenes of `docs/suite.md` (between the markers).
+pub fn doc_table() -> anyhow::Result<String> {
+    let mut t = String::new();
+    writeln!(t, "| scene | object | start | expected | tags | what |")?;
+    writeln!(t, "|---|---|---|---|---|---|")?;
+    for s in scenes() {
+        let start = match s.tilt {
+            Tilt::Upright => "upright",
+            Tilt::OnSide { .. } => "on its side",
+            Tilt::OnEnd => "on its end",
+            Tilt::UpsideDown => "upside down",
+        };
+        let expect = match &s.expect {
+            Expect::Feasible => "feasible".to_owned(),
+            Expect::Infeasible { stage, reason } => format!("exit 1: {stage} / {reason}"),
+        };
+        writeln!(
+            t,
+            "| `{}` | {} | {start} | {expect} | {} | {} |",
+            s.name,
+            s.object,
+            s.tags.join(", "),
+            s.about
+        )?;
+    }
+    Ok(t)
+}
+
+/// `docs/suite.md` with its table replaced by a fresh [`doc_table`].
+pub fn doc_with_table(doc: &str) -> anyhow::Result<String> {
+    let (b, e) = match (doc.find(TABLE_BEGIN), doc.find(TABLE_END)) {
+        (Some(b), Some(e)) if b < e => (b + TABLE_BEGIN.len(), e),
+        _ => bail!("docs/suite.md: {TABLE_BEGIN} … {TABLE_END} not found"),
+    };
+    Ok(format!("{}\n{}{}", &doc[..b], doc_table()?, &doc[e..]))
+}
+
+fn write_doc_table(root: &Path) -> anyhow::Result<()> {
+    let path = root.join("docs/suite.md");
+    let doc = std::fs::read_to_string(&path).with_context(|| format!("{}", path.display()))?;
+    std::fs::write(&path, doc_with_table(&doc)?).with_context(|| format!("{}", path.display()))
+}
+
 /// Every file of the suite, as (path relative to the repository root, bytes), in a fixed
 /// order: the written meshes, the scenes, the manifest.
 pub fn generate() -> anyhow::Result<Vec<(String, Vec<u8>)>> {
@@ -728,6 +779,15 @@ mod tests {
     }
 
     #[test]
+    fn docs_table_is_up_to_date() {
+        let doc = std::fs::read_to_string(root().join("docs/suite.md")).expect("docs/suite.md");
+        assert!(
+            doc_with_table(&doc).expect("markers") == doc,
+            "docs/suite.md: run cargo xtask suite gen"
+        );
+    }
+
+    #[test]
     fn generation_is_deterministic() {
         assert_eq!(generate().expect("once"), generate().expect("twice"));
     }
@@ -764,6 +824,65 @@ mod tests {
         for s in &specs {
             assert!(meshes.iter().any(|m| m.key == s.object), "{}", s.name);
         }
+    }
+
+    /// NX-HIRO's hands at the home state (`pickplace robot fk`, collision boxes of
+    /// `RARM_JOINT5_Link` and the fingers, mirrored for the left arm), 5 mm wider: world AABBs
+    /// that no object or environment part may enter at the start, or the start state is in
+    /// collision.
+    fn home_hands() -> Vec<([Real; 3], [Real; 3])> {
+        let mut boxes = Vec::new();
+        for s in [-1.0, 1.0] {
+            let m = 0.005;
+            let y = |a: Real, b: Real| (s * a).min(s * b);
+            let yy = |a: Real, b: Real| (s * a).max(s * b);
+            boxes.push(([0.29 - m, y(0.127, 0.237) - m, 0.849 - m], [0.42 + m, yy(0.127, 0.237) + m, 1.03]));
+            boxes.push(([0.316 - m, y(0.132, 0.142) - m, 0.789 - m], [0.336 + m, yy(0.132, 0.142) + m, 0.85]));
+            boxes.push(([0.316 - m, y(0.222, 0.232) - m, 0.789 - m], [0.336 + m, yy(0.222, 0.232) + m, 0.85]));
+        }
+        boxes
+    }
+
+    fn aabb(points: impl Iterator<Item = Point3>) -> ([Real; 3], [Real; 3]) {
+        let mut lo = [Real::INFINITY; 3];
+        let mut hi = [Real::NEG_INFINITY; 3];
+        for p in points {
+            for i in 0..3 {
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        (lo, hi)
+    }
+
+    fn overlap(a: &([Real; 3], [Real; 3]), b: &([Real; 3], [Real; 3])) -> bool {
+        (0..3).all(|i| a.0[i] < b.1[i] && b.0[i] < a.1[i])
+    }
+
+    /// Every scene but the one whose start state is meant to collide starts with the hands
+    /// clear of the object and of the environment (the start state is free of collisions).
+    #[test]
+    fn nothing_starts_in_the_home_hands() {
+        let meshes = meshes();
+        let mut offenders = Vec::new();
+        for s in scenes().iter().filter(|s| s.start_state.is_empty()) {
+            let m = &meshes.iter().find(|m| m.key == s.object).expect("mesh").builder;
+            let (p, q) = start_pose(s, m);
+            let t = Vector3::new(p[0], p[1], p[2]);
+            let mut boxes = vec![("object", aabb(m.positions.iter().map(|v| q * v + t)))];
+            for part in s.parts.iter().filter(|p| p.mesh != "table") {
+                let pm = &meshes.iter().find(|m| m.key == part.mesh).expect("mesh").builder;
+                let q = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), part.yaw);
+                let t = Vector3::from(part.at);
+                boxes.push((part.name, aabb(pm.positions.iter().map(|v| q * v + t))));
+            }
+            for (what, b) in &boxes {
+                if home_hands().iter().any(|h| overlap(h, b)) {
+                    offenders.push(format!("{}: {what}", s.name));
+                }
+            }
+        }
+        assert!(offenders.is_empty(), "{offenders:#?}");
     }
 
     /// A resting object's lowest point is on its support; a floating one is `lift` above it.

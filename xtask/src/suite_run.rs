@@ -384,6 +384,50 @@ pub fn render(rows: &[Row], s: &Summary, entries: &[Entry]) -> String {
             s.disagreeing.join(", ")
         }
     );
+    // Success per tag and per object (runs as expected / runs).
+    let mut per: BTreeMap<String, (usize, usize)> = BTreeMap::new();
+    for r in rows {
+        if let Some(e) = entries.iter().find(|e| e.name == r.scene) {
+            for key in e
+                .tags
+                .iter()
+                .map(|t| format!("tag {t}"))
+                .chain([format!("object {}", e.object)])
+            {
+                let c = per.entry(key).or_default();
+                c.0 += usize::from(r.as_expected);
+                c.1 += 1;
+            }
+        }
+    }
+    let per: Vec<String> = per
+        .iter()
+        .map(|(k, (ok, n))| format!("{k} {ok}/{n}"))
+        .collect();
+    let _ = writeln!(t, "- runs as expected per tag and object: {}", per.join(", "));
+    let mut failed: Vec<&str> = s.failures.iter().map(|r| r.scene.as_str()).collect();
+    failed.dedup();
+    if !failed.is_empty() {
+        let _ = writeln!(t, "\nScenes with a run not as expected:\n");
+        for name in failed {
+            if let Some(e) = entries.iter().find(|e| e.name == name) {
+                let reason = s
+                    .failures
+                    .iter()
+                    .find(|r| r.scene == name)
+                    .map_or("", |r| r.outcome.reason());
+                let _ = writeln!(
+                    t,
+                    "- `{}` ({}; {}): {} — {}",
+                    e.name,
+                    e.expect,
+                    e.tags.join(", "),
+                    e.about,
+                    if reason.is_empty() { "refused, but not for the stated reason" } else { reason }
+                );
+            }
+        }
+    }
     let _ = writeln!(t, "\n| scene | seed | expected | outcome | strategy | time | reason |");
     let _ = writeln!(t, "|---|---|---|---|---|---|---|");
     for r in rows {
@@ -541,7 +585,8 @@ mod tests {
         let ok = "  plan: right-right with … samples; planned in 45.0 ms\n  wrote x";
         assert_eq!(parse_ms(ok, "planned in "), Some(0.045));
         let no = "  no plan (740.2 ms):\n    right-right: out of reach\n";
-        assert_eq!(parse_ms(no, "no plan ("), Some(0.7402));
+        let t = parse_ms(no, "no plan (").expect("a time");
+        assert!((t - 0.7402).abs() < 1e-12, "{t}");
         assert_eq!(why(no), "right-right: out of reach");
         assert_eq!(parse_ms("nothing", "planned in "), None);
     }
