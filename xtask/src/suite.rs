@@ -74,17 +74,53 @@ pub fn meshes() -> Vec<SuiteMesh> {
         shipped("can", "meshes/can.stl", shapes::can_builder()),
         shipped("mug", "meshes/mug.stl", shapes::mug_builder()),
         shipped("box", "meshes/box.stl", shapes::object_box_builder()),
-        suite("cereal", "meshes/suite/cereal-box.stl", shapes::cereal_box_builder()),
-        suite("domino", "meshes/suite/domino.stl", shapes::domino_builder()),
-        suite("block", "meshes/suite/toy-block.stl", shapes::toy_block_builder()),
-        suite("carton", "meshes/suite/milk-carton.stl", shapes::milk_carton_builder()),
-        suite("dense-can", "meshes/suite/dense-can.stl", shapes::dense_can_builder()),
-        suite("bottle", "meshes/suite/bottle.stl", shapes::punted_bottle_builder()),
-        suite("l-shape", "meshes/suite/l-shape.stl", shapes::l_shape_builder()),
-        suite("brick", "meshes/suite/hollow-brick.stl", shapes::hollow_brick_builder()),
+        suite(
+            "cereal",
+            "meshes/suite/cereal-box.stl",
+            shapes::cereal_box_builder(),
+        ),
+        suite(
+            "domino",
+            "meshes/suite/domino.stl",
+            shapes::domino_builder(),
+        ),
+        suite(
+            "block",
+            "meshes/suite/toy-block.stl",
+            shapes::toy_block_builder(),
+        ),
+        suite(
+            "carton",
+            "meshes/suite/milk-carton.stl",
+            shapes::milk_carton_builder(),
+        ),
+        suite(
+            "dense-can",
+            "meshes/suite/dense-can.stl",
+            shapes::dense_can_builder(),
+        ),
+        suite(
+            "bottle",
+            "meshes/suite/bottle.stl",
+            shapes::punted_bottle_builder(),
+        ),
+        suite(
+            "l-shape",
+            "meshes/suite/l-shape.stl",
+            shapes::l_shape_builder(),
+        ),
+        suite(
+            "brick",
+            "meshes/suite/hollow-brick.stl",
+            shapes::hollow_brick_builder(),
+        ),
         suite("fruit", "meshes/suite/fruit.stl", shapes::fruit_builder()),
         suite("duck", "meshes/suite/duck.stl", shapes::duck_builder()),
-        suite("scanned-box", "meshes/suite/scanned-box.stl", shapes::scanned_box_builder()),
+        suite(
+            "scanned-box",
+            "meshes/suite/scanned-box.stl",
+            shapes::scanned_box_builder(),
+        ),
         suite(
             "big-cube",
             "meshes/suite/big-cube.stl",
@@ -139,7 +175,9 @@ fn ramp_builder() -> MeshBuilder {
 pub enum Tilt {
     Upright,
     /// 90° about x, after a turn of `roll` about the object's own z (a facet of a prism down).
-    OnSide { roll: Real },
+    OnSide {
+        roll: Real,
+    },
     /// 90° about y.
     OnEnd,
     /// 180° about x.
@@ -213,14 +251,11 @@ fn part(name: &'static str, mesh: &'static str, x: Real, y: Real) -> Part {
 fn pallet(x: Real, y: Real) -> (Part, [[Real; 3]; 4]) {
     let top = TABLE_TOP + shapes::PALLET_SIZE[2];
     let d = shapes::PALLET_DENTS;
-    let floor = |i: usize| {
-        [
-            x + d[i].center[0],
-            y + d[i].center[1],
-            top - d[i].depth,
-        ]
-    };
-    (part("pallet", "pallet", x, y), [floor(0), floor(1), floor(2), floor(3)])
+    let floor = |i: usize| [x + d[i].center[0], y + d[i].center[1], top - d[i].depth];
+    (
+        part("pallet", "pallet", x, y),
+        [floor(0), floor(1), floor(2), floor(3)],
+    )
 }
 
 /// Two tall blocks (0.10 × 0.05 × 0.15) whose inner faces are `gap` apart across y, centred at
@@ -262,145 +297,349 @@ pub fn scenes() -> Vec<Spec> {
     let mut s = Vec::new();
 
     // --- Single arm, table to table.
-    let mut sc = base("can-right", "a can near the right hand moved along the table", "can", [0.40, -0.22], on_table(0.48, -0.08));
+    let mut sc = base(
+        "can-right",
+        "a can near the right hand moved along the table",
+        "can",
+        [0.40, -0.22],
+        on_table(0.48, -0.08),
+    );
     sc.tags = vec!["table", "right"];
     s.push(sc);
-    let mut sc = base("can-left", "a can near the left hand moved along the table", "can", [0.40, 0.22], on_table(0.48, 0.08));
+    let mut sc = base(
+        "can-left",
+        "a can near the left hand moved along the table",
+        "can",
+        [0.40, 0.22],
+        on_table(0.48, 0.08),
+    );
     sc.tags = vec!["table", "left"];
     s.push(sc);
-    let mut sc = base("cereal-box-right", "the 3 cm deep cereal box of issue 17, standing, its narrow side to the robot", "cereal", [0.54, -0.20], on_table(0.42, -0.02));
+    let mut sc = base(
+        "cereal-box-right",
+        "the 3 cm deep cereal box of issue 17, standing, its narrow side to the robot",
+        "cereal",
+        [0.54, -0.20],
+        on_table(0.42, -0.02),
+    );
     sc.tags = vec!["table", "thin"];
     s.push(sc);
-    let mut sc = base("cereal-box-left-turned", "the cereal box turned 60° on the table", "cereal", [0.50, 0.20], on_table(0.40, 0.03));
+    let mut sc = base(
+        "cereal-box-left-turned",
+        "the cereal box turned 60° on the table",
+        "cereal",
+        [0.50, 0.20],
+        on_table(0.40, 0.03),
+    );
     sc.yaw = PI / 3.0;
     sc.tags = vec!["table", "thin"];
     s.push(sc);
-    let mut sc = base("carton-right", "a gable-top milk carton moved along the table", "carton", [0.50, -0.18], on_table(0.42, -0.03));
+    let mut sc = base(
+        "carton-right",
+        "a gable-top milk carton moved along the table",
+        "carton",
+        [0.50, -0.18],
+        on_table(0.42, -0.03),
+    );
     sc.tags = vec!["table"];
     s.push(sc);
-    let mut sc = base("domino-on-end", "a domino standing on its end (24 x 7.5 mm base)", "domino", [0.40, -0.15], on_table(0.46, -0.02));
+    let mut sc = base(
+        "domino-on-end",
+        "a domino standing on its end (24 x 7.5 mm base)",
+        "domino",
+        [0.40, -0.15],
+        on_table(0.46, -0.02),
+    );
     sc.tilt = Tilt::OnEnd;
     sc.tags = vec!["table", "thin", "on-side"];
     s.push(sc);
-    let mut sc = base("block-left", "a 4 cm toy block near the left hand", "block", [0.38, 0.18], on_table(0.46, 0.05));
+    let mut sc = base(
+        "block-left",
+        "a 4 cm toy block near the left hand",
+        "block",
+        [0.38, 0.18],
+        on_table(0.46, 0.05),
+    );
     sc.tags = vec!["table", "left"];
     s.push(sc);
-    let mut sc = base("brick-right", "a hollow open box with 2 mm walls", "brick", [0.40, -0.20], on_table(0.47, -0.06));
+    let mut sc = base(
+        "brick-right",
+        "a hollow open box with 2 mm walls",
+        "brick",
+        [0.40, -0.20],
+        on_table(0.47, -0.06),
+    );
     sc.tags = vec!["table", "thin-walled"];
     s.push(sc);
-    let mut sc = base("fruit-left", "a doubly curved fruit", "fruit", [0.40, 0.20], on_table(0.46, 0.06));
+    let mut sc = base(
+        "fruit-left",
+        "a doubly curved fruit",
+        "fruit",
+        [0.40, 0.20],
+        on_table(0.46, 0.06),
+    );
     sc.tags = vec!["table", "curved"];
     s.push(sc);
-    let mut sc = base("duck-right", "a rubber duck (body and head, doubly curved)", "duck", [0.40, -0.20], on_table(0.47, -0.06));
+    let mut sc = base(
+        "duck-right",
+        "a rubber duck (body and head, doubly curved)",
+        "duck",
+        [0.40, -0.20],
+        on_table(0.47, -0.06),
+    );
     sc.tags = vec!["table", "curved"];
     s.push(sc);
-    let mut sc = base("l-shape-right", "an L-shaped block standing on its foot", "l-shape", [0.50, -0.20], on_table(0.42, -0.05));
+    let mut sc = base(
+        "l-shape-right",
+        "an L-shaped block standing on its foot",
+        "l-shape",
+        [0.50, -0.20],
+        on_table(0.42, -0.05),
+    );
     sc.tags = vec!["table"];
     s.push(sc);
-    let mut sc = base("dense-can-right", "a can of 6656 sliver triangles", "dense-can", [0.40, -0.20], on_table(0.48, -0.06));
+    let mut sc = base(
+        "dense-can-right",
+        "a can of 6656 sliver triangles",
+        "dense-can",
+        [0.40, -0.20],
+        on_table(0.48, -0.06),
+    );
     sc.tags = vec!["table", "thousands-of-triangles"];
     s.push(sc);
-    let mut sc = base("scanned-box-left", "a scanned-looking box (3072 noisy triangles)", "scanned-box", [0.40, 0.20], on_table(0.48, 0.06));
+    let mut sc = base(
+        "scanned-box-left",
+        "a scanned-looking box (3072 noisy triangles)",
+        "scanned-box",
+        [0.40, 0.20],
+        on_table(0.48, 0.06),
+    );
     sc.tags = vec!["table", "thousands-of-triangles"];
     s.push(sc);
-    let mut sc = base("bottle-right", "a bottle with a punted base and a neck", "bottle", [0.50, -0.20], on_table(0.42, -0.04));
+    let mut sc = base(
+        "bottle-right",
+        "a bottle with a punted base and a neck",
+        "bottle",
+        [0.50, -0.20],
+        on_table(0.42, -0.04),
+    );
     sc.tags = vec!["table", "punted"];
     s.push(sc);
 
     // --- On the side, upside down.
-    let mut sc = base("bottle-on-side", "a bottle lying on its side, set down anywhere near the target", "bottle", [0.42, -0.18], on_table(0.46, -0.02));
+    let mut sc = base(
+        "bottle-on-side",
+        "a bottle lying on its side, set down anywhere near the target",
+        "bottle",
+        [0.42, -0.18],
+        on_table(0.46, -0.02),
+    );
     sc.tilt = side64;
     sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "on-side", "punted"];
     s.push(sc);
-    let mut sc = base("carton-on-side", "a milk carton lying on its side", "carton", [0.50, -0.18], on_table(0.44, -0.02));
+    let mut sc = base(
+        "carton-on-side",
+        "a milk carton lying on its side",
+        "carton",
+        [0.50, -0.18],
+        on_table(0.44, -0.02),
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "on-side"];
     s.push(sc);
-    let mut sc = base("l-shape-on-side", "an L-shaped block lying on its L face", "l-shape", [0.42, 0.18], on_table(0.46, 0.02));
+    let mut sc = base(
+        "l-shape-on-side",
+        "an L-shaped block lying on its L face",
+        "l-shape",
+        [0.42, 0.18],
+        on_table(0.46, 0.02),
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.tags = vec!["table", "on-side"];
     s.push(sc);
-    let mut sc = base("mug-upside-down", "a mug standing upside down on its rim", "mug", [0.40, -0.18], on_table(0.47, -0.03));
+    let mut sc = base(
+        "mug-upside-down",
+        "a mug standing upside down on its rim",
+        "mug",
+        [0.40, -0.18],
+        on_table(0.47, -0.03),
+    );
     sc.tilt = Tilt::UpsideDown;
     sc.tags = vec!["table", "upside-down"];
     s.push(sc);
-    let mut sc = base("scanned-box-on-side", "the scanned box lying on a long side", "scanned-box", [0.42, -0.18], on_table(0.47, -0.04));
+    let mut sc = base(
+        "scanned-box-on-side",
+        "the scanned box lying on a long side",
+        "scanned-box",
+        [0.42, -0.18],
+        on_table(0.47, -0.04),
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "on-side", "thousands-of-triangles"];
     s.push(sc);
-    let mut sc = base("dense-can-upside-down", "the dense can upside down", "dense-can", [0.40, 0.20], on_table(0.46, 0.05));
+    let mut sc = base(
+        "dense-can-upside-down",
+        "the dense can upside down",
+        "dense-can",
+        [0.40, 0.20],
+        on_table(0.46, 0.05),
+    );
     sc.tilt = Tilt::UpsideDown;
     sc.tags = vec!["table", "upside-down", "thousands-of-triangles"];
     s.push(sc);
 
     // --- Dents.
     let (p, dents) = pallet(0.48, -0.20);
-    let mut sc = base("can-into-large-dent", "a can into the pallet's large dent (Fig. 9, pallet moved)", "can", [0.38, 0.02], dents[0]);
+    let mut sc = base(
+        "can-into-large-dent",
+        "a can into the pallet's large dent (Fig. 9, pallet moved)",
+        "can",
+        [0.38, 0.02],
+        dents[0],
+    );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent"];
     s.push(sc);
-    let mut sc = base("box-into-pocket", "the box object into the pallet's deep pocket", "box", [0.38, 0.02], dents[2]);
+    let mut sc = base(
+        "box-into-pocket",
+        "the box object into the pallet's deep pocket",
+        "box",
+        [0.38, 0.02],
+        dents[2],
+    );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent"];
     s.push(sc);
-    let mut sc = base("block-into-small-dent", "a 4 cm toy block into the 5 cm dent", "block", [0.38, 0.02], dents[1]);
+    let mut sc = base(
+        "block-into-small-dent",
+        "a 4 cm toy block into the 5 cm dent",
+        "block",
+        [0.38, 0.02],
+        dents[1],
+    );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent"];
     s.push(sc);
-    let mut sc = base("brick-into-large-dent", "the hollow brick into the large dent", "brick", [0.38, 0.02], dents[0]);
+    let mut sc = base(
+        "brick-into-large-dent",
+        "the hollow brick into the large dent",
+        "brick",
+        [0.38, 0.02],
+        dents[0],
+    );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent", "thin-walled"];
     s.push(sc);
 
     // --- Shelves.
     let (sh, top) = shelf(0.55, -0.20);
-    let mut sc = base("box-onto-shelf", "the box object onto a shelf board 15 cm above the table", "box", [0.38, 0.0], top);
+    let mut sc = base(
+        "box-onto-shelf",
+        "the box object onto a shelf board 15 cm above the table",
+        "box",
+        [0.38, 0.0],
+        top,
+    );
     sc.parts.push(sh.clone());
     sc.tags = vec!["shelf"];
     s.push(sc);
-    let mut sc = base("bottle-onto-shelf", "the punted bottle onto the shelf", "bottle", [0.38, 0.0], top);
+    let mut sc = base(
+        "bottle-onto-shelf",
+        "the punted bottle onto the shelf",
+        "bottle",
+        [0.38, 0.0],
+        top,
+    );
     sc.parts.push(sh.clone());
     sc.tags = vec!["shelf", "punted"];
     s.push(sc);
-    let mut sc = base("mug-onto-shelf", "the mug onto the shelf", "mug", [0.38, 0.0], top);
+    let mut sc = base(
+        "mug-onto-shelf",
+        "the mug onto the shelf",
+        "mug",
+        [0.38, 0.0],
+        top,
+    );
     sc.parts.push(sh.clone());
     sc.tags = vec!["shelf"];
     s.push(sc);
     let (shl, topl) = shelf(0.55, 0.20);
-    let mut sc = base("carton-onto-left-shelf", "a milk carton onto a shelf on the left", "carton", [0.38, 0.0], topl);
+    let mut sc = base(
+        "carton-onto-left-shelf",
+        "a milk carton onto a shelf on the left",
+        "carton",
+        [0.38, 0.0],
+        topl,
+    );
     sc.parts.push(shl);
     sc.tags = vec!["shelf", "left"];
     s.push(sc);
-    let mut sc = base("scanned-box-onto-shelf", "the scanned box onto the shelf", "scanned-box", [0.38, 0.0], top);
+    let mut sc = base(
+        "scanned-box-onto-shelf",
+        "the scanned box onto the shelf",
+        "scanned-box",
+        [0.38, 0.0],
+        top,
+    );
     sc.parts.push(sh);
     sc.tags = vec!["shelf", "thousands-of-triangles"];
     s.push(sc);
 
     // --- Narrow gaps (7 cm between two 15 cm blocks).
     let gap_target = on_table(0.48, -0.18);
-    let mut sc = base("can-into-gap", "a can (6.6 cm) into a 7 cm gap between two blocks", "can", [0.38, 0.05], gap_target);
+    let mut sc = base(
+        "can-into-gap",
+        "a can (6.6 cm) into a 7 cm gap between two blocks",
+        "can",
+        [0.38, 0.05],
+        gap_target,
+    );
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap"];
     s.push(sc);
-    let mut sc = base("box-into-gap", "the box object upright into the 7 cm gap", "box", [0.38, 0.05], gap_target);
+    let mut sc = base(
+        "box-into-gap",
+        "the box object upright into the 7 cm gap",
+        "box",
+        [0.38, 0.05],
+        gap_target,
+    );
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap"];
     s.push(sc);
-    let mut sc = base("cereal-box-into-gap", "the cereal box standing into the 7 cm gap", "cereal", [0.50, 0.08], gap_target);
+    let mut sc = base(
+        "cereal-box-into-gap",
+        "the cereal box standing into the 7 cm gap",
+        "cereal",
+        [0.50, 0.08],
+        gap_target,
+    );
     sc.yaw = FRAC_PI_2;
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap", "thin"];
     s.push(sc);
-    let mut sc = base("dense-can-into-gap", "the dense can into the 7 cm gap", "dense-can", [0.38, 0.05], gap_target);
+    let mut sc = base(
+        "dense-can-into-gap",
+        "the dense can into the 7 cm gap",
+        "dense-can",
+        [0.38, 0.05],
+        gap_target,
+    );
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.tags = vec!["gap", "thousands-of-triangles"];
     s.push(sc);
 
     // --- Clutter around the start and the target.
-    let mut sc = base("can-clutter-start", "a can boxed in by three obstacles, to an open spot", "can", [0.42, -0.20], on_table(0.45, 0.0));
+    let mut sc = base(
+        "can-clutter-start",
+        "a can boxed in by three obstacles, to an open spot",
+        "can",
+        [0.42, -0.20],
+        on_table(0.45, 0.0),
+    );
     sc.parts.extend([
         part("obstacle-a", "obstacle", 0.52, -0.20),
         part("obstacle-b", "obstacle", 0.42, -0.30),
@@ -408,7 +647,13 @@ pub fn scenes() -> Vec<Spec> {
     ]);
     sc.tags = vec!["clutter"];
     s.push(sc);
-    let mut sc = base("mug-clutter-target", "a mug to a spot among three obstacles (Fig. 10(b) kind)", "mug", [0.38, 0.05], on_table(0.46, -0.22));
+    let mut sc = base(
+        "mug-clutter-target",
+        "a mug to a spot among three obstacles (Fig. 10(b) kind)",
+        "mug",
+        [0.38, 0.05],
+        on_table(0.46, -0.22),
+    );
     sc.parts.extend([
         part("obstacle-a", "obstacle", 0.57, -0.22),
         part("obstacle-b", "obstacle", 0.46, -0.34),
@@ -416,11 +661,23 @@ pub fn scenes() -> Vec<Spec> {
     ]);
     sc.tags = vec!["clutter"];
     s.push(sc);
-    let mut sc = base("bottle-before-wall", "a bottle set down 8 cm in front of a wall", "bottle", [0.40, 0.0], on_table(0.50, -0.15));
+    let mut sc = base(
+        "bottle-before-wall",
+        "a bottle set down 8 cm in front of a wall",
+        "bottle",
+        [0.40, 0.0],
+        on_table(0.50, -0.15),
+    );
     sc.parts.push(part("wall", "wall", 0.60, -0.15));
     sc.tags = vec!["clutter", "punted"];
     s.push(sc);
-    let mut sc = base("cereal-box-clutter-both", "the cereal box from among obstacles to a spot before a wall", "cereal", [0.50, -0.22], on_table(0.44, 0.02));
+    let mut sc = base(
+        "cereal-box-clutter-both",
+        "the cereal box from among obstacles to a spot before a wall",
+        "cereal",
+        [0.50, -0.22],
+        on_table(0.44, 0.02),
+    );
     sc.yaw = FRAC_PI_2;
     sc.parts.extend([
         part("obstacle-a", "obstacle", 0.50, -0.36),
@@ -432,37 +689,79 @@ pub fn scenes() -> Vec<Spec> {
     s.push(sc);
 
     // --- Handovers: start far on one side, target far on the other.
-    let mut sc = base("can-handover-left-to-right", "a can from far left to far right", "can", [0.46, 0.34], on_table(0.44, -0.34));
+    let mut sc = base(
+        "can-handover-left-to-right",
+        "a can from far left to far right",
+        "can",
+        [0.46, 0.34],
+        on_table(0.44, -0.34),
+    );
     sc.tags = vec!["handover"];
     s.push(sc);
-    let mut sc = base("box-handover-right-to-left", "the box object from far right to far left", "box", [0.46, -0.34], on_table(0.44, 0.34));
+    let mut sc = base(
+        "box-handover-right-to-left",
+        "the box object from far right to far left",
+        "box",
+        [0.46, -0.34],
+        on_table(0.44, 0.34),
+    );
     sc.tags = vec!["handover"];
     s.push(sc);
-    let mut sc = base("duck-handover", "the duck from far left to far right", "duck", [0.46, 0.34], on_table(0.44, -0.34));
+    let mut sc = base(
+        "duck-handover",
+        "the duck from far left to far right",
+        "duck",
+        [0.46, 0.34],
+        on_table(0.44, -0.34),
+    );
     sc.tags = vec!["handover", "curved"];
     s.push(sc);
     let (p, dents) = pallet(0.48, -0.22);
-    let mut sc = base("carton-handover-into-pocket", "a milk carton from far left into the pallet's pocket on the right", "carton", [0.46, 0.34], dents[2]);
+    let mut sc = base(
+        "carton-handover-into-pocket",
+        "a milk carton from far left into the pallet's pocket on the right",
+        "carton",
+        [0.46, 0.34],
+        dents[2],
+    );
     sc.parts.push(p);
     sc.tags = vec!["handover", "dent"];
     s.push(sc);
 
     // --- Regrasp: one arm, lying box, upright only into the gap.
-    let mut sc = base("box-on-side-into-gap-right-arm-only", "one arm: the box lies on its side; only upright does it fit the gap, and no grasp that picks it lying places it upright, so it is put down upright and picked again", "box", [0.40, -0.02], gap_target);
+    let mut sc = base(
+        "box-on-side-into-gap-right-arm-only",
+        "one arm: the box lies on its side; only upright does it fit the gap, and no grasp that picks it lying places it upright, so it is put down upright and picked again",
+        "box",
+        [0.40, -0.02],
+        gap_target,
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
     sc.left_arm = Some("");
     sc.tags = vec!["regrasp", "gap", "on-side"];
     s.push(sc);
-    let mut sc = base("box-on-side-into-gap-left-arm-only", "the same, mirrored, with the left arm only", "box", [0.40, 0.02], on_table(0.48, 0.18));
+    let mut sc = base(
+        "box-on-side-into-gap-left-arm-only",
+        "the same, mirrored, with the left arm only",
+        "box",
+        [0.40, 0.02],
+        on_table(0.48, 0.18),
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.parts.extend(gap_blocks(0.48, 0.18, 0.07));
     sc.right_arm = Some("");
     sc.tags = vec!["regrasp", "gap", "on-side"];
     s.push(sc);
-    let mut sc = base("scanned-box-on-side-into-gap-right-arm-only", "one arm: the scanned box lying, upright into the gap", "scanned-box", [0.40, -0.02], gap_target);
+    let mut sc = base(
+        "scanned-box-on-side-into-gap-right-arm-only",
+        "one arm: the scanned box lying, upright into the gap",
+        "scanned-box",
+        [0.40, -0.02],
+        gap_target,
+    );
     sc.tilt = Tilt::OnSide { roll: 0.0 };
     sc.yaw = FRAC_PI_2;
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.07));
@@ -472,7 +771,13 @@ pub fn scenes() -> Vec<Spec> {
 
     // --- No solution.
     let infeasible = |stage, reason| Expect::Infeasible { stage, reason };
-    let mut sc = base("target-out-of-reach", "the target on a second table 1.2 m in front: no hand reaches it", "can", [0.40, -0.20], on_table(1.35, -0.10));
+    let mut sc = base(
+        "target-out-of-reach",
+        "the target on a second table 1.2 m in front: no hand reaches it",
+        "can",
+        [0.40, -0.20],
+        on_table(1.35, -0.10),
+    );
     sc.parts.push(Part {
         name: "far-table",
         mesh: "table",
@@ -482,35 +787,77 @@ pub fn scenes() -> Vec<Spec> {
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("place", "out of reach");
     s.push(sc);
-    let mut sc = base("big-cube-no-grasp", "a 10 cm cube: wider than the 8 cm opening every way", "big-cube", [0.42, -0.20], on_table(0.46, -0.02));
+    let mut sc = base(
+        "big-cube-no-grasp",
+        "a 10 cm cube: wider than the 8 cm opening every way",
+        "big-cube",
+        [0.42, -0.20],
+        on_table(0.46, -0.02),
+    );
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("grasp", "no grasp");
     s.push(sc);
-    let mut sc = base("can-into-narrow-gap", "a can (6.6 cm) into a 5 cm gap", "can", [0.38, 0.05], gap_target);
+    let mut sc = base(
+        "can-into-narrow-gap",
+        "a can (6.6 cm) into a 5 cm gap",
+        "can",
+        [0.38, 0.05],
+        gap_target,
+    );
     sc.parts.extend(gap_blocks(0.48, -0.18, 0.05));
     sc.tags = vec!["no-solution", "gap"];
     sc.expect = infeasible("placement", "no stable placement");
     s.push(sc);
-    let mut sc = base("start-in-collision", "the right hand starts 1.6 cm inside the table top (shoulder and elbow pitched down)", "can", [0.42, 0.10], on_table(0.46, 0.0));
+    let mut sc = base(
+        "start-in-collision",
+        "the right hand starts 1.6 cm inside the table top (shoulder and elbow pitched down)",
+        "can",
+        [0.42, 0.10],
+        on_table(0.46, 0.0),
+    );
     sc.start_state = vec![("RARM_JOINT1", -0.4), ("RARM_JOINT2", -0.9)];
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("start state", "in collision");
     s.push(sc);
-    let mut sc = base("object-floating", "the can 5 cm above the table", "can", [0.45, 0.0], on_table(0.46, -0.15));
+    let mut sc = base(
+        "object-floating",
+        "the can 5 cm above the table",
+        "can",
+        [0.45, 0.0],
+        on_table(0.46, -0.15),
+    );
     sc.lift = 0.05;
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("object", "not resting");
     s.push(sc);
-    let mut sc = base("object-in-table", "the can 1 cm into the table", "can", [0.45, 0.0], on_table(0.46, -0.15));
+    let mut sc = base(
+        "object-in-table",
+        "the can 1 cm into the table",
+        "can",
+        [0.45, 0.0],
+        on_table(0.46, -0.15),
+    );
     sc.lift = -0.01;
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("object", "penetrat");
     s.push(sc);
-    let mut sc = base("target-in-mid-air", "the target 15 cm above the table, on nothing", "can", [0.42, -0.20], [0.46, -0.02, TABLE_TOP + 0.15]);
+    let mut sc = base(
+        "target-in-mid-air",
+        "the target 15 cm above the table, on nothing",
+        "can",
+        [0.42, -0.20],
+        [0.46, -0.02, TABLE_TOP + 0.15],
+    );
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("target", "no upward-facing");
     s.push(sc);
-    let mut sc = base("target-on-ramp", "the target on a 45° ramp, where nothing stays without friction", "box", [0.40, 0.10], [0.46, -0.20, TABLE_TOP + 0.06]);
+    let mut sc = base(
+        "target-on-ramp",
+        "the target on a 45° ramp, where nothing stays without friction",
+        "box",
+        [0.40, 0.10],
+        [0.46, -0.20, TABLE_TOP + 0.06],
+    );
     sc.parts.push(part("ramp", "ramp", 0.46, -0.20));
     sc.tags = vec!["no-solution"];
     sc.expect = infeasible("target", "no upward-facing");
@@ -591,7 +938,10 @@ fn scene_toml(spec: &Spec, meshes: &[SuiteMesh]) -> anyhow::Result<String> {
     let object = mesh(spec.object)?;
     let (position, q) = start_pose(spec, &object.builder);
     let mut t = String::new();
-    writeln!(t, "# Scene suite (issue 17), generated by `cargo xtask suite gen`: do not edit.")?;
+    writeln!(
+        t,
+        "# Scene suite (issue 17), generated by `cargo xtask suite gen`: do not edit."
+    )?;
     writeln!(t, "# {}: {}.", spec.name, spec.about)?;
     match &spec.expect {
         Expect::Feasible => writeln!(t, "# Expected: feasible.")?,
@@ -651,8 +1001,14 @@ fn scene_toml(spec: &Spec, meshes: &[SuiteMesh]) -> anyhow::Result<String> {
 /// The manifest `scenes/suite/suite.toml`.
 fn manifest(specs: &[Spec]) -> anyhow::Result<String> {
     let mut t = String::new();
-    writeln!(t, "# The scene suite of issue 17, generated by `cargo xtask suite gen`: do not edit.")?;
-    writeln!(t, "# `cargo xtask suite run` plans every scene with seeds 1 to 3 and checks each")?;
+    writeln!(
+        t,
+        "# The scene suite of issue 17, generated by `cargo xtask suite gen`: do not edit."
+    )?;
+    writeln!(
+        t,
+        "# `cargo xtask suite run` plans every scene with seeds 1 to 3 and checks each"
+    )?;
     writeln!(t, "# expectation (docs/suite.md).")?;
     writeln!(t, "format = 1")?;
     for s in specs {
@@ -742,7 +1098,10 @@ pub fn generate() -> anyhow::Result<Vec<(String, Vec<u8>)>> {
             scene_toml(s, &meshes)?.into_bytes(),
         ));
     }
-    files.push(("scenes/suite/suite.toml".to_owned(), manifest(&specs)?.into_bytes()));
+    files.push((
+        "scenes/suite/suite.toml".to_owned(),
+        manifest(&specs)?.into_bytes(),
+    ));
     Ok(files)
 }
 
@@ -761,12 +1120,20 @@ mod tests {
         for (path, bytes) in &files {
             let on_disk = std::fs::read(root().join(path))
                 .unwrap_or_else(|e| panic!("{path}: {e} (run cargo xtask suite gen)"));
-            assert!(on_disk == *bytes, "{path} differs: run cargo xtask suite gen");
+            assert!(
+                on_disk == *bytes,
+                "{path} differs: run cargo xtask suite gen"
+            );
         }
         // No stale scene in the folder.
         let mut listed: Vec<String> = std::fs::read_dir(root().join("scenes/suite"))
             .expect("scenes/suite")
-            .map(|e| format!("scenes/suite/{}", e.expect("entry").file_name().to_string_lossy()))
+            .map(|e| {
+                format!(
+                    "scenes/suite/{}",
+                    e.expect("entry").file_name().to_string_lossy()
+                )
+            })
             .collect();
         listed.sort();
         let mut generated: Vec<String> = files
@@ -836,9 +1203,18 @@ mod tests {
             let m = 0.005;
             let y = |a: Real, b: Real| (s * a).min(s * b);
             let yy = |a: Real, b: Real| (s * a).max(s * b);
-            boxes.push(([0.29 - m, y(0.127, 0.237) - m, 0.849 - m], [0.42 + m, yy(0.127, 0.237) + m, 1.03]));
-            boxes.push(([0.316 - m, y(0.132, 0.142) - m, 0.789 - m], [0.336 + m, yy(0.132, 0.142) + m, 0.85]));
-            boxes.push(([0.316 - m, y(0.222, 0.232) - m, 0.789 - m], [0.336 + m, yy(0.222, 0.232) + m, 0.85]));
+            boxes.push((
+                [0.29 - m, y(0.127, 0.237) - m, 0.849 - m],
+                [0.42 + m, yy(0.127, 0.237) + m, 1.03],
+            ));
+            boxes.push((
+                [0.316 - m, y(0.132, 0.142) - m, 0.789 - m],
+                [0.336 + m, yy(0.132, 0.142) + m, 0.85],
+            ));
+            boxes.push((
+                [0.316 - m, y(0.222, 0.232) - m, 0.789 - m],
+                [0.336 + m, yy(0.222, 0.232) + m, 0.85],
+            ));
         }
         boxes
     }
@@ -866,12 +1242,20 @@ mod tests {
         let meshes = meshes();
         let mut offenders = Vec::new();
         for s in scenes().iter().filter(|s| s.start_state.is_empty()) {
-            let m = &meshes.iter().find(|m| m.key == s.object).expect("mesh").builder;
+            let m = &meshes
+                .iter()
+                .find(|m| m.key == s.object)
+                .expect("mesh")
+                .builder;
             let (p, q) = start_pose(s, m);
             let t = Vector3::new(p[0], p[1], p[2]);
             let mut boxes = vec![("object", aabb(m.positions.iter().map(|v| q * v + t)))];
             for part in s.parts.iter().filter(|p| p.mesh != "table") {
-                let pm = &meshes.iter().find(|m| m.key == part.mesh).expect("mesh").builder;
+                let pm = &meshes
+                    .iter()
+                    .find(|m| m.key == part.mesh)
+                    .expect("mesh")
+                    .builder;
                 let q = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), part.yaw);
                 let t = Vector3::from(part.at);
                 boxes.push((part.name, aabb(pm.positions.iter().map(|v| q * v + t))));
@@ -890,7 +1274,11 @@ mod tests {
     fn start_poses_rest_on_their_support() {
         let meshes = meshes();
         for s in scenes() {
-            let m = &meshes.iter().find(|m| m.key == s.object).expect("mesh").builder;
+            let m = &meshes
+                .iter()
+                .find(|m| m.key == s.object)
+                .expect("mesh")
+                .builder;
             let (p, q) = start_pose(&s, m);
             let lowest = m
                 .positions

@@ -217,6 +217,24 @@ pub fn why(stderr: &str) -> String {
     s
 }
 
+/// The validator's first problem (the lines after its "checked … states" line) and its count
+/// line, if any.
+pub fn why_invalid(stderr: &str) -> String {
+    let problems: Vec<&str> = stderr
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("checked "))
+        .skip(1)
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    match problems.as_slice() {
+        [] => why(stderr),
+        [one] => (*one).to_owned(),
+        [first, .., last] if last.contains("problems in all") => format!("{first} ({last})"),
+        [first, rest @ ..] => format!("{first} (and {} more)", rest.len()),
+    }
+}
+
 /// Runs one scene with one seed.
 fn run_one(
     cli: &Path,
@@ -263,7 +281,7 @@ fn run_one(
             let verr = String::from_utf8_lossy(&v.stderr).into_owned();
             match v.status.code() {
                 Some(0) => Outcome::Valid,
-                Some(1) => Outcome::Invalid(why(&verr)),
+                Some(1) => Outcome::Invalid(why_invalid(&verr)),
                 _ => Outcome::Error(format!("validate: {}", why(&verr))),
             }
         }
@@ -275,8 +293,7 @@ fn run_one(
     } else {
         let low = err.to_lowercase();
         plan.status.code() == Some(1)
-            && e
-                .stage
+            && e.stage
                 .iter()
                 .chain(&e.reason)
                 .all(|s| low.contains(&s.to_lowercase()))
@@ -310,6 +327,9 @@ pub struct Summary {
     pub infeasible_ok: usize,
     pub median: Option<f64>,
     pub p95: Option<f64>,
+    /// The same over the runs that planned and validated.
+    pub median_ok: Option<f64>,
+    pub p95_ok: Option<f64>,
     /// Scenes whose seeds gave different expectations met.
     pub disagreeing: Vec<String>,
     pub failures: Vec<Row>,
@@ -322,6 +342,12 @@ pub fn summarize(rows: &[Row]) -> Summary {
     // the time spent before giving up).
     let mut times: Vec<f64> = feasible.iter().filter_map(|r| r.time).collect();
     times.sort_by(f64::total_cmp);
+    let mut ok_times: Vec<f64> = feasible
+        .iter()
+        .filter(|r| r.as_expected)
+        .filter_map(|r| r.time)
+        .collect();
+    ok_times.sort_by(f64::total_cmp);
     let mut by_scene: BTreeMap<&str, Vec<bool>> = BTreeMap::new();
     for r in rows {
         by_scene.entry(&r.scene).or_default().push(r.as_expected);
@@ -333,6 +359,8 @@ pub fn summarize(rows: &[Row]) -> Summary {
         infeasible_ok: infeasible.iter().filter(|r| r.as_expected).count(),
         median: quantile(&times, 0.5),
         p95: quantile(&times, 0.95),
+        median_ok: quantile(&ok_times, 0.5),
+        p95_ok: quantile(&ok_times, 0.95),
         disagreeing: by_scene
             .into_iter()
             .filter(|(_, v)| v.iter().any(|&b| b != v[0]))
@@ -371,9 +399,12 @@ pub fn render(rows: &[Row], s: &Summary, entries: &[Entry]) -> String {
     );
     let _ = writeln!(
         t,
-        "- planning time over the feasible scenes' runs: median {}, 95th percentile {}",
+        "- planning time over the feasible scenes' runs: median {}, 95th percentile {}; over \
+         the runs that planned and validated: median {}, 95th percentile {}",
         ms(s.median),
-        ms(s.p95)
+        ms(s.p95),
+        ms(s.median_ok),
+        ms(s.p95_ok)
     );
     let _ = writeln!(
         t,
@@ -404,7 +435,11 @@ pub fn render(rows: &[Row], s: &Summary, entries: &[Entry]) -> String {
         .iter()
         .map(|(k, (ok, n))| format!("{k} {ok}/{n}"))
         .collect();
-    let _ = writeln!(t, "- runs as expected per tag and object: {}", per.join(", "));
+    let _ = writeln!(
+        t,
+        "- runs as expected per tag and object: {}",
+        per.join(", ")
+    );
     let mut failed: Vec<&str> = s.failures.iter().map(|r| r.scene.as_str()).collect();
     failed.dedup();
     if !failed.is_empty() {
@@ -423,12 +458,19 @@ pub fn render(rows: &[Row], s: &Summary, entries: &[Entry]) -> String {
                     e.expect,
                     e.tags.join(", "),
                     e.about,
-                    if reason.is_empty() { "refused, but not for the stated reason" } else { reason }
+                    if reason.is_empty() {
+                        "refused, but not for the stated reason"
+                    } else {
+                        reason
+                    }
                 );
             }
         }
     }
-    let _ = writeln!(t, "\n| scene | seed | expected | outcome | strategy | time | reason |");
+    let _ = writeln!(
+        t,
+        "\n| scene | seed | expected | outcome | strategy | time | reason |"
+    );
     let _ = writeln!(t, "|---|---|---|---|---|---|---|");
     for r in rows {
         let expected = entries
@@ -470,7 +512,9 @@ fn machine() -> String {
     let load = std::fs::read_to_string("/proc/loadavg")
         .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into());
-    format!("{cpu}, {cores} cores (nproc), load average {load} (1, 5, 15 min) at the end of the run")
+    format!(
+        "{cpu}, {cores} cores (nproc), load average {load} (1, 5, 15 min) at the end of the run"
+    )
 }
 
 /// Opening marker of the generated part of the suite's notes in `benches/targets.toml`.
@@ -490,7 +534,12 @@ fn write_doc(root: &Path, text: &str) -> anyhow::Result<()> {
     };
     // The notes are a TOML basic multi-line string: escape what it cannot hold.
     let escaped = text.replace('\\', "\\\\").replace("\"\"\"", "\\\"\\\"\\\"");
-    let new = format!("{}\n{}\n{}", &toml_text[..b], escaped.trim_end(), &toml_text[e..]);
+    let new = format!(
+        "{}\n{}\n{}",
+        &toml_text[..b],
+        escaped.trim_end(),
+        &toml_text[e..]
+    );
     std::fs::write(&path, new).with_context(|| format!("writing {}", path.display()))?;
     crate::bench::run(root, &["--text-only".to_owned()])
 }
@@ -615,6 +664,12 @@ mod tests {
         assert_eq!(s.disagreeing, vec!["a".to_owned()]);
         assert_eq!((s.feasible_ok, s.feasible_runs), (2, 3));
         assert_eq!(s.failures.len(), 1);
+        assert_eq!(s.median_ok, Some(0.01));
+        let v = "  set up in 48 ms\n  checked 1432 states in 57 ms\n  t = 1.0 s: collision a / b\n  t = 1.1 s: collision a / b\n  … 49 problems in all\n";
+        assert_eq!(
+            why_invalid(v),
+            "t = 1.0 s: collision a / b (… 49 problems in all)"
+        );
     }
 
     /// The manifest the generator writes parses, and names files that exist.
@@ -624,7 +679,11 @@ mod tests {
         let m = load_manifest(&root).expect("manifest");
         assert_eq!(m.scene.len(), crate::suite::scenes().len());
         for e in &m.scene {
-            assert!(root.join("scenes/suite").join(&e.file).is_file(), "{}", e.file);
+            assert!(
+                root.join("scenes/suite").join(&e.file).is_file(),
+                "{}",
+                e.file
+            );
             assert_eq!(e.feasible(), e.stage.is_none(), "{}", e.name);
         }
     }

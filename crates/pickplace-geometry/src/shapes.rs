@@ -594,8 +594,11 @@ impl SplitMix64 {
 
 /// A box of full size `size`, centred on the z axis, base at `z = 0`.
 pub fn box_on_base_builder(size: [Real; 3]) -> MeshBuilder {
-    box_builder([size[0] / 2.0, size[1] / 2.0, size[2] / 2.0])
-        .translated(Vector3::new(0.0, 0.0, size[2] / 2.0))
+    box_builder([size[0] / 2.0, size[1] / 2.0, size[2] / 2.0]).translated(Vector3::new(
+        0.0,
+        0.0,
+        size[2] / 2.0,
+    ))
 }
 
 /// A box of full size `size` whose six faces are each split into `divisions × divisions`
@@ -606,7 +609,14 @@ pub fn subdivided_box_builder(size: [Real; 3], divisions: usize) -> MeshBuilder 
     let half = [size[0] / 2.0, size[1] / 2.0, size[2] / 2.0];
     let mut b = MeshBuilder::default();
     // Each face: its normal axis, sign, and two in-plane axes (u, v) with u × v = normal.
-    for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
+    for (axis, sign) in [
+        (0, 1.0),
+        (0, -1.0),
+        (1, 1.0),
+        (1, -1.0),
+        (2, 1.0),
+        (2, -1.0),
+    ] {
         let (u, v) = if sign > 0.0 {
             ((axis + 1) % 3, (axis + 2) % 3)
         } else {
@@ -627,7 +637,12 @@ pub fn subdivided_box_builder(size: [Real; 3], divisions: usize) -> MeshBuilder 
             .collect();
         for i in 0..n {
             for j in 0..n {
-                b.quad(grid[i][j], grid[i + 1][j], grid[i + 1][j + 1], grid[i][j + 1]);
+                b.quad(
+                    grid[i][j],
+                    grid[i + 1][j],
+                    grid[i + 1][j + 1],
+                    grid[i][j + 1],
+                );
             }
         }
     }
@@ -640,12 +655,10 @@ pub fn subdivided_box_builder(size: [Real; 3], divisions: usize) -> MeshBuilder 
 /// surface out of a clean one; keep `amplitude` well under the edge lengths.
 pub fn jittered(mut builder: MeshBuilder, amplitude: Real, seed: u64) -> MeshBuilder {
     for p in &mut builder.positions {
-        let key = [p.x, p.y, p.z]
-            .iter()
-            .fold(seed, |h, c| {
-                let q = (c * 1e6).round() as i64 as u64;
-                SplitMix64::new(h ^ q.wrapping_mul(0x9E37_79B9_7F4A_7C15)).next_u64()
-            });
+        let key = [p.x, p.y, p.z].iter().fold(seed, |h, c| {
+            let q = (c * 1e6).round() as i64 as u64;
+            SplitMix64::new(h ^ q.wrapping_mul(0x9E37_79B9_7F4A_7C15)).next_u64()
+        });
         let mut rng = SplitMix64::new(key);
         *p += Vector3::new(rng.symmetric(), rng.symmetric(), rng.symmetric()) * amplitude;
     }
@@ -841,7 +854,11 @@ pub fn ellipsoid_builder(semi: [Real; 3], cut: Real, rings: usize, segments: usi
     }
     let b = revolve_builder(&profile, segments);
     let mut b = scaled(b, [semi[0], semi[1], c]);
-    let lowest = b.positions.iter().map(|p| p.z).fold(Real::INFINITY, Real::min);
+    let lowest = b
+        .positions
+        .iter()
+        .map(|p| p.z)
+        .fold(Real::INFINITY, Real::min);
     b.translate(Vector3::new(0.0, 0.0, -lowest));
     b
 }
@@ -879,15 +896,17 @@ pub fn scanned_box_builder() -> MeshBuilder {
 /// `z = 0`.
 pub fn plain_table_builder(size: [Real; 2], height: Real) -> MeshBuilder {
     let thickness = 0.03;
-    let mut b = box_builder([size[0] / 2.0, size[1] / 2.0, thickness / 2.0]).translated(
-        Vector3::new(0.0, 0.0, height - thickness / 2.0),
-    );
+    let mut b = box_builder([size[0] / 2.0, size[1] / 2.0, thickness / 2.0])
+        .translated(Vector3::new(0.0, 0.0, height - thickness / 2.0));
     let leg = height - thickness;
     let (lx, ly) = (size[0] / 2.0 - 0.05, size[1] / 2.0 - 0.05);
     for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
         b.append(
-            &box_builder([0.025, 0.025, leg / 2.0])
-                .translated(Vector3::new(sx * lx, sy * ly, leg / 2.0)),
+            &box_builder([0.025, 0.025, leg / 2.0]).translated(Vector3::new(
+                sx * lx,
+                sy * ly,
+                leg / 2.0,
+            )),
         );
     }
     b
@@ -902,8 +921,11 @@ pub fn shelf_builder(size: [Real; 2], height: Real) -> MeshBuilder {
         .translated(Vector3::new(0.0, 0.0, height - t / 2.0));
     for s in [-1.0, 1.0] {
         b.append(
-            &box_builder([size[0] / 2.0, t / 2.0, height / 2.0])
-                .translated(Vector3::new(0.0, s * (size[1] / 2.0 - t / 2.0), height / 2.0)),
+            &box_builder([size[0] / 2.0, t / 2.0, height / 2.0]).translated(Vector3::new(
+                0.0,
+                s * (size[1] / 2.0 - t / 2.0),
+                height / 2.0,
+            )),
         );
     }
     b
@@ -956,7 +978,11 @@ mod tests {
             ("scanned box", scanned_box_builder(), 0.0003),
             ("table", plain_table_builder([0.6, 0.9], 0.7), 0.0),
             ("shelf", shelf_builder([0.2, 0.3], 0.15), 0.0),
-            ("subdivided", subdivided_box_builder([0.1, 0.2, 0.3], 3), 0.0),
+            (
+                "subdivided",
+                subdivided_box_builder([0.1, 0.2, 0.3], 3),
+                0.0,
+            ),
         ];
         for (name, builder, noise) in builders {
             let mesh = builder.build().expect("valid");

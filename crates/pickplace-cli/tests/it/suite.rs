@@ -51,7 +51,13 @@ fn plans_and_validates(name: &str) -> serde_json::Value {
     assert_eq!(expectation(name), None, "{name} is a feasible scene");
     let dir = Scratch::new(&format!("suite-{name}"));
     let out = dir.join("plan.json");
-    let o = run(crate::args!["plan", scene(name), "--out", out, "--no-timings"]);
+    let o = run(crate::args![
+        "plan",
+        scene(name),
+        "--out",
+        out,
+        "--no-timings"
+    ]);
     assert_eq!(o.status.code(), Some(0), "plan {name}: {}", stderr(&o));
     let v = run(crate::args!["validate", scene(name), out]);
     assert_eq!(v.status.code(), Some(0), "validate {name}: {}", stderr(&v));
