@@ -317,12 +317,11 @@ pub fn scenes() -> Vec<Spec> {
     s.push(sc);
     let mut sc = base(
         "cereal-box-right",
-        "the 3 cm deep cereal box of issue 17, standing, its wide side to the robot",
+        "the 3 cm deep cereal box of issue 17, standing, its narrow side to the robot",
         "cereal",
-        [0.47, -0.20],
-        on_table(0.45, -0.02),
+        [0.54, -0.20],
+        on_table(0.42, -0.02),
     );
-    sc.yaw = FRAC_PI_2;
     sc.tags = vec!["table", "thin"];
     s.push(sc);
     let mut sc = base(
