@@ -446,11 +446,13 @@ pub fn render(rows: &[Row], s: &Summary, entries: &[Entry]) -> String {
         let _ = writeln!(t, "\nScenes with a run not as expected:\n");
         for name in failed {
             if let Some(e) = entries.iter().find(|e| e.name == name) {
-                let reason = s
-                    .failures
-                    .iter()
-                    .find(|r| r.scene == name)
-                    .map_or("", |r| r.outcome.reason());
+                let reason = match s.failures.iter().find(|r| r.scene == name) {
+                    Some(r) if r.outcome == Outcome::Valid => {
+                        "planned and validated, but the scene has no solution"
+                    }
+                    Some(r) => r.outcome.reason(),
+                    None => "",
+                };
                 let _ = writeln!(
                     t,
                     "- `{}` ({}; {}): {} — {}",
