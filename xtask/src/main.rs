@@ -6,6 +6,8 @@ mod fuzz;
 mod gen_meshes;
 mod precompute;
 mod roadmaps;
+mod suite;
+mod suite_run;
 mod test;
 
 use std::path::PathBuf;
@@ -18,6 +20,7 @@ fn main() -> anyhow::Result<()> {
         Some("bench") => bench::run(&repo_root(), &rest_args()),
         Some("fuzz") => fuzz::run(&repo_root(), &rest_args()),
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
+        Some("suite") => suite::run(&repo_root(), &rest_args()),
         Some("test") => test::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
@@ -48,8 +51,12 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      fuzz         --seconds N [TARGET…]: run each cargo-fuzz target N seconds \
      (needs nightly and cargo-fuzz); exit 1 on a crash\n  \
      fuzz-seeds   write the generated seed corpora under fuzz/seeds/\n  \
+     suite        gen | run [--seeds 1,2,3] [--scenes GLOB] [--write-doc]: write the \
+     scene suite (scenes/suite, meshes/suite), or plan and validate every scene of it with \
+     the release CLI and check each expectation (docs/suite.md)\n  \
      test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
-     from PyPI into target/robots-venv, once) and run cargo test --workspace";
+     from PyPI into target/robots-venv, once), run cargo test --workspace, then cargo \
+     xtask suite run";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
@@ -78,7 +85,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 7, "{tasks:?}");
+        assert_eq!(tasks.len(), 8, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

@@ -8,6 +8,7 @@ mod plan;
 mod precompute;
 mod robot;
 mod robots;
+mod suite;
 mod support;
 mod view;
 
