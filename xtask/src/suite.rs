@@ -849,7 +849,7 @@ pub fn scenes() -> Vec<Spec> {
         [0.46, -0.02, TABLE_TOP + 0.15],
     );
     sc.tags = vec!["no-solution"];
-    sc.expect = infeasible("target", "no upward-facing");
+    sc.expect = infeasible("target", "not on any surface");
     s.push(sc);
     let mut sc = base(
         "target-on-ramp",
@@ -860,7 +860,7 @@ pub fn scenes() -> Vec<Spec> {
     );
     sc.parts.push(part("ramp", "ramp", 0.46, -0.20));
     sc.tags = vec!["no-solution"];
-    sc.expect = infeasible("target", "no upward-facing");
+    sc.expect = infeasible("target", "too steep");
     s.push(sc);
     s
 }

@@ -218,7 +218,7 @@ fn end_of(path: &[Vec<Real>]) -> Result<&Vec<Real>> {
 fn candidates(
     setup: &Setup,
     timings: &mut BTreeMap<String, Real>,
-) -> Result<(PlacementSet, GraspSet)> {
+) -> Result<(PlacementSet, GraspSet, usize)> {
     let t = Instant::now();
     let placement_set = pickplace_placement::candidates(
         &setup.placement_object,
@@ -230,6 +230,15 @@ fn candidates(
         path: setup.scene_path.clone(),
         source: Box::new(source),
     })?;
+    // The object must end within the scene's tolerance of the target (the validator's rule):
+    // candidates farther away on the clicked cluster are not offered.
+    let mut placement_set = placement_set;
+    let tolerance = setup.scene.target.tolerance();
+    let before = placement_set.placements.len();
+    placement_set
+        .placements
+        .retain(|p| p.distance_to_target <= tolerance);
+    let far = before - placement_set.placements.len();
     timings.insert("placement".to_owned(), t.elapsed().as_secs_f64());
     let t = Instant::now();
     let grasp_set = GraspPlanner::new(&setup.object_mesh)
@@ -242,7 +251,7 @@ fn candidates(
         })
         .map_err(crate::error::internal("grasp planning"))?;
     timings.insert("grasp".to_owned(), t.elapsed().as_secs_f64());
-    Ok((placement_set, grasp_set))
+    Ok((placement_set, grasp_set, far))
 }
 
 impl<'a> Ctx<'a> {
@@ -316,7 +325,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     let t_all = Instant::now();
     let mut timings = BTreeMap::new();
     let target = setup.scene.target_point();
-    let (placement_set, grasp_set) = candidates(setup, &mut timings)?;
+    let (placement_set, grasp_set, far) = candidates(setup, &mut timings)?;
     let mut stats = Stats {
         placement_candidates: placement_set.placements.len(),
         grasp_candidates: grasp_set.grasps.len(),
@@ -329,6 +338,12 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             reasons.push(format!(
                 "no stable placement on environment cluster {cluster}: {} did not fit, {} unstable, {} penetrate",
                 r.did_not_fit, r.unstable, r.penetrates
+            ));
+        }
+        if far > 0 {
+            reasons.push(format!(
+                "no stable placement within {:.0} mm of the target ({far} farther away; target.tolerance)",
+                setup.scene.target.tolerance() * 1e3
             ));
         }
         if reasons.is_empty() {
@@ -445,7 +460,8 @@ mod tests {
             timings: false,
             ..PlanOptions::for_setup(setup)
         }));
-        let (placements, grasps) = candidates(setup, &mut BTreeMap::new()).expect("candidates");
+        let (placements, grasps, _) =
+            candidates(setup, &mut BTreeMap::new()).expect("candidates");
         Ctx::new(
             setup,
             options,
