@@ -205,6 +205,9 @@ impl Ctx<'_> {
             }
             path.push(q);
         }
+        if let Some(c) = self.dense_collision(arm, &path, &|i| world_at(i, n))? {
+            return Err(Rejection::DenseCollision(c).into());
+        }
         Ok(path)
     }
 

@@ -118,9 +118,13 @@ impl Ctx<'_> {
         )
         .unwrap_or(path);
         checker.check_error()?;
-        Ok((0..path.len())
+        let path: Vec<Vec<Real>> = (0..path.len())
             .map(|i| checker.full(path.waypoint(i)))
-            .collect())
+            .collect();
+        if let Some(c) = self.dense_collision(arm, &path, &|_| world)? {
+            return Err(Rejection::DenseCollision(c).into());
+        }
+        Ok(path)
     }
 
     /// The arm's motion back to its start configuration after the retreat, or `None` when

@@ -187,6 +187,9 @@ pub enum Rejection {
     NoIk,
     /// Every IK solution tried collides; the last collision found.
     Collision(Collision),
+    /// A collision between the checked states of a motion, found by the dense check at the
+    /// validator's resolution.
+    DenseCollision(Collision),
     /// A straight Cartesian motion has a step without an IK solution.
     NoIkOnLine,
     /// A straight Cartesian motion jumps between IK branches.
@@ -268,6 +271,7 @@ impl fmt::Display for Rejection {
             Rejection::NoGraspReaches => f.write_str("no grasp reaches it"),
             Rejection::NoMotionForAnyGrasp => f.write_str("no motion for any grasp"),
             Rejection::TimeBudgetSpent => f.write_str("time budget spent"),
+            Rejection::DenseCollision(c) => write!(f, "{c} between checked states"),
             Rejection::NoGraspFits(why) => write!(f, "no grasp fits the hand here ({why})"),
             Rejection::HandsTooClose => write!(
                 f,

@@ -111,6 +111,50 @@ impl Ctx<'_> {
     }
 }
 
+impl Ctx<'_> {
+    /// The first collision (margin 0) between consecutive waypoints of `path`, where `arm`
+    /// moves, checked as densely as the validator interpolates: no joint more than
+    /// [`crate::validate::MAX_JOINT_STEP`] and the tool frame no more than
+    /// [`crate::validate::MAX_CARTESIAN_STEP`] between two checked states. The motion planner
+    /// checks its edges at its own resolution and the straight motions at their IK steps; a
+    /// grazing contact between those states would otherwise reach the plan and be refused by
+    /// `pickplace validate`. `world_at(i)` is the world of the segment ending at waypoint `i`.
+    pub(super) fn dense_collision<'w>(
+        &self,
+        arm: Arm,
+        path: &[Vec<Real>],
+        world_at: &dyn Fn(usize) -> &'w CollisionWorld,
+    ) -> Result<Option<Collision>> {
+        use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
+        let mut q = Vec::new();
+        for i in 1..path.len() {
+            let (a, b) = (&path[i - 1], &path[i]);
+            let max_dq = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (y - x).abs())
+                .fold(0.0, Real::max);
+            let moved = (self.tcp(arm, b).translation.vector
+                - self.tcp(arm, a).translation.vector)
+                .norm();
+            let steps = ((max_dq / MAX_JOINT_STEP)
+                .max(moved / MAX_CARTESIAN_STEP)
+                .ceil() as usize)
+                .max(1);
+            // The ends are the planner's own checked states; the states between them are not.
+            for s in 1..steps {
+                let f = s as Real / steps as Real;
+                q.clear();
+                q.extend(a.iter().zip(b).map(|(x, y)| x + f * (y - x)));
+                if let Some(c) = self.collision(world_at(i), &q, 0.0)? {
+                    return Ok(Some(c));
+                }
+            }
+        }
+        Ok(None)
+    }
+}
+
 /// A body's name as the rejections print it: the held object is `held object`.
 pub(super) fn body_name(world: &CollisionWorld, b: BodyId) -> String {
     match b {
