@@ -146,7 +146,7 @@ pub fn meshes() -> Vec<SuiteMesh> {
         suite(
             "block-tall",
             "meshes/suite/gap-block.stl",
-            shapes::box_on_base_builder([0.10, 0.05, 0.15]),
+            shapes::box_on_base_builder([0.10, 0.05, 0.06]),
         ),
         suite(
             "obstacle",
@@ -258,7 +258,7 @@ fn pallet(x: Real, y: Real) -> (Part, [[Real; 3]; 4]) {
     )
 }
 
-/// Two tall blocks (0.10 × 0.05 × 0.15) whose inner faces are `gap` apart across y, centred at
+/// Two blocks (0.10 × 0.05 × 0.06, lower than the objects put between them, so that a hand from above clears them) whose inner faces are `gap` apart across y, centred at
 /// `(x, y)`.
 fn gap_blocks(x: Real, y: Real, gap: Real) -> [Part; 2] {
     let off = gap / 2.0 + 0.025;
@@ -588,7 +588,7 @@ pub fn scenes() -> Vec<Spec> {
     sc.tags = vec!["shelf", "thousands-of-triangles"];
     s.push(sc);
 
-    // --- Narrow gaps (7 cm between two 15 cm blocks).
+    // --- Narrow gaps (7 cm between two 6 cm blocks).
     let gap_target = on_table(0.48, -0.18);
     let mut sc = base(
         "can-into-gap",
