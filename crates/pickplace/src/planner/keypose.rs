@@ -205,8 +205,8 @@ impl Ctx<'_> {
             }
             path.push(q);
         }
-        if let Some(c) = self.dense_collision(arm, &path, &|i| world_at(i, n))? {
-            return Err(Rejection::DenseCollision(c).into());
+        if let Some(r) = self.dense_collision(arm, &path, &|i| world_at(i, n))? {
+            return Err(r.into());
         }
         Ok(path)
     }

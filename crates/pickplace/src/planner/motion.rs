@@ -121,8 +121,8 @@ impl Ctx<'_> {
         let path: Vec<Vec<Real>> = (0..path.len())
             .map(|i| checker.full(path.waypoint(i)))
             .collect();
-        if let Some(c) = self.dense_collision(arm, &path, &|_| world)? {
-            return Err(Rejection::DenseCollision(c).into());
+        if let Some(r) = self.dense_collision(arm, &path, &|_| world)? {
+            return Err(r.into());
         }
         Ok(path)
     }

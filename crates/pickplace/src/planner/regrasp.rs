@@ -23,7 +23,7 @@ use crate::contact::supports;
 use crate::error::Result;
 use crate::plan::StrategyReport;
 use crate::strategy::Strategy;
-use pickplace_geometry::math::{Point3, Real};
+use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_placement::{Placement, PlacementOptions};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -39,7 +39,9 @@ const REST_SALT: u64 = 1 << 62;
 impl Ctx<'_> {
     /// The intermediate resting poses (computed once): stable placements (paper §III-B.2,
     /// Algorithm 2 with every resting face) on the surface the object starts on, within
-    /// [`REST_RADIUS`] of its start, the start pose itself left out.
+    /// [`REST_RADIUS`] of its start, then within [`REST_RADIUS`] of the point halfway to the
+    /// target on that surface (where both arms reach when one hand picks and the other
+    /// places), the start pose itself and duplicates left out.
     pub(super) fn rests(&self) -> &[Placement] {
         self.rests.get_or_init(|| {
             let setup = self.setup;
@@ -52,28 +54,49 @@ impl Ctx<'_> {
                 .map(|v| (start * v).z)
                 .fold(Real::INFINITY, Real::min);
             let cog = start * setup.cog;
-            let anchor = Point3::new(cog.x, cog.y, lowest);
+            let target = setup.scene.target_point();
+            let anchors = [
+                Point3::new(cog.x, cog.y, lowest),
+                Point3::new(
+                    0.5 * (cog.x + target.x),
+                    0.5 * (cog.y + target.y),
+                    lowest,
+                ),
+            ];
+            // A rest needs a few stable poses per resting face near the anchor, not the
+            // exhaustive search of the target's cluster: a small effort bounds its cost on
+            // large tables and objects with many faces.
             let options = PlacementOptions {
                 search_radius: REST_RADIUS,
+                max_per_pair: 4,
+                edge_segments: 2,
+                edge_positions: 8,
+                max_candidates: 48,
                 ..PlacementOptions::default()
             };
-            let Ok(set) = pickplace_placement::candidates(
-                &setup.placement_object,
-                &setup.placement_env,
-                &anchor,
-                &options,
-            ) else {
-                return Vec::new();
-            };
-            set.placements
-                .into_iter()
-                .filter(|p| {
-                    let d =
-                        (p.world_from_object.translation.vector - start.translation.vector).norm();
-                    let a = p.world_from_object.rotation.angle_to(&start.rotation);
-                    d > 0.01 || a > 5f64.to_radians()
-                })
-                .collect()
+            let mut rests: Vec<Placement> = Vec::new();
+            for anchor in &anchors {
+                let Ok(set) = pickplace_placement::candidates(
+                    &setup.placement_object,
+                    &setup.placement_env,
+                    anchor,
+                    &options,
+                ) else {
+                    continue;
+                };
+                for p in set.placements {
+                    let same = |q: &Isometry3| {
+                        (p.world_from_object.translation.vector - q.translation.vector).norm()
+                            <= 0.01
+                            && p.world_from_object.rotation.angle_to(&q.rotation)
+                                <= 5f64.to_radians()
+                    };
+                    if !same(&start) && !rests.iter().any(|r| same(&r.world_from_object)) {
+                        rests.push(p);
+                    }
+                }
+            }
+            rests
         })
     }
 
@@ -112,7 +135,12 @@ impl Ctx<'_> {
         if finals.is_empty() {
             return Ok(None);
         }
+        let t = std::time::Instant::now();
         let n_rests = self.rests().len();
+        if self.options.timings && !self.timings.contains_key("rests") {
+            self.timings
+                .insert("rests".to_owned(), t.elapsed().as_secs_f64());
+        }
         if n_rests == 0 {
             count(report, Stage::Rest).reject(Rejection::NoRest.to_string());
             return Ok(None);

@@ -4,7 +4,7 @@
 //! touch the fingers and, near a support, the support).
 
 use super::Ctx;
-use super::reason::Collision;
+use super::reason::{Collision, Rejection};
 use crate::contact::OBJECT_NAME;
 use crate::error::Result;
 use crate::strategy::Arm;
@@ -124,7 +124,7 @@ impl Ctx<'_> {
         arm: Arm,
         path: &[Vec<Real>],
         world_at: &dyn Fn(usize) -> &'w CollisionWorld,
-    ) -> Result<Option<Collision>> {
+    ) -> Result<Option<Rejection>> {
         use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
         let mut q = Vec::new();
         for i in 1..path.len() {
@@ -141,13 +141,20 @@ impl Ctx<'_> {
                 .max(moved / MAX_CARTESIAN_STEP)
                 .ceil() as usize)
                 .max(1);
-            // The ends are the planner's own checked states; the states between them are not.
-            for s in 1..steps {
+            // The ends are the planner's own checked states (for collision); the states
+            // between them are not. The hands' clearance (the validator's rule at every
+            // state) is checked at every state the motion adds.
+            for s in 1..=steps {
                 let f = s as Real / steps as Real;
                 q.clear();
                 q.extend(a.iter().zip(b).map(|(x, y)| x + f * (y - x)));
-                if let Some(c) = self.collision(world_at(i), &q, 0.0)? {
-                    return Ok(Some(c));
+                if s < steps
+                    && let Some(c) = self.collision(world_at(i), &q, 0.0)?
+                {
+                    return Ok(Some(Rejection::DenseCollision(c)));
+                }
+                if self.hands_too_close(&q)? {
+                    return Ok(Some(Rejection::HandsTooClose));
                 }
             }
         }
