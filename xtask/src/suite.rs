@@ -461,13 +461,17 @@ pub fn scenes() -> Vec<Spec> {
     s.push(sc);
     let mut sc = base(
         "mug-upside-down",
-        "a mug standing upside down on its rim",
+        "a mug standing upside down on its rim: its 8 cm body leaves no room in NX-HIRO's 8 cm opening, and the rim its fingers pinch is against the table, so no grasp can take it",
         "mug",
         [0.40, -0.18],
         on_table(0.47, -0.03),
     );
     sc.tilt = Tilt::UpsideDown;
-    sc.tags = vec!["table", "upside-down"];
+    sc.expect = Expect::Infeasible {
+        stage: "pick",
+        reason: "gripper hits table",
+    };
+    sc.tags = vec!["table", "upside-down", "no-solution"];
     s.push(sc);
     let mut sc = base(
         "scanned-box-on-side",
