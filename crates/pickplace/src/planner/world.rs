@@ -112,9 +112,9 @@ impl Ctx<'_> {
 }
 
 impl Ctx<'_> {
-    /// The first collision (margin 0) between consecutive waypoints of `path`, where `arm`
-    /// moves, checked as densely as the validator interpolates: no joint more than
-    /// [`crate::validate::MAX_JOINT_STEP`] and the tool frame no more than
+    /// The first collision (margin 0) or breach of the hands' clearance along `path`, where
+    /// `arm` moves, checked twice as densely as the validator interpolates: no joint more
+    /// than half [`crate::validate::MAX_JOINT_STEP`] and the tool frame no more than half
     /// [`crate::validate::MAX_CARTESIAN_STEP`] between two checked states. The motion planner
     /// checks its edges at its own resolution and the straight motions at their IK steps; a
     /// grazing contact between those states would otherwise reach the plan and be refused by
@@ -137,20 +137,19 @@ impl Ctx<'_> {
             let moved = (self.tcp(arm, b).translation.vector
                 - self.tcp(arm, a).translation.vector)
                 .norm();
-            let steps = ((max_dq / MAX_JOINT_STEP)
-                .max(moved / MAX_CARTESIAN_STEP)
+            // Twice as dense as the validator: its states fall between these (its phase
+            // differs), and a grazing contact deep enough for it to see is seen here.
+            let steps = ((2.0 * max_dq / MAX_JOINT_STEP)
+                .max(2.0 * moved / MAX_CARTESIAN_STEP)
                 .ceil() as usize)
                 .max(1);
-            // The ends are the planner's own checked states (for collision); the states
-            // between them are not. The hands' clearance (the validator's rule at every
-            // state) is checked at every state the motion adds.
+            // Every state the motion adds (the hands' clearance is the validator's rule at
+            // every state too).
             for s in 1..=steps {
                 let f = s as Real / steps as Real;
                 q.clear();
                 q.extend(a.iter().zip(b).map(|(x, y)| x + f * (y - x)));
-                if s < steps
-                    && let Some(c) = self.collision(world_at(i), &q, 0.0)?
-                {
+                if let Some(c) = self.collision(world_at(i), &q, 0.0)? {
                     return Ok(Some(Rejection::DenseCollision(c)));
                 }
                 if self.hands_too_close(&q)? {
