@@ -205,9 +205,6 @@ impl Ctx<'_> {
             }
             path.push(q);
         }
-        if let Some(r) = self.dense_collision(arm, &path, &|i| world_at(i, n))? {
-            return Err(r.into());
-        }
         Ok(path)
     }
 
@@ -235,7 +232,7 @@ impl Ctx<'_> {
     /// The world while `arm` moves the held object within
     /// [`super::PlanOptions::contact_zone`] of its support: the object may touch `supports`
     /// in the first part of the straight motion, nothing after.
-    fn contact_worlds(
+    pub(super) fn contact_worlds(
         &self,
         arm: Arm,
         object_from_tcp: &Isometry3,
@@ -325,8 +322,7 @@ impl Ctx<'_> {
             return r.clone().map_err(Into::into);
         }
         let p = &self.placements[pi];
-        let supports =
-            self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object));
+        let supports = self.placement_supports(pi);
         let result = split(self.place_at(
             arm,
             gi,
@@ -338,6 +334,12 @@ impl Ctx<'_> {
         self.memo_lock(&self.place_memo)
             .insert((arm, pi, gi), result.clone());
         result.map_err(Into::into)
+    }
+
+    /// The environment bodies the object touches at placement `pi`, found once.
+    pub(super) fn placement_supports(&self, pi: usize) -> &[String] {
+        let p = &self.placements[pi];
+        self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object))
     }
 
     /// The memo behind `mutex` (a poisoned lock still holds valid entries: each is inserted
@@ -423,9 +425,73 @@ impl Ctx<'_> {
         }
     }
 
+    /// The dense re-check of a straight motion of `arm` (`path` as the plan uses it) in the
+    /// worlds its search used (`world_at(i, n)` for the step `i` of `n` counted from the
+    /// key pose; `reversed` when the path runs towards the key pose): the states between its
+    /// IK steps at the validator's resolution (`Ctx::dense_collision`). Deferred from the
+    /// search to the candidates whose motions are planned, since most straight motions
+    /// computed belong to candidates rejected later.
+    pub(super) fn check_straight<'w>(
+        &self,
+        arm: Arm,
+        path: &[Vec<Real>],
+        world_at: &dyn Fn(usize, usize) -> &'w CollisionWorld,
+        reversed: bool,
+    ) -> Attempt<()> {
+        let n = path.len().saturating_sub(1);
+        let collides = |i: usize, q: &[Real]| {
+            let k = if reversed { n + 1 - i } else { i };
+            self.collision(world_at(k.min(n), n), q, 0.0)
+        };
+        match self.dense_collision(arm, path, 1.0, &collides)? {
+            Some(r) => Err(r.into()),
+            None => Ok(()),
+        }
+    }
+
+    /// [`Ctx::check_straight`] of a pick's straight motions as the plan uses them: the
+    /// approach with the object lying at `at`, the lift with it held by grasp `gi` (touching
+    /// `supports` within the contact zone).
+    pub(super) fn check_pick(
+        &self,
+        arm: Arm,
+        gi: usize,
+        (at, supports): (&Isometry3, &[String]),
+        approach: &[Vec<Real>],
+        lift: &[Vec<Real>],
+    ) -> Attempt<()> {
+        let free = self.world_with_object_at(at);
+        self.check_straight(arm, approach, &|_, _| &free, true)
+            .map_err(|f| f.at(Step::Approach))?;
+        let [holding, contact] =
+            self.contact_worlds(arm, &self.grasps[gi].object_from_tcp, supports)?;
+        self.check_straight(arm, lift, &self.near_support(&holding, &contact), false)
+            .map_err(|f| f.at(Step::Lift))
+    }
+
+    /// [`Ctx::check_straight`] of a place's straight motions as the plan uses them: the
+    /// lowering with the object held by grasp `gi` (touching `supports` within the contact
+    /// zone of `at`), the retreat with it lying at `at`.
+    pub(super) fn check_place(
+        &self,
+        arm: Arm,
+        gi: usize,
+        (at, supports): (&Isometry3, &[String]),
+        lower: &[Vec<Real>],
+        retreat: &[Vec<Real>],
+    ) -> Attempt<()> {
+        let [holding, contact] =
+            self.contact_worlds(arm, &self.grasps[gi].object_from_tcp, supports)?;
+        self.check_straight(arm, lower, &self.near_support(&holding, &contact), true)
+            .map_err(|f| f.at(Step::Lower))?;
+        let left = self.world_with_object_at(at);
+        self.check_straight(arm, retreat, &|_, _| &left, false)
+            .map_err(|f| f.at(Step::Retreat))
+    }
+
     /// For a vertical motion of [`super::PlanOptions::lift_height`] away from a support in
     /// `n` steps: the world of step `i`, `contact` within the contact zone, `holding` above.
-    fn near_support<'w>(
+    pub(super) fn near_support<'w>(
         &self,
         holding: &'w CollisionWorld,
         contact: &'w CollisionWorld,

@@ -460,8 +460,7 @@ mod tests {
             timings: false,
             ..PlanOptions::for_setup(setup)
         }));
-        let (placements, grasps, _) =
-            candidates(setup, &mut BTreeMap::new()).expect("candidates");
+        let (placements, grasps, _) = candidates(setup, &mut BTreeMap::new()).expect("candidates");
         Ctx::new(
             setup,
             options,

@@ -121,7 +121,20 @@ impl Ctx<'_> {
         let path: Vec<Vec<Real>> = (0..path.len())
             .map(|i| checker.full(path.waypoint(i)))
             .collect();
-        if let Some(r) = self.dense_collision(arm, &path, &|_| world)? {
+        // The dense re-check: only the pairs the arm moves (the others are as at the ends,
+        // which are checked), for contact.
+        let contact = ArmChecker::new(&self.setup.model, world, &a.variables, from.to_vec(), 0.0)
+            .moving_pairs_only();
+        let collides = |_: usize, q: &[Real]| -> crate::Result<Option<super::reason::Collision>> {
+            let arm_q: Vec<Real> = a.variables.iter().map(|&v| q[v]).collect();
+            let hit = contact.first_collision(&arm_q);
+            contact.check_error()?;
+            Ok(hit.map(|(x, y)| super::reason::Collision {
+                a: super::world::body_name(world, x),
+                b: super::world::body_name(world, y),
+            }))
+        };
+        if let Some(r) = self.dense_collision(arm, &path, 2.0, &collides)? {
             return Err(r.into());
         }
         Ok(path)
@@ -168,6 +181,9 @@ impl Ctx<'_> {
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
+        // The straight motions, densely, before any motion is planned.
+        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
+        self.check_pick(arm, gi, start_rest, &pick.approach, &pick.lift)?;
         let free = self.world_with_object_at(&self.setup.object_start);
         let pre_grasp = &pick.approach[0];
         let to_pre = self
@@ -192,23 +208,25 @@ impl Ctx<'_> {
             .iter()
             .map(|q| self.other_from(arm, lifted, q))
             .collect();
-        let carry = self
-            .motion(arm, &holding, lifted, &lower[0], salt ^ 2)
-            .map_err(|f| f.at(Step::ToPrePlace))?;
-        segments.push(Segment::reach("pre-place", arm, carry));
-        segments.push(Segment::reach("place", arm, lower.clone()));
         let q_place = super::end_of(&lower)?;
         let opened = self.opened(arm, q_place);
-        segments.push(Segment::event(
-            vec![q_place.clone(), opened.clone()],
-            Some(("release", arm)),
-            (EventKind::Release, arm, g.object_from_tcp.inverse()),
-        ));
         let retreat: Vec<Vec<Real>> = place
             .retreat
             .iter()
             .map(|q| self.other_from(arm, &opened, q))
             .collect();
+        let supports = self.placement_supports(pi);
+        self.check_place(arm, gi, (&p.world_from_object, supports), &lower, &retreat)?;
+        let carry = self
+            .motion(arm, &holding, lifted, &lower[0], salt ^ 2)
+            .map_err(|f| f.at(Step::ToPrePlace))?;
+        segments.push(Segment::reach("pre-place", arm, carry));
+        segments.push(Segment::reach("place", arm, lower.clone()));
+        segments.push(Segment::event(
+            vec![q_place.clone(), opened.clone()],
+            Some(("release", arm)),
+            (EventKind::Release, arm, g.object_from_tcp.inverse()),
+        ));
         segments.push(Segment::reach("retreat", arm, retreat.clone()));
         let left = self.world_with_object_at(&p.world_from_object);
         let retreated = super::end_of(&retreat)?;
@@ -271,6 +289,8 @@ impl Ctx<'_> {
             .map(|q| self.other_from(b, q, &open_start))
             .collect();
         segments.push(Segment::reach("lift", a, lift.clone()));
+        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
+        self.check_pick(a, h.g1, start_rest, &approach, &lift)?;
         // A carries the object to the handover pose.
         let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
         let q_handover = self.arm_from(a, &here(&lift)?, &h.q_a);
@@ -289,6 +309,8 @@ impl Ctx<'_> {
             .iter()
             .map(|qb| self.arm_from(b, &q_pre_b, qb))
             .collect();
+        self.check_straight(b, &b_approach, &|_, _| &holding_a, true)
+            .map_err(|f| f.at(Step::RegraspApproach))?;
         segments.push(Segment::reach("regrasp", b, b_approach.clone()));
         let q = here(&b_approach)?;
         let b_closed = self.gripping(b, &q, g2.width);
@@ -308,8 +330,10 @@ impl Ctx<'_> {
             .iter()
             .map(|qa| self.arm_from(a, &a_open, qa))
             .collect();
-        segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
         let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
+        self.check_straight(a, &a_retreat, &|_, _| &holding_b, false)
+            .map_err(|f| f.at(Step::FirstHandRetreat))?;
+        segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
         // A goes back to its start while B holds.
         let a_home = self.arm_from(a, &here(&a_retreat)?, start);
         let back_a = self
@@ -339,6 +363,11 @@ impl Ctx<'_> {
             .iter()
             .map(|qb| self.arm_from(b, &opened, qb))
             .collect();
+        let placed = (
+            &self.placements[pi].world_from_object,
+            self.placement_supports(pi),
+        );
+        self.check_place(b, h.g2, placed, &lower, &retreat)?;
         segments.push(Segment::reach("retreat", b, retreat.clone()));
         let left = self.world_with_object_at(&self.placements[pi].world_from_object);
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
@@ -395,6 +424,8 @@ impl Ctx<'_> {
         ));
         let lift: Vec<Vec<Real>> = legs.pick.lift.iter().map(|q| graft_a(q, &closed)).collect();
         segments.push(Segment::reach("lift", a, lift.clone()));
+        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
+        self.check_pick(a, legs.g1, start_rest, &approach, &lift)?;
         // Carry to the rest and put it down.
         let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
         let lower: Vec<Vec<Real>> = legs
@@ -421,6 +452,8 @@ impl Ctx<'_> {
             .iter()
             .map(|q| graft_a(q, &opened))
             .collect();
+        let at_rest = (&rest, self.rest_supports(legs.k));
+        self.check_place(a, legs.g1, at_rest, &lower, &retreat)?;
         segments.push(Segment::reach("retreat-rest", a, retreat.clone()));
         let resting = self.world_with_object_at(&rest);
         let mut current = here(&retreat)?;
@@ -456,6 +489,7 @@ impl Ctx<'_> {
         ));
         let lift: Vec<Vec<Real>> = legs.up.lift.iter().map(|q| graft_b(q, &closed)).collect();
         segments.push(Segment::reach("lift-again", b, lift.clone()));
+        self.check_pick(b, legs.g2, at_rest, &approach, &lift)?;
         // Carry to the placement and place.
         let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
         let lower: Vec<Vec<Real>> = legs
@@ -482,6 +516,11 @@ impl Ctx<'_> {
             .iter()
             .map(|q| graft_b(q, &opened))
             .collect();
+        let placed = (
+            &self.placements[legs.pi].world_from_object,
+            self.placement_supports(legs.pi),
+        );
+        self.check_place(b, legs.g2, placed, &lower, &retreat)?;
         segments.push(Segment::reach("retreat", b, retreat.clone()));
         let left = self.world_with_object_at(&self.placements[legs.pi].world_from_object);
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {

@@ -57,11 +57,7 @@ impl Ctx<'_> {
             let target = setup.scene.target_point();
             let anchors = [
                 Point3::new(cog.x, cog.y, lowest),
-                Point3::new(
-                    0.5 * (cog.x + target.x),
-                    0.5 * (cog.y + target.y),
-                    lowest,
-                ),
+                Point3::new(0.5 * (cog.x + target.x), 0.5 * (cog.y + target.y), lowest),
             ];
             // A rest needs a few stable poses per resting face near the anchor, not the
             // exhaustive search of the target's cluster: a small effort bounds its cost on
@@ -101,7 +97,7 @@ impl Ctx<'_> {
     }
 
     /// The bodies the object touches at rest `k`, found once.
-    fn rest_supports(&self, k: usize) -> &[String] {
+    pub(super) fn rest_supports(&self, k: usize) -> &[String] {
         let all = self
             .rest_supports
             .get_or_init(|| self.rests().iter().map(|_| OnceLock::new()).collect());

@@ -113,17 +113,21 @@ impl Ctx<'_> {
 
 impl Ctx<'_> {
     /// The first collision (margin 0) or breach of the hands' clearance along `path`, where
-    /// `arm` moves, checked twice as densely as the validator interpolates: no joint more
-    /// than half [`crate::validate::MAX_JOINT_STEP`] and the tool frame no more than half
-    /// [`crate::validate::MAX_CARTESIAN_STEP`] between two checked states. The motion planner
+    /// `arm` moves, checked `density` times as densely as the validator interpolates (no
+    /// joint more than [`crate::validate::MAX_JOINT_STEP`] / `density` and the tool frame no
+    /// more than [`crate::validate::MAX_CARTESIAN_STEP`] / `density` between two checked
+    /// states). At a density of 2 the validator's states (at another phase) fall between
+    /// these, and a grazing contact deep enough for it to see is seen here. The motion planner
     /// checks its edges at its own resolution and the straight motions at their IK steps; a
     /// grazing contact between those states would otherwise reach the plan and be refused by
-    /// `pickplace validate`. `world_at(i)` is the world of the segment ending at waypoint `i`.
-    pub(super) fn dense_collision<'w>(
+    /// `pickplace validate`. `collides(i, q)` checks the full configuration `q` on the segment
+    /// ending at waypoint `i`.
+    pub(super) fn dense_collision(
         &self,
         arm: Arm,
         path: &[Vec<Real>],
-        world_at: &dyn Fn(usize) -> &'w CollisionWorld,
+        density: Real,
+        collides: &dyn Fn(usize, &[Real]) -> Result<Option<Collision>>,
     ) -> Result<Option<Rejection>> {
         use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
         let mut q = Vec::new();
@@ -134,13 +138,10 @@ impl Ctx<'_> {
                 .zip(b)
                 .map(|(x, y)| (y - x).abs())
                 .fold(0.0, Real::max);
-            let moved = (self.tcp(arm, b).translation.vector
-                - self.tcp(arm, a).translation.vector)
-                .norm();
-            // Twice as dense as the validator: its states fall between these (its phase
-            // differs), and a grazing contact deep enough for it to see is seen here.
-            let steps = ((2.0 * max_dq / MAX_JOINT_STEP)
-                .max(2.0 * moved / MAX_CARTESIAN_STEP)
+            let moved =
+                (self.tcp(arm, b).translation.vector - self.tcp(arm, a).translation.vector).norm();
+            let steps = ((density * max_dq / MAX_JOINT_STEP)
+                .max(density * moved / MAX_CARTESIAN_STEP)
                 .ceil() as usize)
                 .max(1);
             // Every state the motion adds (the hands' clearance is the validator's rule at
@@ -149,7 +150,7 @@ impl Ctx<'_> {
                 let f = s as Real / steps as Real;
                 q.clear();
                 q.extend(a.iter().zip(b).map(|(x, y)| x + f * (y - x)));
-                if let Some(c) = self.collision(world_at(i), &q, 0.0)? {
+                if let Some(c) = collides(i, &q)? {
                     return Ok(Some(Rejection::DenseCollision(c)));
                 }
                 if self.hands_too_close(&q)? {
