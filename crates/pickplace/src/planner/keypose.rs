@@ -426,9 +426,9 @@ impl Ctx<'_> {
     }
 
     /// The dense re-check of a straight motion of `arm` (`path` as the plan uses it) in the
-    /// worlds its search used (`world_at(i, n)` for the step `i` of `n` counted from the
-    /// key pose; `reversed` when the path runs towards the key pose): the states between its
-    /// IK steps at the validator's resolution (`Ctx::dense_collision`). Deferred from the
+    /// worlds its search used (`world_at(0, n)` near the key pose, `world_at(n, n)` beyond
+    /// its contact zone; `reversed` when the path runs towards the key pose): the states
+    /// between its IK steps at the validator's resolution (`Ctx::dense_collision`). Deferred from the
     /// search to the candidates whose motions are planned, since most straight motions
     /// computed belong to candidates rejected later.
     pub(super) fn check_straight<'w>(
@@ -439,9 +439,16 @@ impl Ctx<'_> {
         reversed: bool,
     ) -> Attempt<()> {
         let n = path.len().saturating_sub(1);
-        let collides = |i: usize, q: &[Real]| {
-            let k = if reversed { n + 1 - i } else { i };
-            self.collision(world_at(k.min(n), n), q, 0.0)
+        // Within the contact zone of the key pose (by the tool frame's distance from it, as
+        // the validator measures the object's), the world of the key pose; beyond, the
+        // world of the far end.
+        let key = if reversed { path.last() } else { path.first() };
+        let key_tcp = key.map(|q| self.tcp(arm, q).translation.vector);
+        let collides = |_: usize, q: &[Real]| {
+            let near = key_tcp.is_some_and(|k| {
+                (self.tcp(arm, q).translation.vector - k).norm() <= self.options.contact_zone
+            });
+            self.collision(world_at(if near { 0 } else { n }, n), q, 0.0)
         };
         match self.dense_collision(arm, path, 1.0, &collides)? {
             Some(r) => Err(r.into()),
