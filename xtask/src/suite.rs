@@ -225,6 +225,10 @@ pub struct Spec {
     pub right_arm: Option<&'static str>,
     pub tags: Vec<&'static str>,
     pub expect: Expect,
+    /// A feasible scene the planner does not meet yet, and why: listed as open by
+    /// `cargo xtask suite run`, which then does not fail on it (issue 17 is open while any
+    /// scene is).
+    pub open: Option<&'static str>,
 }
 
 fn table() -> Part {
@@ -291,6 +295,7 @@ pub fn scenes() -> Vec<Spec> {
         right_arm: None,
         tags: Vec::new(),
         expect: Expect::Feasible,
+        open: None,
     };
     let on_table = |x, y| [x, y, TABLE_TOP];
     let side64 = Tilt::OnSide { roll: PI / 64.0 };
@@ -516,6 +521,9 @@ pub fn scenes() -> Vec<Spec> {
     );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent"];
+    sc.open = Some(
+        "no IK places the box in the pocket at x = 0.61 m, and no handover or regrasp reaches it (the carton, taller, is placed there)",
+    );
     s.push(sc);
     let mut sc = base(
         "block-into-small-dent",
@@ -526,6 +534,9 @@ pub fn scenes() -> Vec<Spec> {
     );
     sc.parts.push(p.clone());
     sc.tags = vec!["dent"];
+    sc.open = Some(
+        "every place in the 5 cm dent has no IK for the right hand and no handover leaves the hands room on a 4 cm block",
+    );
     s.push(sc);
     let mut sc = base(
         "brick-into-large-dent",
@@ -719,6 +730,9 @@ pub fn scenes() -> Vec<Spec> {
         on_table(0.44, -0.34),
     );
     sc.tags = vec!["handover", "curved"];
+    sc.open = Some(
+        "only 2 of 28 grasps pick the duck at far left (the others put the fingers into the table); no handover or put-down sequence follows",
+    );
     s.push(sc);
     let (p, dents) = pallet(0.48, -0.22);
     let mut sc = base(
@@ -1027,6 +1041,9 @@ fn manifest(specs: &[Spec]) -> anyhow::Result<String> {
                 writeln!(t, "stage = \"{stage}\"")?;
                 writeln!(t, "reason = \"{reason}\"")?;
             }
+        }
+        if let Some(open) = s.open {
+            writeln!(t, "open = \"{}\"", open.replace('"', "'"))?;
         }
         let tags: Vec<String> = s.tags.iter().map(|t| format!("\"{t}\"")).collect();
         writeln!(t, "tags = [{}]", tags.join(", "))?;

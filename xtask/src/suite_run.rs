@@ -36,6 +36,9 @@ pub struct Entry {
     pub reason: Option<String>,
     pub tags: Vec<String>,
     pub about: String,
+    /// Why a feasible scene is not met yet (an open failure: reported, not failing the run).
+    #[serde(default)]
+    pub open: Option<String>,
 }
 
 impl Entry {
@@ -124,6 +127,8 @@ pub struct Row {
     pub time: Option<f64>,
     /// Whether the outcome is what the manifest expects.
     pub as_expected: bool,
+    /// The manifest's reason when the scene is known not to be met yet.
+    pub open: Option<String>,
 }
 
 struct Args {
@@ -306,6 +311,7 @@ fn run_one(
         strategy,
         time,
         as_expected,
+        open: e.open.clone(),
     })
 }
 
@@ -600,15 +606,33 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         );
         write_doc(root, &text)?;
     }
-    if !summary.failures.is_empty() || !summary.disagreeing.is_empty() {
-        let names: Vec<String> = summary
-            .failures
+    let open: Vec<&Row> = summary
+        .failures
+        .iter()
+        .filter(|r| r.open.is_some())
+        .collect();
+    if !open.is_empty() {
+        eprintln!(
+            "open (feasible scenes the planner does not meet yet, listed in the manifest): {}",
+            open.iter()
+                .map(|r| format!("{} (seed {})", r.scene, r.seed))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let failed: Vec<&Row> = summary
+        .failures
+        .iter()
+        .filter(|r| r.open.is_none())
+        .collect();
+    if !failed.is_empty() || !summary.disagreeing.is_empty() {
+        let names: Vec<String> = failed
             .iter()
             .map(|r| format!("{} (seed {})", r.scene, r.seed))
             .collect();
         bail!(
             "{} run(s) not as expected: {}; seeds disagree on: {:?}",
-            summary.failures.len(),
+            failed.len(),
             names.join(", "),
             summary.disagreeing
         );
@@ -660,6 +684,7 @@ mod tests {
             strategy: String::new(),
             time: Some(0.01 * seed as f64),
             as_expected: ok,
+            open: None,
         };
         let rows = [row("a", 1, true), row("a", 2, false), row("b", 1, true)];
         let s = summarize(&rows);
