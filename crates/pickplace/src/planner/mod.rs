@@ -140,6 +140,13 @@ pub struct Failure {
     pub stats: Stats,
 }
 
+/// The grasps fitting a hand at a placement (best first) and the most frequent reason of
+/// the others.
+type Fits = (Vec<usize>, String);
+
+/// A memoized key pose: the result, or why it was rejected.
+type Memo<T> = std::result::Result<T, Rejection>;
+
 /// One planning run: the scene, the options and the candidates every stage shares.
 struct Ctx<'a> {
     /// When planning started (for the time budget).
@@ -159,14 +166,13 @@ struct Ctx<'a> {
     placement_supports: Vec<OnceLock<Vec<String>>>,
     /// Per arm (right, left) and placement: the grasps whose closed gripper fits there
     /// (`Ctx::grasp_fits`), found once.
-    placement_fits: [Vec<OnceLock<(Vec<usize>, String)>>; 2],
+    placement_fits: [Vec<OnceLock<Fits>>; 2],
     /// The start configuration with both hands open: the seed of every place.
     open_start: Vec<Real>,
     /// Picks at the start per (arm, grasp), shared by the strategies.
-    pick_memo: Mutex<BTreeMap<(Arm, usize), std::result::Result<keypose::Pick, Rejection>>>,
+    pick_memo: Mutex<BTreeMap<(Arm, usize), Memo<keypose::Pick>>>,
     /// Places per (arm, placement, grasp), shared by the strategies.
-    place_memo:
-        Mutex<BTreeMap<(Arm, usize, usize), std::result::Result<keypose::Place, Rejection>>>,
+    place_memo: Mutex<BTreeMap<(Arm, usize, usize), Memo<keypose::Place>>>,
     /// The hands' clearance check, built once (`Ctx::hands_too_close`).
     hand_clearance: OnceLock<std::result::Result<Option<crate::validate::HandClearance>, String>>,
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).

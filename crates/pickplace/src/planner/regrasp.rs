@@ -27,6 +27,7 @@ use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_placement::{Placement, PlacementOptions};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::collections::btree_map::Entry;
 use std::sync::OnceLock;
 
 /// Radius (m) around the object's start within which intermediate resting poses are sought
@@ -219,7 +220,7 @@ impl Ctx<'_> {
                             break;
                         }
                         let rest_pose = self.rests()[k].world_from_object;
-                        if !ups.contains_key(&(k, g2)) {
+                        if let Entry::Vacant(slot) = ups.entry((k, g2)) {
                             let supports = self.rest_supports(k).to_vec();
                             let r = split(self.pick_at(
                                 b,
@@ -230,7 +231,7 @@ impl Ctx<'_> {
                                 1 + k as u64,
                             ))?;
                             tally(report, Stage::Regrasp, &r);
-                            ups.insert((k, g2), r);
+                            slot.insert(r);
                         }
                         let Some(Ok(up_pick)) = ups.get(&(k, g2)) else {
                             continue;
@@ -244,16 +245,16 @@ impl Ctx<'_> {
                             if self.out_of_time() {
                                 break;
                             }
-                            if !picks.contains_key(&g1) {
+                            if let Entry::Vacant(slot) = picks.entry(g1) {
                                 let r = split(self.pick(a, g1))?;
                                 tally(report, Stage::Pick, &r);
-                                picks.insert(g1, r);
+                                slot.insert(r);
                             }
                             let Some(Ok(pick)) = picks.get(&g1) else {
                                 continue;
                             };
                             let pick = pick.clone();
-                            if !downs.contains_key(&(k, g1)) {
+                            if let Entry::Vacant(slot) = downs.entry((k, g1)) {
                                 let lifted = super::end_of(&pick.lift)?;
                                 let supports = self.rest_supports(k).to_vec();
                                 let r = split(self.place_at(
@@ -265,7 +266,7 @@ impl Ctx<'_> {
                                     REST_SALT | (k as u64) << 20,
                                 ))?;
                                 tally(report, Stage::Rest, &r);
-                                downs.insert((k, g1), r);
+                                slot.insert(r);
                             }
                             let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
                                 continue;

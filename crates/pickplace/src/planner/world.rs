@@ -13,6 +13,10 @@ use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch, Collisi
 use pickplace_robot::srdf::DisableReason;
 use std::cell::RefCell;
 
+/// A check of the full configuration on the segment ending at a waypoint: the first
+/// collision, if any.
+pub(super) type StateCheck<'c> = dyn Fn(usize, &[Real]) -> Result<Option<Collision>> + 'c;
+
 thread_local! {
     static SCRATCH: RefCell<CollisionScratch> = Default::default();
 }
@@ -127,7 +131,7 @@ impl Ctx<'_> {
         arm: Arm,
         path: &[Vec<Real>],
         density: Real,
-        collides: &dyn Fn(usize, &[Real]) -> Result<Option<Collision>>,
+        collides: &StateCheck<'_>,
     ) -> Result<Option<Rejection>> {
         use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
         let mut q = Vec::new();
