@@ -450,7 +450,7 @@ impl Ctx<'_> {
             });
             self.collision(world_at(if near { 0 } else { n }, n), q, 0.0)
         };
-        match self.dense_collision(arm, path, 1.0, &collides)? {
+        match self.dense_collision(arm, path, &|_| 1.0, &collides)? {
             Some(r) => Err(r.into()),
             None => Ok(()),
         }

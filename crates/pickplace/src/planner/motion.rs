@@ -134,7 +134,18 @@ impl Ctx<'_> {
                 b: super::world::body_name(world, y),
             }))
         };
-        if let Some(r) = self.dense_collision(arm, &path, 2.0, &collides)? {
+        // Twice the validator's density near the ends, where the motion planner applies no
+        // clearance margin and the hand passes close to the object; the validator's
+        // density elsewhere, where the margin keeps the robot away from everything.
+        let near_end = |q: &[Real]| {
+            [from, to].iter().any(|end| {
+                a.variables
+                    .iter()
+                    .all(|&v| (q[v] - end[v]).abs() <= 2.0 * END_EXEMPT_RADIUS)
+            })
+        };
+        let density = |q: &[Real]| if near_end(q) { 2.0 } else { 1.0 };
+        if let Some(r) = self.dense_collision(arm, &path, &density, &collides)? {
             return Err(r.into());
         }
         Ok(path)

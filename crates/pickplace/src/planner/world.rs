@@ -117,11 +117,12 @@ impl Ctx<'_> {
 
 impl Ctx<'_> {
     /// The first collision (margin 0) or breach of the hands' clearance along `path`, where
-    /// `arm` moves, checked `density` times as densely as the validator interpolates (no
-    /// joint more than [`crate::validate::MAX_JOINT_STEP`] / `density` and the tool frame no
-    /// more than [`crate::validate::MAX_CARTESIAN_STEP`] / `density` between two checked
-    /// states). At a density of 2 the validator's states (at another phase) fall between
-    /// these, and a grazing contact deep enough for it to see is seen here. The motion planner
+    /// `arm` moves, checked `density(a)` times as densely as the validator interpolates on
+    /// the segment starting at `a` (no joint more than [`crate::validate::MAX_JOINT_STEP`] /
+    /// density and the tool frame no more than [`crate::validate::MAX_CARTESIAN_STEP`] /
+    /// density between two checked states). At a density of 2 the validator's states (at
+    /// another phase) fall between these, and a grazing contact deep enough for it to see is
+    /// seen here. The motion planner
     /// checks its edges at its own resolution and the straight motions at their IK steps; a
     /// grazing contact between those states would otherwise reach the plan and be refused by
     /// `pickplace validate`. `collides(i, q)` checks the full configuration `q` on the segment
@@ -130,7 +131,7 @@ impl Ctx<'_> {
         &self,
         arm: Arm,
         path: &[Vec<Real>],
-        density: Real,
+        density: &dyn Fn(&[Real]) -> Real,
         collides: &StateCheck<'_>,
     ) -> Result<Option<Rejection>> {
         use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
@@ -144,6 +145,7 @@ impl Ctx<'_> {
                 .fold(0.0, Real::max);
             let moved =
                 (self.tcp(arm, b).translation.vector - self.tcp(arm, a).translation.vector).norm();
+            let density = density(a);
             let steps = ((density * max_dq / MAX_JOINT_STEP)
                 .max(density * moved / MAX_CARTESIAN_STEP)
                 .ceil() as usize)
