@@ -173,8 +173,8 @@ impl Ctx<'_> {
     }
 
     /// The segments of a single-arm plan with `arm`, placement `pi` and grasp `gi`: open the
-    /// hand, move to the pre-grasp pose, approach, grasp, lift, carry to the pre-place pose,
-    /// lower, release, retreat and go back to the start.
+    /// hand, then one [`Ctx::transfer`] from the start to the placement, and go back to the
+    /// start.
     pub(super) fn single_arm_motions(
         &self,
         arm: Arm,
@@ -184,7 +184,6 @@ impl Ctx<'_> {
         pick: &Pick,
         place: &Place,
     ) -> Attempt<Vec<Segment>> {
-        let g = &self.grasps[gi];
         let p = &self.placements[pi];
         let salt = (pi as u64) << 20 | (gi as u64) << 8 | arm.index() as u64;
         let mut segments = Vec::new();
@@ -192,59 +191,81 @@ impl Ctx<'_> {
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
-        // The straight motions, densely, before any motion is planned.
-        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
-        self.check_pick(arm, gi, start_rest, &pick.approach, &pick.lift)?;
-        let free = self.world_with_object_at(&self.setup.object_start);
-        let pre_grasp = &pick.approach[0];
-        let to_pre = self
-            .motion(arm, &free, &open_start, pre_grasp, salt ^ 1)
-            .map_err(|f| f.at(Step::ToPreGrasp))?;
-        segments.push(Segment::reach("pre-grasp", arm, to_pre));
-        segments.push(Segment::reach("grasp", arm, pick.approach.clone()));
-        let q_grasp = super::end_of(&pick.approach)?;
-        let closed = self.gripping(arm, q_grasp, g.width);
-        segments.push(Segment::event(
-            vec![q_grasp.clone(), closed],
-            None,
-            (EventKind::Grasp, arm, g.object_from_tcp.inverse()),
-        ));
-        segments.push(Segment::reach("lift", arm, pick.lift.clone()));
-        let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
-        let lifted = super::end_of(&pick.lift)?;
-        // The place was computed with the other arm at rest and both hands open: its
-        // waypoints take the other arm's joints from where that arm is.
-        let lower: Vec<Vec<Real>> = place
-            .lower
-            .iter()
-            .map(|q| self.other_from(arm, lifted, q))
-            .collect();
-        let q_place = super::end_of(&lower)?;
-        let opened = self.opened(arm, q_place);
-        let retreat: Vec<Vec<Real>> = place
-            .retreat
-            .iter()
-            .map(|q| self.other_from(arm, &opened, q))
-            .collect();
-        let supports = self.placement_supports(pi);
-        self.check_place(arm, gi, (&p.world_from_object, supports), &lower, &retreat)?;
-        let carry = self
-            .motion(arm, &holding, lifted, &lower[0], salt ^ 2)
-            .map_err(|f| f.at(Step::ToPrePlace))?;
-        segments.push(Segment::reach("pre-place", arm, carry));
-        segments.push(Segment::reach("place", arm, lower.clone()));
-        segments.push(Segment::event(
-            vec![q_place.clone(), opened.clone()],
-            Some(("release", arm)),
-            (EventKind::Release, arm, g.object_from_tcp.inverse()),
-        ));
-        segments.push(Segment::reach("retreat", arm, retreat.clone()));
+        let retreated = self.transfer(
+            &mut segments,
+            Transfer {
+                arm,
+                gi,
+                pick,
+                place,
+                from: (&self.setup.object_start, &self.start_supports),
+                to: (&p.world_from_object, self.placement_supports(pi)),
+                keys: DIRECT,
+                salts: (salt ^ 1, salt ^ 2),
+            },
+            &open_start,
+        )?;
         let left = self.world_with_object_at(&p.world_from_object);
-        let retreated = super::end_of(&retreat)?;
-        if let Some(back) = self.back_to_start(arm, &left, retreated, start, salt ^ 3)? {
+        if let Some(back) = self.back_to_start(arm, &left, &retreated, start, salt ^ 3)? {
             segments.push(back);
         }
         Ok(segments)
+    }
+
+    /// One transfer of the object by one arm and grasp, appended to `segments` from the full
+    /// configuration `current`: the motion to the pre-grasp pose (the object lying at
+    /// `from`), the straight approach, the fingers closing, the straight lift, the motion to
+    /// the pre-place pose, the straight lowering to `to`, the fingers opening and the
+    /// straight retreat. The key poses were computed with the other arm at rest; their
+    /// waypoints take the other arm's joints from `current`. The straight motions are
+    /// re-checked densely ([`Ctx::check_pick`], [`Ctx::check_place`]) before the motions are
+    /// planned. Returns the configuration at the end of the retreat.
+    fn transfer(
+        &self,
+        segments: &mut Vec<Segment>,
+        t: Transfer<'_>,
+        current: &[Real],
+    ) -> Attempt<Vec<Real>> {
+        let (arm, g) = (t.arm, &self.grasps[t.gi]);
+        let [pre_grasp, grasp, lift, pre_place, place, release, retreat] = t.keys.names;
+        let graft = |q: &Vec<Real>, base: &[Real]| self.other_from(arm, base, q);
+        let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
+        let approach: Vec<Vec<Real>> = t.pick.approach.iter().map(|q| graft(q, current)).collect();
+        let q_grasp = here(&approach)?;
+        let closed = self.gripping(arm, &q_grasp, g.width);
+        let lifted: Vec<Vec<Real>> = t.pick.lift.iter().map(|q| graft(q, &closed)).collect();
+        self.check_pick(arm, t.gi, t.from, &approach, &lifted)?;
+        let lower: Vec<Vec<Real>> = t.place.lower.iter().map(|q| graft(q, &closed)).collect();
+        let q_place = here(&lower)?;
+        let opened = self.opened(arm, &q_place);
+        let away: Vec<Vec<Real>> = t.place.retreat.iter().map(|q| graft(q, &opened)).collect();
+        self.check_place(arm, t.gi, t.to, &lower, &away)?;
+        let free = self.world_with_object_at(t.from.0);
+        let to_pre = self
+            .motion(arm, &free, current, &approach[0], t.salts.0)
+            .map_err(|f| f.at(t.keys.to_pick))?;
+        segments.push(Segment::reach(pre_grasp, arm, to_pre));
+        segments.push(Segment::reach(grasp, arm, approach));
+        segments.push(Segment::event(
+            vec![q_grasp, closed],
+            None,
+            (EventKind::Grasp, arm, g.object_from_tcp.inverse()),
+        ));
+        let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
+        let carry = self
+            .motion(arm, &holding, &here(&lifted)?, &lower[0], t.salts.1)
+            .map_err(|f| f.at(t.keys.to_place))?;
+        segments.push(Segment::reach(lift, arm, lifted));
+        segments.push(Segment::reach(pre_place, arm, carry));
+        segments.push(Segment::reach(place, arm, lower));
+        segments.push(Segment::event(
+            vec![q_place, opened],
+            Some((release, arm)),
+            (EventKind::Release, arm, g.object_from_tcp.inverse()),
+        ));
+        let end = here(&away)?;
+        segments.push(Segment::reach(retreat, arm, away));
+        Ok(end)
     }
 
     /// The segments of a handover plan (§III-B.3) at placement `pi`: arm A picks and carries
@@ -399,147 +420,139 @@ impl Ctx<'_> {
         legs: &super::regrasp::RegraspLegs<'_>,
     ) -> Attempt<Vec<Segment>> {
         let (a, b) = (legs.strategy.pick_arm(), legs.strategy.place_arm());
-        let (g1, g2) = (&self.grasps[legs.g1], &self.grasps[legs.g2]);
         let rest = self.rests()[legs.k].world_from_object;
+        let at_rest = (&rest, self.rest_supports(legs.k));
         let salt = (legs.pi as u64) << 20
             | (legs.g1 as u64) << 8
             | (legs.g2 as u64) << 32
             | (legs.k as u64) << 48;
-        let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
         let mut segments = Vec::new();
         let open_start = self.opened(b, &self.opened(a, start));
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
-        // Arm A: pick at the start.
-        let free = self.world_with_object_at(&self.setup.object_start);
-        let graft_a = |q: &Vec<Real>, base: &[Real]| self.other_from(a, base, q);
-        let pre_grasp = graft_a(&legs.pick.approach[0], &open_start);
-        let to_pre = self
-            .motion(a, &free, &open_start, &pre_grasp, salt ^ 1)
-            .map_err(|f| f.at(Step::ToPreGrasp))?;
-        segments.push(Segment::reach("pre-grasp", a, to_pre));
-        let approach: Vec<Vec<Real>> = legs
-            .pick
-            .approach
-            .iter()
-            .map(|q| graft_a(q, &open_start))
-            .collect();
-        segments.push(Segment::reach("grasp", a, approach.clone()));
-        let q = here(&approach)?;
-        let closed = self.gripping(a, &q, g1.width);
-        segments.push(Segment::event(
-            vec![q, closed.clone()],
-            None,
-            (EventKind::Grasp, a, g1.object_from_tcp.inverse()),
-        ));
-        let lift: Vec<Vec<Real>> = legs.pick.lift.iter().map(|q| graft_a(q, &closed)).collect();
-        segments.push(Segment::reach("lift", a, lift.clone()));
-        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
-        self.check_pick(a, legs.g1, start_rest, &approach, &lift)?;
-        // Carry to the rest and put it down.
-        let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
-        let lower: Vec<Vec<Real>> = legs
-            .down
-            .lower
-            .iter()
-            .map(|q| graft_a(q, &closed))
-            .collect();
-        let carry = self
-            .motion(a, &holding_a, &here(&lift)?, &lower[0], salt ^ 2)
-            .map_err(|f| f.at(Step::ToRest))?;
-        segments.push(Segment::reach("pre-rest", a, carry));
-        segments.push(Segment::reach("rest", a, lower.clone()));
-        let q = here(&lower)?;
-        let opened = self.opened(a, &q);
-        segments.push(Segment::event(
-            vec![q, opened.clone()],
-            Some(("release-rest", a)),
-            (EventKind::Release, a, g1.object_from_tcp.inverse()),
-        ));
-        let retreat: Vec<Vec<Real>> = legs
-            .down
-            .retreat
-            .iter()
-            .map(|q| graft_a(q, &opened))
-            .collect();
-        let at_rest = (&rest, self.rest_supports(legs.k));
-        self.check_place(a, legs.g1, at_rest, &lower, &retreat)?;
-        segments.push(Segment::reach("retreat-rest", a, retreat.clone()));
+        // Arm A: from the start to the rest.
+        let mut current = self.transfer(
+            &mut segments,
+            Transfer {
+                arm: a,
+                gi: legs.g1,
+                pick: legs.pick,
+                place: legs.down,
+                from: (&self.setup.object_start, &self.start_supports),
+                to: at_rest,
+                keys: PUT_DOWN,
+                salts: (salt ^ 1, salt ^ 2),
+            },
+            &open_start,
+        )?;
         let resting = self.world_with_object_at(&rest);
-        let mut current = here(&retreat)?;
         if a != b
             && let Some(back) = self.back_to_start(a, &resting, &current, start, salt ^ 3)?
         {
-            current = here(&back.path)?;
+            current = super::end_of(&back.path)?.clone();
             segments.push(Segment {
                 key: Some(("home-first", a)),
                 ..back
             });
         }
-        // Arm B: pick it up again at the rest.
-        let graft_b = |q: &Vec<Real>, base: &[Real]| self.other_from(b, base, q);
-        let pre_regrasp = graft_b(&legs.up.approach[0], &current);
-        let to_pre = self
-            .motion(b, &resting, &current, &pre_regrasp, salt ^ 4)
-            .map_err(|f| f.at(Step::ToPreRegrasp))?;
-        segments.push(Segment::reach("pre-regrasp", b, to_pre));
-        let approach: Vec<Vec<Real>> = legs
-            .up
-            .approach
-            .iter()
-            .map(|q| graft_b(q, &current))
-            .collect();
-        segments.push(Segment::reach("regrasp", b, approach.clone()));
-        let q = here(&approach)?;
-        let closed = self.gripping(b, &q, g2.width);
-        segments.push(Segment::event(
-            vec![q, closed.clone()],
-            None,
-            (EventKind::Grasp, b, g2.object_from_tcp.inverse()),
-        ));
-        let lift: Vec<Vec<Real>> = legs.up.lift.iter().map(|q| graft_b(q, &closed)).collect();
-        segments.push(Segment::reach("lift-again", b, lift.clone()));
-        self.check_pick(b, legs.g2, at_rest, &approach, &lift)?;
-        // Carry to the placement and place.
-        let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
-        let lower: Vec<Vec<Real>> = legs
-            .place
-            .lower
-            .iter()
-            .map(|q| graft_b(q, &closed))
-            .collect();
-        let carry = self
-            .motion(b, &holding_b, &here(&lift)?, &lower[0], salt ^ 5)
-            .map_err(|f| f.at(Step::ToPrePlace))?;
-        segments.push(Segment::reach("pre-place", b, carry));
-        segments.push(Segment::reach("place", b, lower.clone()));
-        let q = here(&lower)?;
-        let opened = self.opened(b, &q);
-        segments.push(Segment::event(
-            vec![q, opened.clone()],
-            Some(("release", b)),
-            (EventKind::Release, b, g2.object_from_tcp.inverse()),
-        ));
-        let retreat: Vec<Vec<Real>> = legs
-            .place
-            .retreat
-            .iter()
-            .map(|q| graft_b(q, &opened))
-            .collect();
+        // Arm B: from the rest to the placement.
         let placed = (
             &self.placements[legs.pi].world_from_object,
             self.placement_supports(legs.pi),
         );
-        self.check_place(b, legs.g2, placed, &lower, &retreat)?;
-        segments.push(Segment::reach("retreat", b, retreat.clone()));
-        let left = self.world_with_object_at(&self.placements[legs.pi].world_from_object);
-        if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
+        let retreated = self.transfer(
+            &mut segments,
+            Transfer {
+                arm: b,
+                gi: legs.g2,
+                pick: legs.up,
+                place: legs.place,
+                from: at_rest,
+                to: placed,
+                keys: PICK_UP,
+                salts: (salt ^ 4, salt ^ 5),
+            },
+            &current,
+        )?;
+        let left = self.world_with_object_at(placed.0);
+        if let Some(back) = self.back_to_start(b, &left, &retreated, start, salt ^ 6)? {
             segments.push(back);
         }
         Ok(segments)
     }
 }
+
+/// Where the object rests before or after a transfer, and the bodies it rests on.
+type Rest<'r> = (&'r pickplace_geometry::math::Isometry3, &'r [String]);
+
+/// One transfer of [`Ctx::transfer`]: the arm, its grasp (index into the ranked grasps),
+/// the checked pick and place, where the object rests before and after, the key pose names,
+/// and the salts of its two motions.
+struct Transfer<'t> {
+    arm: Arm,
+    gi: usize,
+    pick: &'t Pick,
+    place: &'t Place,
+    from: Rest<'t>,
+    to: Rest<'t>,
+    keys: TransferKeys,
+    salts: (u64, u64),
+}
+
+/// The names of a transfer's key poses (pre-grasp, grasp, lift, pre-place, place, release,
+/// retreat) and the steps its two motions are rejected at.
+#[derive(Clone, Copy)]
+struct TransferKeys {
+    names: [&'static str; 7],
+    to_pick: Step,
+    to_place: Step,
+}
+
+/// A pick at the start and a place at the target.
+const DIRECT: TransferKeys = TransferKeys {
+    names: [
+        "pre-grasp",
+        "grasp",
+        "lift",
+        "pre-place",
+        "place",
+        "release",
+        "retreat",
+    ],
+    to_pick: Step::ToPreGrasp,
+    to_place: Step::ToPrePlace,
+};
+
+/// A pick at the start and a put-down at an intermediate rest.
+const PUT_DOWN: TransferKeys = TransferKeys {
+    names: [
+        "pre-grasp",
+        "grasp",
+        "lift",
+        "pre-rest",
+        "rest",
+        "release-rest",
+        "retreat-rest",
+    ],
+    to_pick: Step::ToPreGrasp,
+    to_place: Step::ToRest,
+};
+
+/// A pick-up at an intermediate rest and a place at the target.
+const PICK_UP: TransferKeys = TransferKeys {
+    names: [
+        "pre-regrasp",
+        "regrasp",
+        "lift-again",
+        "pre-place",
+        "place",
+        "release",
+        "retreat",
+    ],
+    to_pick: Step::ToPreRegrasp,
+    to_place: Step::ToPrePlace,
+};
 
 #[cfg(test)]
 mod tests {

@@ -330,17 +330,10 @@ fn tally<T>(report: &mut StrategyReport, stage: Stage, r: &std::result::Result<T
 
 #[cfg(test)]
 mod tests {
+    use super::super::search::tests::report;
     use super::super::tests::ctx;
     use super::*;
     use crate::strategy::Arm;
-
-    fn report(strategy: Strategy) -> StrategyReport {
-        StrategyReport {
-            strategy,
-            success: false,
-            stages: BTreeMap::new(),
-        }
-    }
 
     #[test]
     fn rests_lie_near_the_start_on_its_table_and_leave_the_start_pose_out() {

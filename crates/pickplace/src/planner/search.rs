@@ -405,11 +405,12 @@ impl Ctx<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::tests::ctx;
     use super::*;
 
-    fn report(strategy: Strategy) -> StrategyReport {
+    /// An empty report of `strategy`.
+    pub(in crate::planner) fn report(strategy: Strategy) -> StrategyReport {
         StrategyReport {
             strategy,
             success: false,
