@@ -473,10 +473,61 @@ pub fn support_region(a: &Polygon, b: &Polygon) -> Vec<Polygon> {
     }
 }
 
+/// Whether `ring` lies strictly inside `polygon`: every vertex inside it (outside its holes)
+/// and no edge of `ring` crossing or touching an edge of `polygon`'s outer ring or holes.
+/// Conservative: a touching edge counts as crossing.
+fn ring_inside(ring: &[Point2], polygon: &Polygon) -> bool {
+    if ring.len() < 3 || polygon.outer.len() < 3 || !ring.iter().all(|p| polygon.contains(p)) {
+        return false;
+    }
+    let rings = std::iter::once(&polygon.outer).chain(polygon.holes.iter());
+    for other in rings {
+        for (q1, q2) in edges(other) {
+            for (p1, p2) in edges(ring) {
+                if segments_meet(p1, p2, q1, q2) {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
+/// The edges of a closed ring.
+fn edges(r: &[Point2]) -> impl Iterator<Item = (Point2, Point2)> + '_ {
+    let n = r.len();
+    (0..n).map(move |i| (r[i], r[(i + 1) % n]))
+}
+
+/// Whether segments `p1p2` and `q1q2` intersect or touch (collinear overlaps included).
+fn segments_meet(p1: Point2, p2: Point2, q1: Point2, q2: Point2) -> bool {
+    let (lo, hi) = (p1.coords.inf(&p2.coords), p1.coords.sup(&p2.coords));
+    let (qlo, qhi) = (q1.coords.inf(&q2.coords), q1.coords.sup(&q2.coords));
+    if hi.x < qlo.x || qhi.x < lo.x || hi.y < qlo.y || qhi.y < lo.y {
+        return false;
+    }
+    let side = |a: Point2, b: Point2, c: Point2| (b - a).perp(&(c - a));
+    let (d1, d2) = (side(q1, q2, p1), side(q1, q2, p2));
+    let (d3, d4) = (side(p1, p2, q1), side(p1, p2, q2));
+    // Opposite sides (or on the line) both ways: the bounding boxes overlap, so they meet.
+    d1 * d2 <= 0.0 && d3 * d4 <= 0.0
+}
+
 /// Convex hull of the support region of two clusters (paper Fig. 7, third step). The object
 /// is statically stable when the vertical through its centre of gravity passes inside; use
 /// [`signed_margin`] for the margin.
+///
+/// When one outer ring lies inside the other polygon (no edges crossing or touching, every
+/// vertex inside it), the hull is that ring's hull: holes strictly inside a ring leave its
+/// hull unchanged, so the boolean operations are skipped (the common case of an object's
+/// face on a much larger table top, where they were most of Algorithm 2's time).
 pub fn support_hull(a: &Polygon, b: &Polygon) -> Vec<Point2> {
+    if ring_inside(&a.outer, b) {
+        return convex_hull(&a.outer);
+    }
+    if ring_inside(&b.outer, a) {
+        return convex_hull(&b.outer);
+    }
     let region = support_region(a, b);
     let points: Vec<Point2> = region.iter().flat_map(|p| p.points().copied()).collect();
     convex_hull(&points)
@@ -588,5 +639,55 @@ mod tests {
         assert!((signed_area(&hull) - 1.0).abs() < 1e-6);
         assert!((signed_margin(&Point2::new(0.5, 0.5), &hull) - 0.5).abs() < 1e-6);
         assert!(signed_margin(&Point2::new(1.5, 0.5), &hull) < 0.0);
+    }
+
+    /// The hull through the boolean operations, as before the containment shortcut.
+    fn hull_by_booleans(a: &Polygon, b: &Polygon) -> Vec<Point2> {
+        let region = support_region(a, b);
+        let points: Vec<Point2> = region.iter().flat_map(|p| p.points().copied()).collect();
+        convex_hull(&points)
+    }
+
+    #[test]
+    fn the_containment_shortcut_gives_the_hull_of_the_booleans() {
+        let mut env_hole = square(0.2, 0.2, 0.1);
+        env_hole.reverse();
+        let env = Polygon {
+            outer: square(-1.0, -1.0, 3.0),
+            holes: vec![env_hole],
+        };
+        let cases = [
+            // Inside, around the environment's hole, inside the object, straddling the edge,
+            // touching the edge, larger than the environment.
+            square(0.5, 0.5, 0.4),
+            square(0.0, 0.0, 1.0),
+            square(0.21, 0.21, 0.05),
+            square(1.5, 1.5, 1.0),
+            square(1.0, 1.0, 1.0),
+            square(-2.0, -2.0, 5.0),
+        ];
+        for (k, outer) in cases.into_iter().enumerate() {
+            let object = Polygon::new(outer);
+            let fast = support_hull(&object, &env);
+            let slow = hull_by_booleans(&object, &env);
+            assert_eq!(fast.len(), slow.len(), "case {k}: {fast:?} / {slow:?}");
+            assert!(
+                (signed_area(&fast) - signed_area(&slow)).abs() < 1e-6,
+                "case {k}"
+            );
+            for p in &slow {
+                assert!(distance_to_ring(p, &fast) < 1e-6, "case {k}: {p}");
+            }
+        }
+        assert!(ring_inside(&square(0.5, 0.5, 0.4), &env));
+        assert!(!ring_inside(&square(1.5, 1.5, 1.0), &env));
+        assert!(
+            !ring_inside(&square(1.0, 1.0, 1.0), &env),
+            "touching counts as crossing"
+        );
+        assert!(
+            !ring_inside(&square(0.21, 0.21, 0.05), &env),
+            "inside the hole"
+        );
     }
 }

@@ -83,6 +83,12 @@ pub struct PlacementOptions {
     /// (default: [`DEFAULT_MIN_TIPPING_ANGLE`], 6°; see docs/placement.md for the drop tests
     /// behind it). Applied to face-face and edge-face placements alike.
     pub min_tipping_angle: Real,
+    /// Positions farther than this (m, in the environment region's plane) from the target are
+    /// not searched (default: unbounded). A planner that accepts placements only within a
+    /// tolerance of the target sets it, so that a large region (a table top) is not gridded
+    /// and sorted whole, and the edge-face positions are spread over the disc around the
+    /// target instead of the whole region.
+    pub max_distance: Real,
 }
 
 impl Default for PlacementOptions {
@@ -103,6 +109,7 @@ impl Default for PlacementOptions {
             edge_positions: 64,
             target_tolerance: 0.01,
             min_tipping_angle: DEFAULT_MIN_TIPPING_ANGLE,
+            max_distance: Real::INFINITY,
         }
     }
 }
@@ -608,7 +615,13 @@ pub fn include_bounding_box(object: &Region, env: &Region) -> bool {
 /// Positions on `env` (plane coordinates) on a grid of `step` aligned with its bounding
 /// rectangle and inside its polygon, nearest to `target2` first; the target's own projection
 /// comes first when it lies inside.
-fn grid_positions(env: &Region, target2: &Point2, step: Real, limit: usize) -> Vec<Point2> {
+fn grid_positions(
+    env: &Region,
+    target2: &Point2,
+    step: Real,
+    limit: usize,
+    max_distance: Real,
+) -> Vec<Point2> {
     let r = &env.rect;
     let (ax, ay) = (r.axis, Vector2::new(-r.axis.y, r.axis.x));
     let mut pts = Vec::new();
@@ -622,15 +635,39 @@ fn grid_positions(env: &Region, target2: &Point2, step: Real, limit: usize) -> V
         r.half_extents.x - step * nx as Real / 2.0,
         r.half_extents.y - step * ny as Real / 2.0,
     );
-    for i in 0..nx {
-        for j in 0..ny {
+    // Only the rows and columns that can be within `max_distance` of the target: the grid
+    // coordinate of the target, ± the distance, in cells.
+    let t = target2 - r.center;
+    let cells = |along: Real, half: Real, o: Real, n: i64| {
+        let first = ((along - max_distance + half - o) / step - 0.5).ceil();
+        let last = ((along + max_distance + half - o) / step - 0.5).floor();
+        // NaN or infinite bounds clamp to the whole range.
+        let lo = if first.is_finite() {
+            first.clamp(0.0, n as Real) as i64
+        } else {
+            0
+        };
+        let hi = if last.is_finite() {
+            (last + 1.0).clamp(0.0, n as Real) as i64
+        } else {
+            n
+        };
+        lo..hi
+    };
+    let (is, js) = (
+        cells(t.dot(&ax), r.half_extents.x, ox, nx),
+        cells(t.dot(&ay), r.half_extents.y, oy, ny),
+    );
+    for i in is {
+        for j in js.clone() {
             let (u, v) = (
                 -r.half_extents.x + ox + step * (i as Real + 0.5),
                 -r.half_extents.y + oy + step * (j as Real + 0.5),
             );
             let p = r.center + ax * u + ay * v;
-            if env.polygon.contains(&p) {
-                pts.push(((p - target2).norm(), p));
+            let d = (p - target2).norm();
+            if d <= max_distance && env.polygon.contains(&p) {
+                pts.push((d, p));
             }
         }
     }
@@ -700,6 +737,7 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
         &target2,
         options.position_step,
         64 * options.max_per_pair.max(1),
+        options.max_distance,
     );
     let yaw_order = spread_order(options.yaw_steps.max(1));
     'positions: for p in positions {
@@ -802,8 +840,10 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
     let (target2, _) = e.to_plane(target);
     let lift = e.normal() * options.clearance;
     let wanted = options.edge_positions.max(1);
-    let step = options.position_step.max((e.area / wanted as Real).sqrt());
-    let positions = grid_positions(e, &target2, step, wanted);
+    // Spread over the region, or over the disc around the target that can hold candidates.
+    let area = e.area.min(PI * options.max_distance.powi(2));
+    let step = options.position_step.max((area / wanted as Real).sqrt());
+    let positions = grid_positions(e, &target2, step, wanted, options.max_distance);
     let rect_angle = e.rect.axis.y.atan2(e.rect.axis.x);
     let yaws: Vec<Real> = (0..4).map(|k| rect_angle + k as Real * PI / 2.0).collect();
     // The longest hull segments first (ties by index, so the order is deterministic).

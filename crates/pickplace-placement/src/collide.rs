@@ -18,6 +18,10 @@ use pickplace_geometry::parry;
 pub struct CollisionMesh {
     shape: ParryTriMesh,
     convex: Option<ConvexPolyhedron>,
+    /// The convex hull of a non-convex object mesh: only environment triangles that meet it
+    /// can meet the mesh (which lies inside it), so each of those alone is tested against the
+    /// mesh (see [`CollisionMesh::intersects`]).
+    hull: Option<ConvexPolyhedron>,
     vertices: Vec<Point3>,
     triangles: Vec<[u32; 3]>,
 }
@@ -87,6 +91,11 @@ impl CollisionMesh {
         } else {
             None
         };
+        let hull = if detect_convex && convex.is_none() {
+            ConvexPolyhedron::from_convex_hull(&points)
+        } else {
+            None
+        };
         let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
             .map_err(|e| crate::Error::DegenerateHull {
                 reason: format!("collision mesh: {e:?}"),
@@ -94,6 +103,7 @@ impl CollisionMesh {
         Ok(Self {
             shape,
             convex,
+            hull,
             vertices,
             triangles,
         })
@@ -112,18 +122,36 @@ impl CollisionMesh {
         let env_pose = Pose::IDENTITY;
         // A query parry does not support between two meshes is treated as a collision, the
         // safe answer for a placement.
-        let object_shape: &dyn parry3d_f64::shape::Shape = match &object.convex {
-            Some(hull) => hull,
-            None => &object.shape,
+        let object_pose = parry::pose(&pose);
+        let test = |shape: &dyn parry3d_f64::shape::Shape| {
+            parry3d_f64::query::intersection_test(&env_pose, &self.shape, &object_pose, shape)
+                .map(|hit| hit.intersecting)
+                .unwrap_or(true)
         };
-        parry3d_f64::query::intersection_test(
-            &env_pose,
-            &self.shape,
-            &parry::pose(&pose),
-            object_shape,
-        )
-        .map(|hit| hit.intersecting)
-        .unwrap_or(true)
+        if let Some(solid) = &object.convex {
+            return test(solid);
+        }
+        if let Some(hull) = &object.hull {
+            // Only environment triangles that meet the hull can meet the mesh inside it: each
+            // is tested against the object's mesh alone. The environment triangles a resting
+            // face almost touches (clear of the lifted hull) cost one GJK test each instead of
+            // the pairs of nearly coplanar triangles a mesh-mesh traversal visits.
+            use parry3d_f64::shape::Shape;
+            let aabb = hull.compute_aabb(&object_pose);
+            for j in self.shape.bvh().intersect_aabb(&aabb) {
+                let triangle = self.shape.triangle(j);
+                let meets = |shape: &dyn Shape| {
+                    parry3d_f64::query::intersection_test(&env_pose, &triangle, &object_pose, shape)
+                        .map(|hit| hit.intersecting)
+                        .unwrap_or(true)
+                };
+                if meets(hull) && meets(&object.shape) {
+                    return true;
+                }
+            }
+            return false;
+        }
+        test(&object.shape)
     }
 
     /// Points where `object`, at `world_from_object`, is within `reach` (m) of this mesh: one

@@ -45,6 +45,7 @@ pub mod error;
 pub mod plan;
 pub mod planner;
 pub mod precompute;
+pub mod reach;
 pub mod roadmaps;
 pub mod robot_setup;
 pub mod scene;

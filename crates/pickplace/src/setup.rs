@@ -7,6 +7,7 @@
 //! next ones.
 
 use crate::error::{Error, Result};
+use crate::reach::ReachMap;
 use crate::roadmaps::{self, RoadmapReport};
 use crate::robot_setup::{RobotArm, RobotSetup};
 use crate::scene::Scene;
@@ -68,6 +69,9 @@ pub struct ArmSetup {
     pub shoulder: Point3,
     /// Largest distance from the shoulder the TCP reaches (m), measured by sampling.
     pub reach: Real,
+    /// Where the tool point gets to with which approach direction (root frame): the order
+    /// in which grasps are tried.
+    pub reach_map: ReachMap,
 }
 
 /// An environment mesh of the scene.
@@ -542,7 +546,16 @@ fn arm_setup(
         let p = ik.chain().pose(&q).translation.vector;
         reach = reach.max((p - shoulder_local).norm());
     }
+    let reach_map = ReachMap::build(
+        ik.chain(),
+        start,
+        &variables,
+        (space.lower(), space.upper()),
+        robot_arm.gripper_params.approach(),
+        0x5eed ^ arm.index() as u64,
+    );
     Ok(ArmSetup {
+        reach_map,
         arm,
         group: group.to_owned(),
         ik,

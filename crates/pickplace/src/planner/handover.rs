@@ -68,6 +68,10 @@ impl Ctx<'_> {
             .free_ik(a, &pose_a, lifted, salt, &holding_a)
             .map_err(|f| f.at(Step::PickingArm))?;
         let arm_b = self.setup.arm(b);
+        // The second grasps the reachability map expects IK for here first, each group in
+        // the order given.
+        let mut places: Vec<&(usize, Place)> = places.iter().collect();
+        places.sort_by_key(|(g2, _)| !self.reachable(b, *g2, world_from_object));
         for (g2, _) in places {
             let grasp2 = &self.grasps[*g2];
             let pose_b = world_from_object * grasp2.object_from_tcp;

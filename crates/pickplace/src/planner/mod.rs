@@ -218,6 +218,9 @@ fn end_of(path: &[Vec<Real>]) -> Result<&Vec<Real>> {
     })
 }
 
+/// Beyond the target's tolerance, how far (m) placement positions are still searched.
+const PLACEMENT_SEARCH_MARGIN: Real = 0.01;
+
 /// Fig. 8's first two steps: the placement candidates on the cluster the target selects
 /// (Algorithm 2) and the grasp candidates on the object's parallel cluster pairs (§III-B.1),
 /// each timed into `timings`.
@@ -226,11 +229,19 @@ fn candidates(
     timings: &mut BTreeMap<String, Real>,
 ) -> Result<(PlacementSet, GraspSet, usize)> {
     let t = Instant::now();
+    let tolerance = setup.scene.target.tolerance();
+    // Positions are searched only around the target (the foot of the CoG in the region's
+    // plane, which on a region tilted up to `max_slope` is a little farther than its
+    // horizontal distance); the exact rule is applied to the candidates below.
+    let options = PlacementOptions {
+        max_distance: tolerance + PLACEMENT_SEARCH_MARGIN,
+        ..PlacementOptions::default()
+    };
     let placement_set = pickplace_placement::candidates(
         &setup.placement_object,
         &setup.placement_env,
         &setup.scene.target_point(),
-        &PlacementOptions::default(),
+        &options,
     )
     .map_err(|source| Error::Target {
         path: setup.scene_path.clone(),
@@ -239,7 +250,6 @@ fn candidates(
     // The object must end within the scene's tolerance of the target (the validator's rule):
     // candidates farther away on the clicked cluster are not offered.
     let mut placement_set = placement_set;
-    let tolerance = setup.scene.target.tolerance();
     let before = placement_set.placements.len();
     placement_set
         .placements

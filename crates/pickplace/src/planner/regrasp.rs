@@ -22,7 +22,7 @@ use super::reason::{Rejection, Stage, count, split};
 use crate::contact::supports;
 use crate::error::Result;
 use crate::plan::StrategyReport;
-use crate::strategy::Strategy;
+use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_placement::{Placement, PlacementOptions};
 use rayon::prelude::*;
@@ -33,6 +33,9 @@ use std::sync::OnceLock;
 /// Radius (m) around the object's start within which intermediate resting poses are sought
 /// on the surfaces there.
 pub const REST_RADIUS: Real = 0.15;
+
+/// Spacing (m) of the positions searched for rests.
+const REST_POSITION_STEP: Real = 0.02;
 
 /// Salt of the random choices at intermediate resting poses (distinct from the placements').
 const REST_SALT: u64 = 1 << 62;
@@ -69,6 +72,11 @@ impl Ctx<'_> {
                 edge_segments: 2,
                 edge_positions: 8,
                 max_candidates: 48,
+                max_distance: REST_RADIUS,
+                // A rest need not be at a precise point: a coarse grid of positions and yaws
+                // finds its few poses among obstacles in a sixteenth of the tests.
+                position_step: REST_POSITION_STEP,
+                yaw_steps: 8,
                 ..PlacementOptions::default()
             };
             let mut rests: Vec<Placement> = Vec::new();
@@ -128,7 +136,7 @@ impl Ctx<'_> {
             return Ok(None);
         }
         let all: Vec<usize> = (0..self.grasps.len()).collect();
-        let finals = self.placement_order(b, &all, report);
+        let finals = self.placement_order(b, &all, false, report);
         if finals.is_empty() {
             return Ok(None);
         }
@@ -144,10 +152,10 @@ impl Ctx<'_> {
         }
         // The cheap graph: per rest, the grasps A can put it down with (closed gripper) and
         // those B can pick it up with (open gripper).
-        let mut rest_edges: Vec<(usize, Vec<usize>, Vec<usize>)> = Vec::new();
+        let mut rest_edges: Vec<(usize, usize, Vec<usize>, Vec<usize>)> = Vec::new();
         for k in 0..n_rests {
             let pose = self.rests()[k].world_from_object;
-            let down: Vec<usize> = pickable
+            let mut down: Vec<usize> = pickable
                 .iter()
                 .copied()
                 .filter(|&g| self.grasp_fits(a, g, &pose, false).is_ok())
@@ -161,14 +169,29 @@ impl Ctx<'_> {
                 count(report, Stage::Rest).reject(Rejection::NoGraspReaches.to_string());
                 continue;
             }
-            rest_edges.push((k, down, up));
+            // The put-downs the reachability maps expect IK for first (`pickable` has those
+            // expected at the start first); the rest ranks by how many are expected.
+            down.sort_by_key(|&g| !self.reachable(a, g, &pose));
+            let expected = |arm: Arm, list: &[usize]| {
+                list.iter()
+                    .filter(|&&g| self.reachable(arm, g, &pose))
+                    .count()
+            };
+            let likely = expected(a, &down).min(expected(b, &up));
+            rest_edges.push((k, likely, down, up));
         }
-        rest_edges.sort_by_key(|(k, down, up)| {
+        rest_edges.sort_by_key(|(k, likely, down, up)| {
+            let enough = super::search::FITTING_ENOUGH;
             (
-                std::cmp::Reverse(down.len().min(up.len()).min(super::search::FITTING_ENOUGH)),
+                std::cmp::Reverse((*likely).min(enough)),
+                std::cmp::Reverse(down.len().min(up.len()).min(enough)),
                 *k,
             )
         });
+        let rest_edges: Vec<(usize, Vec<usize>, Vec<usize>)> = rest_edges
+            .into_iter()
+            .map(|(k, _, down, up)| (k, down, up))
+            .collect();
         if rest_edges.is_empty() {
             return Ok(None);
         }
@@ -186,7 +209,7 @@ impl Ctx<'_> {
             BTreeMap::new();
         let mut ups: BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>> =
             BTreeMap::new();
-        for (pi, fit_final) in &finals {
+        for (pi, fit_final, _) in &finals {
             let pi = *pi;
             // The most constrained leg first: B's places at the target, seeded from the
             // start, in parallel chunks; then the rests where B can pick up with that grasp,

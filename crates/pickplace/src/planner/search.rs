@@ -48,57 +48,84 @@ impl Ctx<'_> {
         let start = self.setup.start.clone();
         let pickable = self.fitting_at_start(arm, report);
         let mut counted = std::collections::BTreeSet::new();
-        for (pi, grasps) in self.placement_order(arm, &pickable, report) {
-            if self.out_of_time() {
-                count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
-                break;
-            }
-            let mut any = false;
-            for gi in grasps {
+        let order = self.placement_order(arm, &pickable, true, report);
+        // Two passes over the placements: first the grasps the reachability map expects
+        // IK for at both the start and the placement, then the others. A placement whose
+        // likely grasps all fail does not hold up the likely grasps of the next one.
+        let mut any = vec![false; order.len()];
+        for pass in 0..2 {
+            for (oi, (pi, grasps, expected)) in order.iter().enumerate() {
+                let pi = *pi;
                 if self.out_of_time() {
-                    break;
+                    count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
+                    return Ok(None);
                 }
-                let result = split(self.pick(arm, gi))?;
-                if counted.insert(gi) {
-                    match &result {
-                        Ok(_) => count(report, Stage::Pick).accept(),
-                        Err(r) => count(report, Stage::Pick).reject(r.to_string()),
+                let grasps = if pass == 0 {
+                    &grasps[..*expected]
+                } else {
+                    &grasps[*expected..]
+                };
+                // Picks and places of a few grasps at a time on the thread pool (each memoized,
+                // so the result is the same whatever the chunk), then taken in rank order.
+                let chunk = 2 * rayon::current_num_threads().max(1);
+                for batch in grasps.chunks(chunk) {
+                    if self.out_of_time() {
+                        break;
+                    }
+                    let results: Vec<_> = batch
+                        .par_iter()
+                        .map(|&gi| {
+                            let pick = self.pick(arm, gi);
+                            let place = pick.is_ok().then(|| self.place(arm, pi, gi));
+                            (gi, pick, place)
+                        })
+                        .collect();
+                    for (gi, pick, place) in results {
+                        let result = split(pick)?;
+                        if counted.insert(gi) {
+                            match &result {
+                                Ok(_) => count(report, Stage::Pick).accept(),
+                                Err(r) => count(report, Stage::Pick).reject(r.to_string()),
+                            }
+                        }
+                        let (Ok(pick), Some(place)) = (result, place) else {
+                            continue;
+                        };
+                        let place = match split(place)? {
+                            Ok(p) => p,
+                            Err(r) => {
+                                count(report, Stage::Place).reject(r.to_string());
+                                continue;
+                            }
+                        };
+                        count(report, Stage::Place).accept();
+                        any[oi] = true;
+                        match split(self.single_arm_motions(arm, pi, gi, &start, &pick, &place))? {
+                            Ok(segments) => {
+                                count(report, Stage::Motion).accept();
+                                count(report, Stage::Placement).accept();
+                                return Ok(Some(Found {
+                                    segments,
+                                    grasps: vec![(arm, gi)],
+                                    placement: pi,
+                                    rests: Vec::new(),
+                                }));
+                            }
+                            Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                        }
                     }
                 }
-                let Ok(pick) = result else {
-                    continue;
-                };
-                let place = match split(self.place(arm, pi, gi))? {
-                    Ok(p) => p,
-                    Err(r) => {
-                        count(report, Stage::Place).reject(r.to_string());
-                        continue;
-                    }
-                };
-                count(report, Stage::Place).accept();
-                any = true;
-                match split(self.single_arm_motions(arm, pi, gi, &start, &pick, &place))? {
-                    Ok(segments) => {
-                        count(report, Stage::Motion).accept();
-                        count(report, Stage::Placement).accept();
-                        return Ok(Some(Found {
-                            segments,
-                            grasps: vec![(arm, gi)],
-                            placement: pi,
-                            rests: Vec::new(),
-                        }));
-                    }
-                    Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                if pass == 1 {
+                    count(report, Stage::Placement).reject(
+                        if any[oi] {
+                            Rejection::NoMotionForAnyGrasp
+                        } else {
+                            Rejection::NoGraspReaches
+                        }
+                        .to_string(),
+                    );
                 }
             }
-            count(report, Stage::Placement).reject(
-                if any {
-                    Rejection::NoMotionForAnyGrasp
-                } else {
-                    Rejection::NoGraspReaches
-                }
-                .to_string(),
-            );
         }
         Ok(None)
     }
@@ -118,7 +145,20 @@ impl Ctx<'_> {
                 Err(r) => count(report, Stage::Pick).reject(r.to_string()),
             }
         }
+        // Those the reachability map expects IK for first, each group in rank order.
+        out.sort_by_key(|&gi| !self.reachable(arm, gi, &self.setup.object_start));
         out
+    }
+
+    /// Whether `arm`'s reachability map ([`crate::reach::ReachMap`]) expects IK for grasp
+    /// `gi` with the object at `world_from_object`: a guess that orders the search, never a
+    /// reason to skip a candidate.
+    pub(super) fn reachable(&self, arm: Arm, gi: usize, world_from_object: &Isometry3) -> bool {
+        let a = self.setup.arm(arm);
+        let root_from_tcp = self.setup.world_from_root.inverse()
+            * world_from_object
+            * self.grasps[gi].object_from_tcp;
+        a.reach_map.score(&root_from_tcp) > 0
     }
 
     /// The grasps whose closed gripper fits `arm` at placement `pi` ([`Ctx::grasp_fits`]),
@@ -154,32 +194,51 @@ impl Ctx<'_> {
         &self,
         arm: Arm,
         usable: &[usize],
+        picked_at_start: bool,
         report: &mut StrategyReport,
-    ) -> Vec<(usize, Vec<usize>)> {
-        let fits: Vec<(Vec<usize>, Option<String>)> = (0..self.placements.len())
+    ) -> Vec<(usize, Vec<usize>, usize)> {
+        let fits: Vec<(Vec<usize>, usize, Option<String>)> = (0..self.placements.len())
             .into_par_iter()
             .map(|pi| {
                 let (here, why) = self.fitting_at_placement(arm, pi);
-                let grasps: Vec<usize> = usable
+                let pose = self.placements[pi].world_from_object;
+                // Those the reachability map expects IK for here first, each group in the
+                // order of `usable`.
+                let mut grasps: Vec<(bool, usize)> = usable
                     .iter()
                     .copied()
                     .filter(|g| here.binary_search(g).is_ok())
+                    .map(|g| {
+                        let expected = self.reachable(arm, g, &pose)
+                            && (!picked_at_start
+                                || self.reachable(arm, g, &self.setup.object_start));
+                        (!expected, g)
+                    })
                     .collect();
-                (grasps, here.is_empty().then(|| why.clone()))
+                grasps.sort_by_key(|&(unexpected, _)| unexpected);
+                let expected = grasps.iter().filter(|(u, _)| !u).count();
+                let grasps: Vec<usize> = grasps.into_iter().map(|(_, g)| g).collect();
+                (grasps, expected, here.is_empty().then(|| why.clone()))
             })
             .collect();
-        let mut order: Vec<(usize, Vec<usize>)> = Vec::new();
-        for (pi, (grasps, none_fits)) in fits.into_iter().enumerate() {
+        let mut order: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+        for (pi, (grasps, expected, none_fits)) in fits.into_iter().enumerate() {
             if let Some(why) = none_fits {
                 count(report, Stage::Placement).reject(Rejection::NoGraspFits(why).to_string());
             } else if grasps.is_empty() {
                 count(report, Stage::Placement).reject(Rejection::NoGraspReaches.to_string());
             } else {
-                order.push((pi, grasps));
+                order.push((pi, expected, grasps));
             }
         }
-        order.sort_by_key(|(pi, g)| (std::cmp::Reverse(g.len().min(FITTING_ENOUGH)), *pi));
-        order
+        order.sort_by_key(|(pi, expected, g)| {
+            (
+                std::cmp::Reverse((*expected).min(FITTING_ENOUGH)),
+                std::cmp::Reverse(g.len().min(FITTING_ENOUGH)),
+                *pi,
+            )
+        });
+        order.into_iter().map(|(pi, e, g)| (pi, g, e)).collect()
     }
 
     /// RIGHT-LEFT or LEFT-RIGHT: picks by arm A down the ranked grasps, gathered
@@ -198,7 +257,7 @@ impl Ctx<'_> {
         let start = self.setup.start.clone();
         let pickable = self.fitting_at_start(a, report);
         let all: Vec<usize> = (0..self.grasps.len()).collect();
-        let order = self.placement_order(b, &all, report);
+        let order = self.placement_order(b, &all, false, report);
         let handovers = handover_candidates(self.setup, a, self.options.handover_poses);
         // Places by arm B per placement, seeded from its start configuration, computed once
         // per grasp.
@@ -211,7 +270,7 @@ impl Ctx<'_> {
             if picks.len() == round {
                 break;
             }
-            for (oi, (pi, fitting)) in order.iter().enumerate() {
+            for (oi, (pi, fitting, _)) in order.iter().enumerate() {
                 if self.out_of_time() {
                     count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
                     return Ok(None);
