@@ -357,8 +357,8 @@ fn a_distance_bound_keeps_the_near_candidates_and_drops_the_far_ones() {
     // The can on the pallet's top, around a point away from its dents.
     let s = can_on_pallet();
     let target = Point3::new(0.0, -0.12, shapes::PALLET_SIZE[2]);
-    let all = candidates(&s.object, &s.env, &target, &PlacementOptions::default())
-        .expect("candidates");
+    let all =
+        candidates(&s.object, &s.env, &target, &PlacementOptions::default()).expect("candidates");
     let bound = 0.02;
     let near = candidates(
         &s.object,
@@ -374,12 +374,20 @@ fn a_distance_bound_keeps_the_near_candidates_and_drops_the_far_ones() {
     // The CoG's foot is the grid position on a horizontal region: every candidate is within
     // the bound, and those of the unbounded search within it are all still found.
     for p in &near.placements {
-        assert!(p.distance_to_target <= bound + 1e-9, "{}", p.distance_to_target);
+        assert!(
+            p.distance_to_target <= bound + 1e-9,
+            "{}",
+            p.distance_to_target
+        );
     }
     let within = all
         .placements
         .iter()
         .filter(|p| p.distance_to_target <= bound)
         .count();
-    assert!(near.placements.len() >= within, "{} < {within}", near.placements.len());
+    assert!(
+        near.placements.len() >= within,
+        "{} < {within}",
+        near.placements.len()
+    );
 }

@@ -396,6 +396,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             setup.arms[0].arm, setup.arms[0].group
         ));
     }
+    let order = ctx.direct_first(order);
     let n_strategies = order.len();
     for (i, strategy) in order.into_iter().enumerate() {
         ctx.share_time(n_strategies - i);

@@ -150,6 +150,46 @@ impl Ctx<'_> {
         out
     }
 
+    /// An improvement on the paper's order (§III-B.3), which picks with the hand nearer the
+    /// object and places with the hand nearer the target: when that makes a handover first,
+    /// a single-arm strategy whose arm the reachability maps expect to do the whole job (a
+    /// grasp that fits and is expected at the start and at a placement) is tried before it.
+    /// It needs one grasp instead of two and no second arm, and when the object starts near
+    /// the middle the paper's "nearer hand" is a matter of centimetres. Every strategy is
+    /// still tried, in the paper's order otherwise.
+    pub(super) fn direct_first(&self, mut order: Vec<Strategy>) -> Vec<Strategy> {
+        let handover_first = order
+            .first()
+            .is_some_and(|s| s.has_handover() && !s.has_regrasp());
+        if !handover_first || order.len() < 2 {
+            return order;
+        }
+        let start = &self.setup.object_start;
+        let expected = |arm: Arm| {
+            let at_start: Vec<usize> = (0..self.grasps.len())
+                .filter(|&g| {
+                    self.grasp_fits(arm, g, start, true).is_ok() && self.reachable(arm, g, start)
+                })
+                .collect();
+            !at_start.is_empty()
+                && (0..self.placements.len()).any(|pi| {
+                    let (fits, _) = self.fitting_at_placement(arm, pi);
+                    let pose = &self.placements[pi].world_from_object;
+                    at_start
+                        .iter()
+                        .any(|&g| fits.binary_search(&g).is_ok() && self.reachable(arm, g, pose))
+                })
+        };
+        if let Some(i) = order
+            .iter()
+            .position(|s| !s.has_handover() && !s.has_regrasp() && expected(s.pick_arm()))
+        {
+            let direct = order.remove(i);
+            order.insert(0, direct);
+        }
+        order
+    }
+
     /// Whether `arm`'s reachability map ([`crate::reach::ReachMap`]) expects IK for grasp
     /// `gi` with the object at `world_from_object`: a guess that orders the search, never a
     /// reason to skip a candidate.
