@@ -75,24 +75,40 @@ impl Ctx<'_> {
         salt: u64,
         world: &CollisionWorld,
     ) -> Attempt<Vec<Real>> {
-        let mut reason = Rejection::NoIk;
+        // The solver's own seeded restarts found no solution at all: other branches are
+        // sought to clear obstacles, not to reach.
+        let first = self
+            .ik(arm, world_from_tcp, seed, salt)
+            .ok_or(Rejection::NoIk)?;
+        self.free_ik_after(arm, first, world_from_tcp, seed, salt, world)
+    }
+
+    /// [`Ctx::free_ik`] once its first solve (from `seed`, with `salt`) has found `first`: a
+    /// caller that builds the collision world only for poses with IK solves first.
+    pub(super) fn free_ik_after(
+        &self,
+        arm: Arm,
+        first: Vec<Real>,
+        world_from_tcp: &Isometry3,
+        seed: &[Real],
+        salt: u64,
+        world: &CollisionWorld,
+    ) -> Attempt<Vec<Real>> {
+        let reason = match self.collision(world, &first, 0.0)? {
+            None => return Ok(first),
+            Some(c) => Rejection::Collision(c),
+        };
+        let mut reason = reason;
         let a = self.setup.arm(arm);
         let mut rng = pickplace_prm::rng::Rng::new(
             self.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
         );
         let mut seed = seed.to_vec();
-        for k in 0..IK_SOLUTIONS {
-            if k > 0 {
-                for (c, &v) in a.variables.iter().enumerate() {
-                    seed[v] = rng.uniform(a.space.lower()[c], a.space.upper()[c]);
-                }
+        for k in 1..IK_SOLUTIONS {
+            for (c, &v) in a.variables.iter().enumerate() {
+                seed[v] = rng.uniform(a.space.lower()[c], a.space.upper()[c]);
             }
             let Some(q) = self.ik(arm, world_from_tcp, &seed, salt.wrapping_add(k as u64)) else {
-                if k == 0 {
-                    // The solver's own seeded restarts found no solution at all: other
-                    // branches are sought to clear obstacles, not to reach.
-                    return Err(Rejection::NoIk.into());
-                }
                 continue;
             };
             match self.collision(world, &q, 0.0)? {
@@ -289,9 +305,13 @@ impl Ctx<'_> {
         }
         let salt = ((gi as u64) << 8 | arm.index() as u64) ^ rest.wrapping_mul(0x9e37_79b9);
         let open = self.opened(arm, start);
+        // IK first: most picks that fail have none, and need no world built.
+        let first = self
+            .ik(arm, &grasp_pose, &open, salt)
+            .ok_or(Rejection::NoIk.at(Step::Grasp))?;
         let free = self.world_with_object_at(world_from_object);
         let q_grasp = self
-            .free_ik(arm, &grasp_pose, &open, salt, &free)
+            .free_ik_after(arm, first, &grasp_pose, &open, salt, &free)
             .map_err(|f| f.at(Step::Grasp))?;
         let pre_pose =
             grasp_pose * Translation3::from(-self.approach_axis() * self.options.approach_distance);
@@ -374,9 +394,20 @@ impl Ctx<'_> {
         }
         let salt = salt | (gi as u64) << 8 | 0x80 | arm.index() as u64;
         let closed_seed = self.gripping(arm, seed, g.width);
+        // IK first: most places that fail have none, and need no world built.
+        let first = self
+            .ik(arm, &place_pose, &closed_seed, salt)
+            .ok_or(Rejection::NoIk.at(Step::Place))?;
         let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
         let q_place = self
-            .free_ik(arm, &place_pose, &closed_seed, salt, &holding_contact)
+            .free_ik_after(
+                arm,
+                first,
+                &place_pose,
+                &closed_seed,
+                salt,
+                &holding_contact,
+            )
             .map_err(|f| f.at(Step::Place))?;
         let pre_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * place_pose;
         let world_at = self.near_support(&holding, &holding_contact);

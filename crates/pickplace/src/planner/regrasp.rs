@@ -234,6 +234,35 @@ impl Ctx<'_> {
                     let Ok(place) = r else {
                         continue;
                     };
+                    // B's pick-ups of `g2` at every rest where it fits, on the thread pool.
+                    let todo: Vec<usize> = rest_edges
+                        .iter()
+                        .filter(|(k, _, up)| {
+                            up.binary_search(&g2).is_ok() && !ups.contains_key(&(*k, g2))
+                        })
+                        .map(|(k, _, _)| *k)
+                        .collect();
+                    let computed: Vec<_> = todo
+                        .par_iter()
+                        .map(|&k| {
+                            let rest_pose = self.rests()[k].world_from_object;
+                            let supports = self.rest_supports(k);
+                            let r = self.pick_at(
+                                b,
+                                g2,
+                                &rest_pose,
+                                supports,
+                                &open_start,
+                                1 + k as u64,
+                            );
+                            (k, r)
+                        })
+                        .collect();
+                    for (k, r) in computed {
+                        let r = split(r)?;
+                        tally(report, Stage::Regrasp, &r);
+                        ups.insert((k, g2), r);
+                    }
                     for (k, down, up) in &rest_edges {
                         let k = *k;
                         if up.binary_search(&g2).is_err() {
@@ -243,81 +272,92 @@ impl Ctx<'_> {
                             break;
                         }
                         let rest_pose = self.rests()[k].world_from_object;
-                        if let Entry::Vacant(slot) = ups.entry((k, g2)) {
-                            let supports = self.rest_supports(k).to_vec();
-                            let r = split(self.pick_at(
-                                b,
-                                g2,
-                                &rest_pose,
-                                &supports,
-                                &open_start,
-                                1 + k as u64,
-                            ))?;
-                            tally(report, Stage::Regrasp, &r);
-                            slot.insert(r);
-                        }
                         let Some(Ok(up_pick)) = ups.get(&(k, g2)) else {
                             continue;
                         };
                         let up_pick = up_pick.clone();
-                        for &g1 in down {
-                            if a == b && g2 == g1 {
-                                // The same hand with the same grasp gains nothing.
-                                continue;
-                            }
+                        // The same hand with the same grasp gains nothing.
+                        let firsts: Vec<usize> = down
+                            .iter()
+                            .copied()
+                            .filter(|&g1| !(a == b && g2 == g1))
+                            .collect();
+                        for chunk in firsts.chunks(super::search::PARALLEL_CHUNK) {
                             if self.out_of_time() {
                                 break;
                             }
-                            if let Entry::Vacant(slot) = picks.entry(g1) {
-                                let r = split(self.pick(a, g1))?;
-                                tally(report, Stage::Pick, &r);
-                                slot.insert(r);
-                            }
-                            let Some(Ok(pick)) = picks.get(&g1) else {
-                                continue;
-                            };
-                            let pick = pick.clone();
-                            if let Entry::Vacant(slot) = downs.entry((k, g1)) {
-                                let lifted = super::end_of(&pick.lift)?;
-                                let supports = self.rest_supports(k).to_vec();
-                                let r = split(self.place_at(
-                                    a,
-                                    g1,
-                                    &rest_pose,
-                                    &supports,
-                                    lifted,
-                                    REST_SALT | (k as u64) << 20,
-                                ))?;
-                                tally(report, Stage::Rest, &r);
-                                slot.insert(r);
-                            }
-                            let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
-                                continue;
-                            };
-                            let down_place = down_place.clone();
-                            let legs = RegraspLegs {
-                                strategy,
-                                pi,
-                                k,
-                                g1,
-                                g2,
-                                pick: &pick,
-                                down: &down_place,
-                                up: &up_pick,
-                                place: &place,
-                            };
-                            match split(self.regrasp_motions(&start, &legs))? {
-                                Ok(segments) => {
-                                    count(report, Stage::Motion).accept();
-                                    count(report, Stage::Placement).accept();
-                                    return Ok(Some(Found {
-                                        segments,
-                                        grasps: vec![(a, g1), (b, g2)],
-                                        placement: pi,
-                                        rests: vec![k],
-                                    }));
+                            // A's picks and put-downs at this rest, on the thread pool, then
+                            // taken in rank order.
+                            let todo: Vec<usize> = chunk
+                                .iter()
+                                .copied()
+                                .filter(|&g1| !downs.contains_key(&(k, g1)))
+                                .collect();
+                            let computed: Vec<_> = todo
+                                .par_iter()
+                                .map(|&g1| {
+                                    let pick = self.pick(a, g1);
+                                    let down = match &pick {
+                                        Ok(p) => Some(super::end_of(&p.lift).map(|lifted| {
+                                            self.place_at(
+                                                a,
+                                                g1,
+                                                &rest_pose,
+                                                self.rest_supports(k),
+                                                lifted,
+                                                REST_SALT | (k as u64) << 20,
+                                            )
+                                        })),
+                                        Err(_) => None,
+                                    };
+                                    (g1, pick, down)
+                                })
+                                .collect();
+                            for (g1, pick, down) in computed {
+                                if let Entry::Vacant(slot) = picks.entry(g1) {
+                                    let r = split(pick)?;
+                                    tally(report, Stage::Pick, &r);
+                                    slot.insert(r);
                                 }
-                                Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                                if let Some(down) = down {
+                                    let r = split(down?)?;
+                                    tally(report, Stage::Rest, &r);
+                                    downs.insert((k, g1), r);
+                                }
+                            }
+                            for &g1 in chunk {
+                                let Some(Ok(pick)) = picks.get(&g1) else {
+                                    continue;
+                                };
+                                let pick = pick.clone();
+                                let Some(Ok(down_place)) = downs.get(&(k, g1)) else {
+                                    continue;
+                                };
+                                let down_place = down_place.clone();
+                                let legs = RegraspLegs {
+                                    strategy,
+                                    pi,
+                                    k,
+                                    g1,
+                                    g2,
+                                    pick: &pick,
+                                    down: &down_place,
+                                    up: &up_pick,
+                                    place: &place,
+                                };
+                                match split(self.regrasp_motions(&start, &legs))? {
+                                    Ok(segments) => {
+                                        count(report, Stage::Motion).accept();
+                                        count(report, Stage::Placement).accept();
+                                        return Ok(Some(Found {
+                                            segments,
+                                            grasps: vec![(a, g1), (b, g2)],
+                                            placement: pi,
+                                            rests: vec![k],
+                                        }));
+                                    }
+                                    Err(r) => count(report, Stage::Motion).reject(r.to_string()),
+                                }
                             }
                         }
                     }

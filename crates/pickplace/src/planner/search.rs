@@ -19,6 +19,10 @@ use std::collections::BTreeMap;
 /// outcome does not depend on the thread count).
 pub(super) const PARALLEL_CHUNK: usize = 16;
 
+/// Grasps whose pick and place a single-arm search computes together on the thread pool: a
+/// few, since the first that passes ends the search (the others are extra work).
+const SINGLE_ARM_CHUNK: usize = 4;
+
 /// Picks by the first arm gathered at a time for a handover search (more are gathered when
 /// these find no handover).
 const HANDOVER_PICKS: usize = 12;
@@ -65,10 +69,10 @@ impl Ctx<'_> {
                 } else {
                     &grasps[*expected..]
                 };
-                // Picks and places of a few grasps at a time on the thread pool (each memoized,
-                // so the result is the same whatever the chunk), then taken in rank order.
-                let chunk = 2 * rayon::current_num_threads().max(1);
-                for batch in grasps.chunks(chunk) {
+                // Picks and places of a few grasps at a time on the thread pool (each
+                // memoized), then taken in rank order: the plan and its counts are the same
+                // whatever the thread count.
+                for batch in grasps.chunks(SINGLE_ARM_CHUNK) {
                     if self.out_of_time() {
                         break;
                     }
