@@ -356,8 +356,9 @@ impl Setup {
             .collect();
         let placement_env = EnvironmentModel::from_parts(&parts)
             .map_err(crate::error::internal("placement environment model"))?;
-        let object_shape =
-            CollisionShape::mesh(&object_mesh).map_err(robot_err(&scene.object.mesh))?;
+        let object_shape = CollisionShape::mesh(&object_mesh)
+            .map_err(robot_err(&scene.object.mesh))?
+            .with_hull();
 
         // The arms.
         let mut arms = Vec::with_capacity(robot.arms.len());

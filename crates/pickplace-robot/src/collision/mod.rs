@@ -41,6 +41,10 @@ use std::path::Path;
 #[derive(Debug, Clone)]
 pub struct CollisionShape {
     shape: SharedShape,
+    /// The convex hull of a mesh shape, when asked for ([`CollisionShape::with_hull`]): an
+    /// attached object's pairs are tested against it first, and against the mesh only when
+    /// the hull touches (the mesh lies inside it, so the answer is the mesh's).
+    hull: Option<SharedShape>,
 }
 
 impl CollisionShape {
@@ -54,6 +58,7 @@ impl CollisionShape {
         }
         Ok(Self {
             shape: SharedShape::cuboid(half_extents.x, half_extents.y, half_extents.z),
+            hull: None,
         })
     }
 
@@ -64,6 +69,7 @@ impl CollisionShape {
     pub fn ball(radius: Real) -> Result<Self> {
         Ok(Self {
             shape: SharedShape::ball(positive("sphere radius", radius)?),
+            hull: None,
         })
     }
 
@@ -80,6 +86,7 @@ impl CollisionShape {
                 parry::vector(&Vector3::new(0.0, 0.0, half)),
                 r,
             ),
+            hull: None,
         })
     }
 
@@ -96,7 +103,20 @@ impl CollisionShape {
                 reason: "the collision library rejected the triangle mesh",
             }
         })?;
-        Ok(Self { shape })
+        Ok(Self { shape, hull: None })
+    }
+
+    /// This shape with its convex hull kept beside it (for a mesh; other shapes are convex
+    /// already): a held object with many triangles is then tested against a link or an
+    /// obstacle through its hull first, and through its triangles only when the hull
+    /// touches. The answers are those of the mesh alone.
+    pub fn with_hull(mut self) -> Self {
+        if let Some(mesh) = self.shape.as_trimesh() {
+            // Few vertices (GJK scans them all per support point), rounded to contain the
+            // exact hull.
+            self.hull = hull::link_hull(mesh.vertices());
+        }
+        self
     }
 
     /// The convex hull of a triangle mesh's vertices (in the mesh's frame).
@@ -110,7 +130,7 @@ impl CollisionShape {
             value: mesh.vertices().len() as Real,
             reason: "the mesh's vertices span no volume: no convex hull",
         })?;
-        Ok(Self { shape })
+        Ok(Self { shape, hull: None })
     }
 
     /// A triangle mesh read from a file (STL, OBJ or PLY) through `pickplace-geometry`, for a
@@ -157,6 +177,7 @@ impl CollisionShape {
                 (
                     Self {
                         shape: SharedShape::cylinder(half, r),
+                        hull: None,
                     },
                     y_to_z,
                 )
@@ -168,7 +189,7 @@ impl CollisionShape {
             Shape::Mesh { mesh, .. } => {
                 let vertices: Vec<_> = mesh.vertices().iter().map(parry::point).collect();
                 let shape = match hull::link_hull(&vertices) {
-                    Some(shape) => Self { shape },
+                    Some(shape) => Self { shape, hull: None },
                     None => Self::mesh(mesh)?,
                 };
                 (shape, Isometry3::identity())
@@ -351,6 +372,8 @@ struct AttachedObject {
     name: String,
     link: usize,
     shape: SharedShape,
+    /// The mesh's hull, tested first ([`CollisionShape::with_hull`]).
+    hull: Option<SharedShape>,
     link_from_object: Isometry3,
     local_aabb: Aabb,
     /// Links allowed to touch it (its link, the fingers).
@@ -559,6 +582,7 @@ impl CollisionWorld {
             name: name.to_owned(),
             link,
             shape: shape.shape,
+            hull: shape.hull,
             link_from_object: *link_from_object,
             local_aabb,
             allowed_links,
@@ -680,6 +704,26 @@ impl CollisionWorld {
                 ClosestPoints::Disjoint
             ))
         }
+    }
+
+    /// [`CollisionWorld::touching`] of an attached object and another shape: through the
+    /// object's hull first when it has one (a hull clear of the other shape, or farther
+    /// than the margin, leaves the mesh inside it clear too), then its own shape.
+    fn attached_touching(
+        &self,
+        pose1: &Pose,
+        object: &AttachedObject,
+        pose2: &Pose,
+        shape2: &SharedShape,
+        margin: Real,
+        names: impl Fn() -> (String, String),
+    ) -> Result<bool> {
+        if let Some(hull) = &object.hull
+            && !self.touching(pose1, hull, pose2, shape2, margin, &names)?
+        {
+            return Ok(false);
+        }
+        self.touching(pose1, &object.shape, pose2, shape2, margin, names)
     }
 
     /// The exact test of two robot shapes, as [`CollisionWorld::touching`]: the same GJK query
@@ -859,9 +903,9 @@ impl CollisionWorld {
                 {
                     continue;
                 }
-                if self.touching(
+                if self.attached_touching(
                     &scratch.attached_poses[k],
-                    &a.shape,
+                    a,
                     &scratch.shape_poses[i],
                     &s.shape,
                     pair_margin,
@@ -885,9 +929,9 @@ impl CollisionWorld {
                     continue;
                 }
                 let env = &self.environment[e];
-                if self.touching(
+                if self.attached_touching(
                     &scratch.attached_poses[k],
-                    &a.shape,
+                    a,
                     &env.world_from_shape,
                     &env.shape,
                     pair_margin,
@@ -1615,5 +1659,60 @@ mod tests {
                 found: 1
             })
         ));
+    }
+
+    #[test]
+    fn a_held_mesh_tested_through_its_hull_first_gives_the_mesh_answer() {
+        // The paper's mug (a handle: far from convex), attached, against a box at poses that
+        // sweep through contact, with and without a margin.
+        let mug = pickplace_geometry::shapes::mug_builder()
+            .build()
+            .expect("mug");
+        let shape = CollisionShape::mesh(&mug).expect("mesh").with_hull();
+        assert!(shape.hull.is_some());
+        let object = AttachedObject {
+            name: "mug".into(),
+            link: 0,
+            shape: shape.shape.clone(),
+            hull: shape.hull.clone(),
+            link_from_object: Isometry3::identity(),
+            local_aabb: shape.shape.compute_local_aabb(),
+            allowed_links: Vec::new(),
+            allowed_environment: Vec::new(),
+        };
+        let other = SharedShape::cuboid(0.01, 0.02, 0.015);
+        let (_, world) = two_cubes();
+        let (mut touching, mut apart) = (0, 0);
+        for i in 0..600 {
+            let t = i as Real * 0.21;
+            let pose1 = parry::pose(&Isometry3::from_parts(
+                Translation3::new(0.0, 0.0, 0.0),
+                UnitQuaternion::from_euler_angles(0.3 * t, 0.1 * t, 0.0),
+            ));
+            let pose2 = parry::pose(&Isometry3::from_parts(
+                Translation3::new(
+                    0.07 * t.sin(),
+                    0.07 * (0.7 * t).cos(),
+                    0.05 + 0.05 * (0.3 * t).sin(),
+                ),
+                UnitQuaternion::from_euler_angles(0.2 * t, t, 0.3),
+            ));
+            for margin in [0.0, 0.005] {
+                let names = || (String::new(), String::new());
+                let ours = world
+                    .attached_touching(&pose1, &object, &pose2, &other, margin, names)
+                    .expect("supported");
+                let mesh_only = world
+                    .touching(&pose1, &object.shape, &pose2, &other, margin, names)
+                    .expect("supported");
+                assert_eq!(ours, mesh_only, "pose {i}, margin {margin}");
+                if ours { touching += 1 } else { apart += 1 }
+            }
+        }
+        // Both answers occur (the sweep crosses the mug's surface, handle included).
+        assert!(
+            touching > 50 && apart > 50,
+            "{touching} touching, {apart} apart"
+        );
     }
 }

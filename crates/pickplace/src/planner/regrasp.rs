@@ -209,6 +209,8 @@ impl Ctx<'_> {
             BTreeMap::new();
         let mut ups: BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>> =
             BTreeMap::new();
+        // Per rest: whether A can put the object down there with some grasp.
+        let mut alive: BTreeMap<usize, bool> = BTreeMap::new();
         for (pi, fit_final, _) in &finals {
             let pi = *pi;
             // The most constrained leg first: B's places at the target, seeded from the
@@ -234,11 +236,36 @@ impl Ctx<'_> {
                     let Ok(place) = r else {
                         continue;
                     };
-                    // B's pick-ups of `g2` at every rest where it fits, on the thread pool.
+                    // A rest where A puts the object down with no grasp is no use: found
+                    // once per rest, before any pick-up there is computed.
+                    for (k, down, up) in &rest_edges {
+                        if up.binary_search(&g2).is_err() || alive.contains_key(k) {
+                            continue;
+                        }
+                        let mut any = false;
+                        for chunk in down.chunks(super::search::PARALLEL_CHUNK) {
+                            if self.out_of_time() {
+                                break;
+                            }
+                            self.put_downs(a, *k, chunk, (&mut picks, &mut downs), report)?;
+                            if chunk
+                                .iter()
+                                .any(|g1| matches!(downs.get(&(*k, *g1)), Some(Ok(_))))
+                            {
+                                any = true;
+                                break;
+                            }
+                        }
+                        alive.insert(*k, any);
+                    }
+                    // B's pick-ups of `g2` at every such rest where it fits, on the thread
+                    // pool.
                     let todo: Vec<usize> = rest_edges
                         .iter()
                         .filter(|(k, _, up)| {
-                            up.binary_search(&g2).is_ok() && !ups.contains_key(&(*k, g2))
+                            up.binary_search(&g2).is_ok()
+                                && alive.get(k) == Some(&true)
+                                && !ups.contains_key(&(*k, g2))
                         })
                         .map(|(k, _, _)| *k)
                         .collect();
@@ -271,7 +298,6 @@ impl Ctx<'_> {
                         if self.out_of_time() {
                             break;
                         }
-                        let rest_pose = self.rests()[k].world_from_object;
                         let Some(Ok(up_pick)) = ups.get(&(k, g2)) else {
                             continue;
                         };
@@ -288,43 +314,7 @@ impl Ctx<'_> {
                             }
                             // A's picks and put-downs at this rest, on the thread pool, then
                             // taken in rank order.
-                            let todo: Vec<usize> = chunk
-                                .iter()
-                                .copied()
-                                .filter(|&g1| !downs.contains_key(&(k, g1)))
-                                .collect();
-                            let computed: Vec<_> = todo
-                                .par_iter()
-                                .map(|&g1| {
-                                    let pick = self.pick(a, g1);
-                                    let down = match &pick {
-                                        Ok(p) => Some(super::end_of(&p.lift).map(|lifted| {
-                                            self.place_at(
-                                                a,
-                                                g1,
-                                                &rest_pose,
-                                                self.rest_supports(k),
-                                                lifted,
-                                                REST_SALT | (k as u64) << 20,
-                                            )
-                                        })),
-                                        Err(_) => None,
-                                    };
-                                    (g1, pick, down)
-                                })
-                                .collect();
-                            for (g1, pick, down) in computed {
-                                if let Entry::Vacant(slot) = picks.entry(g1) {
-                                    let r = split(pick)?;
-                                    tally(report, Stage::Pick, &r);
-                                    slot.insert(r);
-                                }
-                                if let Some(down) = down {
-                                    let r = split(down?)?;
-                                    tally(report, Stage::Rest, &r);
-                                    downs.insert((k, g1), r);
-                                }
-                            }
+                            self.put_downs(a, k, chunk, (&mut picks, &mut downs), report)?;
                             for &g1 in chunk {
                                 let Some(Ok(pick)) = picks.get(&g1) else {
                                     continue;
@@ -366,6 +356,66 @@ impl Ctx<'_> {
             count(report, Stage::Placement).reject(Rejection::NoRegraspSequence.to_string());
         }
         Ok(None)
+    }
+}
+
+/// Memos of a regrasp search: A's picks at the start per grasp, and A's put-downs per
+/// (rest, grasp).
+type PutDownMemos<'m> = (
+    &'m mut BTreeMap<usize, std::result::Result<Pick, Rejection>>,
+    &'m mut BTreeMap<(usize, usize), std::result::Result<Place, Rejection>>,
+);
+
+impl Ctx<'_> {
+    /// A's picks and put-downs at rest `k` with the grasps of `chunk` not computed yet, on
+    /// the thread pool; each result counted once, under its stage.
+    fn put_downs(
+        &self,
+        a: Arm,
+        k: usize,
+        chunk: &[usize],
+        (picks, downs): PutDownMemos<'_>,
+        report: &mut StrategyReport,
+    ) -> Result<()> {
+        let rest_pose = self.rests()[k].world_from_object;
+        let todo: Vec<usize> = chunk
+            .iter()
+            .copied()
+            .filter(|&g1| !downs.contains_key(&(k, g1)))
+            .collect();
+        let computed: Vec<_> = todo
+            .par_iter()
+            .map(|&g1| {
+                let pick = self.pick(a, g1);
+                let down = match &pick {
+                    Ok(p) => Some(super::end_of(&p.lift).map(|lifted| {
+                        self.place_at(
+                            a,
+                            g1,
+                            &rest_pose,
+                            self.rest_supports(k),
+                            lifted,
+                            REST_SALT | (k as u64) << 20,
+                        )
+                    })),
+                    Err(_) => None,
+                };
+                (g1, pick, down)
+            })
+            .collect();
+        for (g1, pick, down) in computed {
+            if let Entry::Vacant(slot) = picks.entry(g1) {
+                let r = split(pick)?;
+                tally(report, Stage::Pick, &r);
+                slot.insert(r);
+            }
+            if let Some(down) = down {
+                let r = split(down?)?;
+                tally(report, Stage::Rest, &r);
+                downs.insert((k, g1), r);
+            }
+        }
+        Ok(())
     }
 }
 
