@@ -19,7 +19,7 @@ use std::hint::black_box;
 const SCENES: [&str; 8] = [
     "can-right",
     "cereal-box-right",
-    "box-into-pocket",
+    "box-into-pocket-near",
     "bottle-onto-shelf",
     "can-into-gap",
     "mug-clutter-target",

@@ -396,7 +396,27 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             setup.arms[0].arm, setup.arms[0].group
         ));
     }
-    let order = ctx.direct_first(order);
+    // A close call of the paper's nearer-hand rule: the one-arm strategy probed first.
+    if let Some(strategy) = ctx.direct_first(&order) {
+        let t = Instant::now();
+        let mut report = StrategyReport {
+            strategy,
+            success: false,
+            stages: BTreeMap::new(),
+        };
+        let found = ctx.single_arm_search(strategy.pick_arm(), &mut report, true)?;
+        ctx.timings.insert(
+            format!("probe {}", strategy.name()),
+            t.elapsed().as_secs_f64(),
+        );
+        if let Some(found) = found {
+            report.success = true;
+            stats.strategies.push(report);
+            let plan = ctx.assemble(strategy, found, stats, t_all)?;
+            return Ok(Outcome::Planned(Box::new(plan)));
+        }
+        // Its full search comes in its turn, which counts every candidate again.
+    }
     let n_strategies = order.len();
     for (i, strategy) in order.into_iter().enumerate() {
         ctx.share_time(n_strategies - i);

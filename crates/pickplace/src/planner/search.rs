@@ -19,6 +19,14 @@ use std::collections::BTreeMap;
 /// outcome does not depend on the thread count).
 pub(super) const PARALLEL_CHUNK: usize = 16;
 
+/// How much nearer (m) one hand may be than the other to the object's start or to the
+/// target for the paper's choice of the nearer hand to count as a close call
+/// ([`Ctx::direct_first`]).
+const NEARLY_EQUALLY_NEAR: Real = 0.10;
+
+/// Places a probe of a single-arm strategy computes at most ([`Ctx::single_arm_search`]).
+pub(super) const PROBE_PLACES: usize = 512;
+
 /// Grasps whose pick and place a single-arm search computes together on the thread pool: a
 /// few, since the first that passes ends the search (the others are extra work).
 const SINGLE_ARM_CHUNK: usize = 4;
@@ -49,7 +57,22 @@ impl Ctx<'_> {
         arm: Arm,
         report: &mut StrategyReport,
     ) -> Result<Option<Found>> {
+        self.single_arm_search(arm, report, false)
+    }
+
+    /// [`Ctx::single_arm_strategy`], or with `probe` its quick form that [`Ctx::direct_first`]
+    /// runs before the paper's order: the grasps the reachability maps expect only, and at
+    /// most [`PROBE_PLACES`] places computed (a count, so the outcome does not depend on the
+    /// machine's speed). A probe that finds nothing leaves the full search to the strategy's
+    /// turn in the order, where the picks and places computed are reused.
+    pub(super) fn single_arm_search(
+        &mut self,
+        arm: Arm,
+        report: &mut StrategyReport,
+        probe: bool,
+    ) -> Result<Option<Found>> {
         let start = self.setup.start.clone();
+        let mut places_computed = 0usize;
         let pickable = self.fitting_at_start(arm, report);
         let mut counted = std::collections::BTreeSet::new();
         let order = self.placement_order(arm, &pickable, true, report);
@@ -57,7 +80,8 @@ impl Ctx<'_> {
         // IK for at both the start and the placement, then the others. A placement whose
         // likely grasps all fail does not hold up the likely grasps of the next one.
         let mut any = vec![false; order.len()];
-        for pass in 0..2 {
+        let passes = if probe { 1 } else { 2 };
+        for pass in 0..passes {
             for (oi, (pi, grasps, expected)) in order.iter().enumerate() {
                 let pi = *pi;
                 if self.out_of_time() {
@@ -76,6 +100,10 @@ impl Ctx<'_> {
                     if self.out_of_time() {
                         break;
                     }
+                    if probe && places_computed >= PROBE_PLACES {
+                        return Ok(None);
+                    }
+                    places_computed += batch.len();
                     let results: Vec<_> = batch
                         .par_iter()
                         .map(|&gi| {
@@ -155,20 +183,32 @@ impl Ctx<'_> {
     }
 
     /// An improvement on the paper's order (§III-B.3), which picks with the hand nearer the
-    /// object and places with the hand nearer the target: when that makes a handover first,
-    /// a single-arm strategy whose arm the reachability maps expect to do the whole job (a
-    /// grasp that fits and is expected at the start and at a placement) is tried before it.
-    /// It needs one grasp instead of two and no second arm, and when the object starts near
-    /// the middle the paper's "nearer hand" is a matter of centimetres. Every strategy is
-    /// still tried, in the paper's order otherwise.
-    pub(super) fn direct_first(&self, mut order: Vec<Strategy>) -> Vec<Strategy> {
-        let handover_first = order
-            .first()
-            .is_some_and(|s| s.has_handover() && !s.has_regrasp());
-        if !handover_first || order.len() < 2 {
-            return order;
+    /// object and places with the hand nearer the target: when that makes a handover first
+    /// and one of its two choices was close (the two hands' distances to the object's start,
+    /// or to the target, within [`NEARLY_EQUALLY_NEAR`]), the single-arm strategy of the
+    /// other choice is tried first if the reachability maps expect its arm to do the whole job
+    /// (a grasp that fits and is expected at the start and at a placement). It needs one
+    /// grasp instead of two and no second arm; an object near the middle is "nearer" one
+    /// hand by centimetres. That strategy is probed first ([`Ctx::single_arm_search`]); the
+    /// order itself, the paper's, is unchanged.
+    pub(super) fn direct_first(&self, order: &[Strategy]) -> Option<Strategy> {
+        let &first = order.first()?;
+        if !first.has_handover() || first.has_regrasp() || order.len() < 2 {
+            return None;
         }
+        let (a, b) = (first.pick_arm(), first.place_arm());
         let start = &self.setup.object_start;
+        let start_point = start * self.setup.cog;
+        let target = self.setup.scene.target_point();
+        let close = |p: &pickplace_geometry::math::Point3| {
+            let d = |arm: Arm| (self.setup.arm(arm).shoulder - p).norm();
+            (d(a) - d(b)).abs() <= NEARLY_EQUALLY_NEAR
+        };
+        // B picks too when the start was close; A places too when the target was.
+        let candidates: Vec<Arm> = [(close(&start_point), b), (close(&target), a)]
+            .into_iter()
+            .filter_map(|(c, arm)| c.then_some(arm))
+            .collect();
         let expected = |arm: Arm| {
             let at_start: Vec<usize> = (0..self.grasps.len())
                 .filter(|&g| {
@@ -184,14 +224,11 @@ impl Ctx<'_> {
                         .any(|&g| fits.binary_search(&g).is_ok() && self.reachable(arm, g, pose))
                 })
         };
-        if let Some(i) = order
-            .iter()
-            .position(|s| !s.has_handover() && !s.has_regrasp() && expected(s.pick_arm()))
-        {
-            let direct = order.remove(i);
-            order.insert(0, direct);
-        }
-        order
+        candidates
+            .into_iter()
+            .find(|&arm| expected(arm))
+            .map(|arm| Strategy::new(arm, arm))
+            .filter(|s| order.contains(s))
     }
 
     /// Whether `arm`'s reachability map ([`crate::reach::ReachMap`]) expects IK for grasp
@@ -602,5 +639,56 @@ pub(super) mod tests {
         ] {
             assert!(keys.contains(&k), "{keys:?}");
         }
+    }
+
+    /// The paper's order for the scene of `ctx`.
+    fn paper_order(ctx: &Ctx<'_>) -> Vec<Strategy> {
+        let shoulders = [
+            ctx.setup.arm(Arm::Right).shoulder,
+            ctx.setup.arm(Arm::Left).shoulder,
+        ];
+        Strategy::order(
+            crate::scene::StrategyChoice::Auto,
+            shoulders,
+            &(ctx.setup.object_start * ctx.setup.cog),
+            &ctx.setup.scene.target_point(),
+        )
+    }
+
+    #[test]
+    fn a_close_call_of_the_nearer_hand_probes_the_one_arm_strategy() {
+        // The box starts 2 cm left of the middle: the paper hands it over left to right; the
+        // right hand alone does it, and its probe finds the plan.
+        let mut ctx = ctx("suite/box-into-gap.toml");
+        let order = paper_order(&ctx);
+        assert_eq!(order[0], Strategy::LeftRight);
+        assert_eq!(ctx.direct_first(&order), Some(Strategy::RightRight));
+        let mut r = report(Strategy::RightRight);
+        let found = ctx
+            .single_arm_search(Arm::Right, &mut r, true)
+            .expect("no defect");
+        assert!(found.is_some(), "{:?}", r.stages);
+        // A probe computes at most PROBE_PLACES places (in chunks).
+        let computed: usize = r.stages.get("place").map_or(0, |p| p.tried);
+        assert!(computed <= PROBE_PLACES + SINGLE_ARM_CHUNK, "{computed}");
+    }
+
+    #[test]
+    fn a_probe_that_fails_stops_at_its_count_and_leaves_the_paper_order() {
+        // The Fig. 9 can far to the left, the target on the pallet near the middle: the left
+        // hand is nearer the target by less than NEARLY_EQUALLY_NEAR, so LEFT-LEFT is
+        // probed; its places collide with the idle right arm, and the probe gives up after
+        // its count of places. The plan is the paper's handover.
+        let mut ctx = ctx("fig9-far-left.toml");
+        let order = paper_order(&ctx);
+        assert_eq!(order[0], Strategy::LeftRight);
+        assert_eq!(ctx.direct_first(&order), Some(Strategy::LeftLeft));
+        let mut r = report(Strategy::LeftLeft);
+        let found = ctx
+            .single_arm_search(Arm::Left, &mut r, true)
+            .expect("no defect");
+        assert!(found.is_none());
+        let computed: usize = r.stages.get("pick").map_or(0, |p| p.accepted);
+        assert!(computed <= PROBE_PLACES + SINGLE_ARM_CHUNK, "{computed}");
     }
 }
