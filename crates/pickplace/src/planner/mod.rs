@@ -396,36 +396,27 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             setup.arms[0].arm, setup.arms[0].group
         ));
     }
-    // A close call of the paper's nearer-hand rule: the one-arm strategy probed first.
-    if let Some(strategy) = ctx.direct_first(&order) {
-        let t = Instant::now();
-        let mut report = StrategyReport {
-            strategy,
-            success: false,
-            stages: BTreeMap::new(),
-        };
-        let found = ctx.single_arm_search(strategy.pick_arm(), &mut report, true)?;
-        ctx.timings.insert(
-            format!("probe {}", strategy.name()),
-            t.elapsed().as_secs_f64(),
-        );
-        if let Some(found) = found {
-            report.success = true;
-            stats.strategies.push(report);
-            let plan = ctx.assemble(strategy, found, stats, t_all)?;
-            return Ok(Outcome::Planned(Box::new(plan)));
-        }
-        // Its full search comes in its turn, which counts every candidate again.
-    }
+    // A close call of the paper's nearer-hand rule: the one-arm strategy probed first
+    // (`Ctx::direct_first`); its full search comes in its turn, which counts every candidate
+    // again, so a probe that finds nothing is not reported.
+    let probe = ctx.direct_first(&order);
     let n_strategies = order.len();
-    for (i, strategy) in order.into_iter().enumerate() {
-        ctx.share_time(n_strategies - i);
-        if ctx.out_of_time() {
-            reasons.push(format!(
-                "{strategy}: not tried, the time budget of {} s is spent",
-                options.time_budget
-            ));
-            continue;
+    let attempts = probe
+        .map(|s| (s, true))
+        .into_iter()
+        .chain(order.into_iter().map(|s| (s, false)));
+    let mut turn = 0;
+    for (strategy, is_probe) in attempts {
+        if !is_probe {
+            ctx.share_time(n_strategies - turn);
+            turn += 1;
+            if ctx.out_of_time() {
+                reasons.push(format!(
+                    "{strategy}: not tried, the time budget of {} s is spent",
+                    options.time_budget
+                ));
+                continue;
+            }
         }
         let t = Instant::now();
         let mut report = StrategyReport {
@@ -433,15 +424,18 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             success: false,
             stages: BTreeMap::new(),
         };
-        let found = if strategy.has_regrasp() {
+        let found = if is_probe {
+            ctx.single_arm_search(strategy.pick_arm(), &mut report, true)?
+        } else if strategy.has_regrasp() {
             ctx.regrasp_strategy(strategy, &mut report)?
         } else if strategy.has_handover() {
             ctx.handover_strategy(strategy, &mut report)?
         } else {
             ctx.single_arm_strategy(strategy.pick_arm(), &mut report)?
         };
+        let what = if is_probe { "probe" } else { "strategy" };
         ctx.timings.insert(
-            format!("strategy {}", strategy.name()),
+            format!("{what} {}", strategy.name()),
             t.elapsed().as_secs_f64(),
         );
         if let Some(found) = found {
@@ -450,8 +444,10 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             let plan = ctx.assemble(strategy, found, stats, t_all)?;
             return Ok(Outcome::Planned(Box::new(plan)));
         }
-        reasons.push(format!("{strategy}: {}", summarize(&report)));
-        stats.strategies.push(report);
+        if !is_probe {
+            reasons.push(format!("{strategy}: {}", summarize(&report)));
+            stats.strategies.push(report);
+        }
     }
     ctx.finish_stats(&mut stats, t_all);
     Ok(Outcome::NoPlan(Failure { reasons, stats }))
