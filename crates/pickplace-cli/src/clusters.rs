@@ -13,7 +13,7 @@ use pickplace_geometry::cluster::{ClusterParams, Clustering, ContactMode};
 use pickplace_geometry::db::{CacheStatus, ClusterDatabase};
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::mesh::{self, MeshOptions, TriMesh};
-use std::io::Write as _;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -150,13 +150,11 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
         pickplace_view::render_clusters(&mesh, c, &options)?.write_png(png)?;
         eprintln!("wrote {} ({} clusters)", png.display(), c.clusters.len());
     }
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
     if args.json {
         let json = db.to_json(&mesh, &args.mesh.to_string_lossy());
-        serde_json::to_writer_pretty(&mut out, &json)?;
-        writeln!(out)?;
+        crate::output::print_json(&json)?;
     } else {
+        let mut out = String::new();
         writeln!(
             out,
             "{}: {} triangles, {} {} clusters (h_max {} m){}",
@@ -189,8 +187,8 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
                 p.first, p.second, p.width, p.overlap_area
             )?;
         }
+        crate::output::print(&out)?;
     }
-    out.flush()?;
     Ok(ExitCode::SUCCESS)
 }
 

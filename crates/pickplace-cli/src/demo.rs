@@ -139,9 +139,11 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         written.extend(pictures);
     }
     eprintln!("done in {:.2} s; wrote:", start.elapsed().as_secs_f64());
+    let mut text = String::new();
     for path in &written {
-        println!("{}", path.display());
+        crate::output::outln!(text, "{}", path.display());
     }
+    crate::output::print(&text)?;
     Ok(if failed {
         ExitCode::from(1)
     } else {

@@ -6,7 +6,6 @@ use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_grasp::json::GraspsJson;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -96,13 +95,7 @@ pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
             )?;
         }
     }
-    // A closed pipe (`| head`) is not an error of ours.
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            return Err(e).context("writing to stdout");
-        }
-        _ => {}
-    }
+    crate::output::print(&text)?;
     if set.grasps.is_empty() {
         eprintln!("no grasp: every candidate was rejected (see the counts above)");
         return Ok(ExitCode::from(1));

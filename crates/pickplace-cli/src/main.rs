@@ -1,10 +1,13 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution
 //! (no plan, or an infeasible scene such as a start state in collision), 2 bad input or usage.
+//! Everything printed on standard output goes through [`output`]: a closed standard output
+//! (`pickplace plan … | head`) ends the printing quietly, never with a panic.
 
 mod args;
 mod clusters;
 mod demo;
 mod grasps;
+mod output;
 mod placements;
 mod plan;
 mod robot;
@@ -93,7 +96,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Demo(args) => demo::run(&args),
         Command::MeshInfo { mesh } => {
             let m = pickplace_geometry::mesh::load(&mesh, &Default::default())?;
-            println!("{}", serde_json::to_string_pretty(m.report())?);
+            output::print_json(m.report())?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Clusters(args) => clusters::run_clusters(args),

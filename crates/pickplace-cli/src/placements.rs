@@ -2,6 +2,7 @@
 //! its resting poses on a horizontal plane when no environment is given.
 
 use crate::args::{parse_point, parse_pose};
+use crate::output::outln;
 use anyhow::{Context, bail};
 use pickplace_geometry::cluster::{ClusterParams, ContactMode, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3};
@@ -193,10 +194,12 @@ fn write_resting_png(
 
 fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
     if json {
-        println!("{}", serde_json::to_string_pretty(out)?);
+        crate::output::print_json(out)?;
     } else {
+        let mut text = String::new();
         if let Some(t) = out.target {
-            println!(
+            outln!(
+                text,
                 "target ({:.4}, {:.4}, {:.4}) on environment cluster {}",
                 t[0],
                 t[1],
@@ -205,16 +208,23 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
                     .map_or_else(|| "-".into(), |c| c.to_string())
             );
         }
-        println!(
+        outln!(
+            text,
             "{:>3}  {:<9}  {:>7}  {:>10}  {:>9}  {:>7}  position",
-            "#", "contact", "object", "margin(m)", "dist(m)", "tilt(°)"
+            "#",
+            "contact",
+            "object",
+            "margin(m)",
+            "dist(m)",
+            "tilt(°)"
         );
         for (i, p) in out.placements.iter().enumerate() {
             let contact = match p.contact {
                 ContactKind::FaceFace => "face-face",
                 ContactKind::EdgeFace => "edge-face",
             };
-            println!(
+            outln!(
+                text,
                 "{:>3}  {:<9}  {:>7}  {:>10.4}  {:>9}  {:>7.2}  ({:.4}, {:.4}, {:.4})",
                 i,
                 contact,
@@ -229,6 +239,7 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
                 p.pose.position[2],
             );
         }
+        crate::output::print(&text)?;
     }
     if out.placements.is_empty() {
         eprintln!("no stable placement found:");

@@ -156,7 +156,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
                         .with_context(|| format!("{}: cannot write the plan", out.display()))?;
                     eprintln!("  wrote {}", out.display());
                 }
-                None => print!("{json}"),
+                None => crate::output::print(&json)?,
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -205,7 +205,7 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
         t.elapsed().as_secs_f64() * 1e3
     );
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        crate::output::print_json(&report)?;
     }
     if report.problems.is_empty() {
         eprintln!("  valid");

@@ -75,9 +75,11 @@ pub fn run(args: &ViewArgs) -> Result<ExitCode> {
     }
     let written = write_view_sized(&scene, &args.scene, &plan, &args.out, size)
         .with_context(|| format!("{}", args.plan.display()))?;
+    let mut text = String::new();
     for path in &written {
-        println!("{}", path.display());
+        crate::output::outln!(text, "{}", path.display());
     }
+    crate::output::print(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
