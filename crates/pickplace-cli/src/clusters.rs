@@ -132,6 +132,14 @@ fn pairs_note(c: &Clustering) -> String {
 pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     let params = args.mode.params(args.h_max)?;
     let size = crate::view::parse_size(&args.size)?;
+    // Before any work: no output may replace a link, a device or an input.
+    let mut inputs: Vec<crate::args::Input<'_>> = vec![("the mesh", &args.mesh)];
+    inputs.extend(args.db.as_deref().map(|db| ("the database", db)));
+    for (option, path) in [("--ply", &args.ply), ("--png", &args.png)] {
+        if let Some(path) = path {
+            crate::args::check_output_file(path, option, &inputs)?;
+        }
+    }
     let mesh = load_mesh(&args.mesh, args.scale)?;
     let db = match &args.db {
         Some(db_path) => ClusterDatabase::load(db_path, mesh_hash(&mesh), &params)?,
@@ -237,13 +245,19 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
         .iter()
         .map(|m| m.params(args.h_max))
         .collect::<Result<_>>()?;
+    let out = args.out.clone().unwrap_or_else(default_cache_dir);
+    let inputs: Vec<crate::args::Input<'_>> = args
+        .meshes
+        .iter()
+        .map(|m| ("a mesh", m.as_path()))
+        .collect();
+    crate::args::check_output_dir(&out, "--out", &inputs)?;
     // Every mesh is read and checked before any database is written.
     let meshes: Vec<TriMesh> = args
         .meshes
         .iter()
         .map(|p| load_mesh(p, 1.0))
         .collect::<Result<_>>()?;
-    let out = args.out.clone().unwrap_or_else(default_cache_dir);
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 

@@ -58,6 +58,7 @@ pub struct DemoArgs {
 pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
     eprintln!("pickplace demo: the paper's Fig. 9, a can into a dent of a pallet, by NX-HIRO");
+    crate::args::check_output_dir(&args.out, "--out", &[])?;
     let scene_dir = args.out.join("scene");
     write_scene(&scene_dir)?;
     let mut written: Vec<PathBuf> = Vec::new();

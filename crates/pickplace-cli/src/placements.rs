@@ -69,6 +69,12 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let size = crate::view::parse_size(&args.size)?;
+    if let Some(png) = &args.png {
+        // Before any work: the picture may not replace a link, a device or an input.
+        let mut inputs: Vec<crate::args::Input<'_>> = vec![("the object mesh", &args.object)];
+        inputs.extend(args.on.as_deref().map(|on| ("the environment mesh", on)));
+        crate::args::check_output_file(png, "--png", &inputs)?;
+    }
     let object_mesh = mesh::load(&args.object, &options)?;
     let mass = MassProperties::of(&object_mesh);
     let cog = mass.center_of_mass;

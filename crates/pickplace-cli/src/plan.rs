@@ -146,6 +146,12 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
 /// Runs `pickplace plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     eprintln!("pickplace plan {}", args.scene.display());
+    if let Some(out) = &args.out {
+        // Before any work: the plan must not replace a link, a device or an input.
+        let scene = pickplace::Scene::load(&args.scene)?;
+        let inputs = crate::args::scene_inputs(&args.scene, &scene);
+        crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
+    }
     let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {

@@ -372,6 +372,7 @@ fn write_srdf(
     if samples == 0 {
         bail!("--samples must be at least 1");
     }
+    crate::args::check_output_file(out, "--out", &[("the URDF", urdf)])?;
     let model = load(urdf, args)?;
     let starter = starting_srdf(
         &model,

@@ -157,3 +157,197 @@ fn validate_checks_values_times_and_poses_before_interpolating() {
     let o = validate(&dir, "huge.json", &huge);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+/// `fig9-near` copied into `dir` with its object mesh (so that a test that fails cannot
+/// overwrite a shipped file); returns the scene's path.
+fn scratch_scene(dir: &Scratch) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(root().join("scenes/fig9-near.toml")).expect("scene");
+    let robots = root().join("robots");
+    let meshes = root().join("meshes");
+    let text = text
+        .replace("../robots", &robots.to_string_lossy())
+        .replace("../meshes/can.stl", "can.stl")
+        .replace("../meshes", &meshes.to_string_lossy());
+    std::fs::copy(meshes.join("can.stl"), dir.join("can.stl")).expect("mesh");
+    dir.file("scene.toml", text.as_bytes())
+}
+
+/// Exit 2 with one `error:` line naming every string of `expected`, and no planning done.
+fn refused(o: &Output, expected: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("set up in"), "work was done first: {err}");
+    let last = err.trim_end().lines().last().unwrap_or_default();
+    assert!(last.starts_with("error: "), "{err}");
+    for e in expected {
+        assert!(last.contains(e), "{e:?} not in {err}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn out_destinations_that_must_not_be_written_are_refused_before_any_work() {
+    let dir = Scratch::new("hardening-out");
+    let scene = scratch_scene(&dir);
+    let mesh = dir.join("can.stl");
+    let target = dir.file("target.json", b"kept");
+    let link = dir.join("link.json");
+    std::os::unix::fs::symlink(&target, &link).expect("symlink");
+    std::fs::create_dir_all(dir.join("folder")).expect("folder");
+    let scene_before = std::fs::read(&scene).expect("scene");
+    let mesh_before = std::fs::read(&mesh).expect("mesh");
+    let plan = |out: &Path| {
+        command(crate::args!["plan", scene, "--out", out])
+            .output()
+            .expect("runs")
+    };
+    for (out, expected) in [
+        (link.clone(), "is a symbolic link"),
+        (Path::new("/dev/stdout").to_path_buf(), "is a symbolic link"),
+        (Path::new("/dev/null").to_path_buf(), "is a device"),
+        (dir.join("folder"), "is a folder"),
+        (scene.clone(), "is the scene"),
+        (dir.join(".").join("scene.toml"), "is the scene"),
+        (mesh.clone(), "is the object mesh"),
+        (
+            root().join("robots/nx-hiro/nx-hiro.urdf"),
+            "is the robot's URDF",
+        ),
+    ] {
+        let o = plan(&out);
+        refused(&o, &["--out", &out.display().to_string(), expected]);
+    }
+    assert_eq!(std::fs::read(&target).expect("target"), b"kept");
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .expect("link")
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(std::fs::read(&scene).expect("scene"), scene_before);
+    assert_eq!(std::fs::read(&mesh).expect("mesh"), mesh_before);
+    assert!(
+        Path::new("/dev/null")
+            .metadata()
+            .is_ok_and(|m| !m.is_file())
+    );
+
+    // The other commands that write files.
+    let urdf = dir.file(
+        "robot.urdf",
+        &std::fs::read(root().join("robots/nx-hiro/nx-hiro.urdf")).expect("urdf"),
+    );
+    let urdf_before = std::fs::read(&urdf).expect("urdf");
+    let cases: Vec<(Vec<&std::ffi::OsStr>, String)> = vec![
+        (
+            crate::args!["clusters", mesh, "--ply", mesh].to_vec(),
+            "--ply".into(),
+        ),
+        (
+            crate::args!["clusters", mesh, "--png", "/dev/null"].to_vec(),
+            "is a device".into(),
+        ),
+        (
+            crate::args!["clusters", mesh, "--png", link].to_vec(),
+            "is a symbolic link".into(),
+        ),
+        (
+            crate::args![
+                "placements",
+                mesh,
+                "--on",
+                "meshes/pallet.stl",
+                "--png",
+                mesh
+            ]
+            .to_vec(),
+            "is the object mesh".into(),
+        ),
+        (
+            crate::args!["robot", "srdf", urdf, "--out", urdf].to_vec(),
+            "is the URDF".into(),
+        ),
+        (
+            crate::args!["precompute", mesh, "--out", mesh].to_vec(),
+            "is a mesh".into(),
+        ),
+        (
+            crate::args!["demo", "--out", target].to_vec(),
+            "is not a folder".into(),
+        ),
+    ];
+    for (args, expected) in &cases {
+        let o = command(args).output().expect("runs");
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(expected.as_str()), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    assert_eq!(std::fs::read(&mesh).expect("mesh"), mesh_before);
+    assert_eq!(std::fs::read(&urdf).expect("urdf"), urdf_before);
+    assert_eq!(std::fs::read(&scene).expect("scene"), scene_before);
+    assert_eq!(std::fs::read(&target).expect("target"), b"kept");
+}
+
+#[cfg(unix)]
+#[test]
+fn view_refuses_a_link_among_its_output_files() {
+    let dir = Scratch::new("hardening-view");
+    let scene = scratch_scene(&dir);
+    let plan = dir.join("plan.json");
+    let o = command(crate::args!["plan", scene, "--out", plan, "--no-timings"])
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = dir.join("pictures");
+    std::fs::create_dir_all(&out).expect("folder");
+    let victim = dir.file("victim", b"kept");
+    std::os::unix::fs::symlink(&victim, out.join("plan.glb")).expect("symlink");
+    let o = command(crate::args!["view", plan, "--scene", scene, "--out", out])
+        .output()
+        .expect("runs");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("plan.glb: is a symbolic link"), "{err}");
+    assert_eq!(std::fs::read(&victim).expect("victim"), b"kept");
+    // The plan given to view as its own output folder.
+    let o = command(crate::args!["view", plan, "--scene", scene, "--out", plan])
+        .output()
+        .expect("runs");
+    assert!(stderr(&o).contains("is the plan"), "{}", stderr(&o));
+}
+
+#[test]
+fn scene_arrays_have_exact_lengths() {
+    let dir = Scratch::new("hardening-arrays");
+    let scene = scratch_scene(&dir);
+    let text = std::fs::read_to_string(&scene).expect("scene");
+    for (from, to, expected) in [
+        (
+            "position = [0.42, -0.04, 0.72]",
+            "position = [0.42, -0.04, 0.72, 1.0]",
+            "position: expected exactly 3 numbers [x, y, z], got 4",
+        ),
+        (
+            "orientation = [0.0, 0.0, -0.70710678, 0.70710678]",
+            "orientation = [0.0, 0.0, -0.70710678, 0.70710678, 0.0, 0.0]",
+            "orientation: expected exactly 4 numbers [x, y, z, w], got 6",
+        ),
+        (
+            "point = [0.40, -0.20, 0.745]",
+            "point = [0.40, -0.20]",
+            "point: expected exactly 3 numbers [x, y, z], got 2",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let bad = dir.file("bad.toml", text.replace(from, to).as_bytes());
+        let o = command(crate::args!["plan", bad, "--out", dir.join("plan.json")])
+            .output()
+            .expect("runs");
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("bad.toml") && err.contains(expected), "{err}");
+        assert!(!dir.join("plan.json").exists());
+    }
+}
