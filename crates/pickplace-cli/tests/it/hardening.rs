@@ -351,3 +351,26 @@ fn scene_arrays_have_exact_lengths() {
         assert!(!dir.join("plan.json").exists());
     }
 }
+
+#[test]
+fn a_deeply_nested_urdf_is_refused_without_a_stack_overflow() {
+    let dir = Scratch::new("hardening-deep");
+    let n = 200_000;
+    let text = format!(
+        "<?xml version=\"1.0\"?>\n<robot name=\"r\">{}{}</robot>\n",
+        "<a>".repeat(n),
+        "</a>".repeat(n)
+    );
+    let urdf = dir.file("deep.urdf", text.as_bytes());
+    let o = command(crate::args!["robot", "check", urdf])
+        .output()
+        .expect("runs");
+    crate::support::fails_with(
+        &o,
+        &[
+            "deep.urdf",
+            "nested more than 256 deep at line 2",
+            "MAX_XML_DEPTH",
+        ],
+    );
+}
