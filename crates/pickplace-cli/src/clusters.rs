@@ -7,6 +7,7 @@
 //! `precompute` reads and checks every mesh before it writes any database, so a failed run
 //! leaves no partial file behind.
 
+use crate::output::note;
 use anyhow::{Context, Result};
 use pickplace::precompute::{self, DatabaseReport, Job, PrecomputeOptions, Rebuild};
 use pickplace_geometry::cluster::{ClusterParams, Clustering, ContactMode};
@@ -148,7 +149,7 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     let c = &db.clustering;
     if let Some(ply) = &args.ply {
         pickplace_geometry::export::write_clusters_ply(ply, &mesh, c)?;
-        eprintln!("wrote {} ({} clusters)", ply.display(), c.clusters.len());
+        note!("wrote {} ({} clusters)", ply.display(), c.clusters.len());
     }
     if let Some(png) = &args.png {
         let options = pickplace_view::PictureOptions {
@@ -156,7 +157,7 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
             ..Default::default()
         };
         pickplace_view::render_clusters(&mesh, c, &options)?.write_png(png)?;
-        eprintln!("wrote {} ({} clusters)", png.display(), c.clusters.len());
+        note!("wrote {} ({} clusters)", png.display(), c.clusters.len());
     }
     if args.json {
         let json = db.to_json(&mesh, &args.mesh.to_string_lossy());
@@ -229,7 +230,7 @@ impl precompute::Progress for PrecomputeBar {
                 report.db_path.display(),
                 report.elapsed.as_secs_f64() * 1e3
             );
-            self.0.suspend(|| eprintln!("{line}"));
+            self.0.suspend(|| note!("{line}"));
             self.0.inc(1);
         }
     }

@@ -1,6 +1,7 @@
 //! `pickplace grasps OBJECT_MESH --robot DIR_OR_CONFIG [--json]`: parallel-gripper grasps of an
 //! object (Harada et al. §III-B.1), ranked, with the candidates rejected per reason.
 
+use crate::output::note;
 use anyhow::Context as _;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_grasp::json::GraspsJson;
@@ -97,7 +98,7 @@ pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
     }
     crate::output::print(&text)?;
     if set.grasps.is_empty() {
-        eprintln!("no grasp: every candidate was rejected (see the counts above)");
+        note!("no grasp: every candidate was rejected (see the counts above)");
         return Ok(ExitCode::from(1));
     }
     Ok(ExitCode::SUCCESS)

@@ -14,6 +14,7 @@ mod robot;
 mod view;
 
 use clap::{Parser, Subcommand};
+use output::note;
 use std::process::ExitCode;
 
 #[derive(Debug, Parser)]
@@ -74,7 +75,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {}", message(&e));
+            note!("error: {}", message(&e));
             exit_code(&e)
         }
     }

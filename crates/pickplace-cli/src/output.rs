@@ -7,6 +7,8 @@
 //! a redirection) is an error naming standard output, exit status 2.
 //!
 //! Commands build their text first (`outln!` into a `String`), then print it in one call.
+//! Progress and diagnostics go to standard error through `note!`, which ignores a closed
+//! standard error in the same way.
 
 use anyhow::Context as _;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -23,6 +25,18 @@ macro_rules! outln {
     }};
 }
 pub(crate) use outln;
+
+/// One line of progress or diagnostics on standard error (as `eprintln!`), except that a
+/// closed standard error (`pickplace plan … 2>&1 | head`) is ignored instead of panicking:
+/// messages are not results, and the exit status still tells how the command ended.
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        // Nothing is to be done when standard error cannot be written.
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+pub(crate) use note;
 
 /// Writes `text` to standard output and flushes it.
 ///

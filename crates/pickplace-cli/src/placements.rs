@@ -2,6 +2,7 @@
 //! its resting poses on a horizontal plane when no environment is given.
 
 use crate::args::{parse_point, parse_pose};
+use crate::output::note;
 use crate::output::outln;
 use anyhow::{Context, bail};
 use pickplace_geometry::cluster::{ClusterParams, ContactMode, cluster_surface};
@@ -141,7 +142,7 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
             &options,
         )?
         .write_png(png)?;
-        eprintln!("wrote {} ({} placements)", png.display(), poses.len());
+        note!("wrote {} ({} placements)", png.display(), poses.len());
     }
     let out = PlacementsJson::from_set(object_name, env_path.display().to_string(), &target, &set);
     print(&out, args.json)
@@ -194,7 +195,7 @@ fn write_resting_png(
     };
     pickplace_view::render_placements(object, &plate, &world_from_plate, &poses, None, &options)?
         .write_png(png)?;
-    eprintln!("wrote {} ({} resting poses)", png.display(), poses.len());
+    note!("wrote {} ({} resting poses)", png.display(), poses.len());
     Ok(())
 }
 
@@ -248,11 +249,14 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
         crate::output::print(&text)?;
     }
     if out.placements.is_empty() {
-        eprintln!("no stable placement found:");
+        note!("no stable placement found:");
         for r in &out.rejections {
-            eprintln!(
+            note!(
                 "  environment cluster {}: {} object regions did not fit, {} poses unstable, {} penetrate the environment",
-                r.env_cluster, r.did_not_fit, r.unstable, r.penetrates
+                r.env_cluster,
+                r.did_not_fit,
+                r.unstable,
+                r.penetrates
             );
         }
         return Ok(ExitCode::from(1));

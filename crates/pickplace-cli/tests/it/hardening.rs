@@ -50,6 +50,33 @@ fn a_closed_standard_output_ends_quietly() {
 }
 
 #[test]
+fn closed_standard_output_and_error_end_with_the_command_status() {
+    // `pickplace plan … 2>&1 | head -1`: progress on stderr met a closed pipe (exit 101).
+    let scene = root().join("scenes/fig9-near.toml");
+    let run = |args: &[&std::ffi::OsStr]| {
+        let mut child = command(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the pickplace binary runs");
+        drop(child.stdout.take());
+        drop(child.stderr.take());
+        child.wait().expect("pickplace ends").code()
+    };
+    assert_eq!(run(crate::args!["plan", scene]), Some(0));
+    assert_eq!(run(crate::args!["plan", "no-such-scene.toml"]), Some(2));
+    assert_eq!(
+        run(crate::args![
+            "placements",
+            "meshes/can.stl",
+            "--on",
+            "meshes/pallet.stl"
+        ]),
+        Some(0)
+    );
+}
+
+#[test]
 fn a_run_with_open_standard_output_still_prints_everything() {
     let o = command(crate::args![
         "robot",
