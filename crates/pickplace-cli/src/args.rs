@@ -1,4 +1,5 @@
-//! Parsing of the command line's values that more than one command takes: poses and points.
+//! Parsing of the command line's values that more than one command takes: poses and points;
+//! and the one check of every output destination ([`check_output_file`], [`check_output_dir`]).
 //!
 //! One pose syntax for every option that takes a pose (`placements --env-pose`,
 //! `robot ik --pose`):
@@ -10,6 +11,7 @@
 use anyhow::{Context as _, bail};
 use pickplace_geometry::math::nalgebra::Quaternion;
 use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion};
+use std::path::{Path, PathBuf};
 
 /// Parses comma-separated finite numbers; `option` names the option in errors.
 pub fn parse_numbers(text: &str, option: &str) -> anyhow::Result<Vec<Real>> {
@@ -84,9 +86,178 @@ pub fn parse_point(text: &str, option: &str) -> anyhow::Result<Point3> {
     Ok(Point3::new(v[0], v[1], v[2]))
 }
 
+/// An input file of a command, with what it is (`"the scene"`, `"the object mesh"`).
+pub type Input<'a> = (&'a str, &'a Path);
+
+/// Refuses an output file that must not be written, before any work is done: `path` must be
+/// a regular file or not exist yet, and not be one of the command's `inputs`.
+///
+/// Outputs are written atomically (a temporary file renamed over `path`), which would replace
+/// a symbolic link (`/dev/stdout`) or a device node (`/dev/null`) by a plain file, and would
+/// overwrite an input (the scene given as `--out`). Refused, each with its own words:
+/// - a symbolic link (give the file it points to);
+/// - a folder;
+/// - a device, FIFO or socket (`/dev/null` included: to print the output, leave the option
+///   out where the command prints on standard output, or redirect that);
+/// - one of `inputs`, by identity (the same file reached by another path or a hard link).
+///
+/// # Errors
+/// Each case above, naming `option`, the path and what it is.
+pub fn check_output_file(path: &Path, option: &str, inputs: &[Input<'_>]) -> anyhow::Result<()> {
+    let shown = path.display();
+    let meta = match std::fs::symlink_metadata(path) {
+        Ok(meta) => meta,
+        // Not there yet (or unreachable: the write will say why).
+        Err(_) => return Ok(()),
+    };
+    let kind = meta.file_type();
+    if kind.is_symlink() {
+        bail!(
+            "{option} {shown}: is a symbolic link; outputs replace what is at the path, so give the file the link points to"
+        );
+    }
+    if kind.is_dir() {
+        bail!("{option} {shown}: is a folder; give a file name");
+    }
+    if !kind.is_file() {
+        bail!(
+            "{option} {shown}: is a device, FIFO or socket, not a regular file; outputs are regular files only"
+        );
+    }
+    for (what, input) in inputs {
+        if same_file(path, &meta, input) {
+            bail!(
+                "{option} {shown}: is {what} ({}), an input of this command; it would be overwritten",
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an output folder that must not be written into, before any work is done: `path`
+/// must be a folder (a symbolic link to one is followed: the files are written inside it,
+/// the link stays) or not exist yet, and not be one of `inputs`.
+///
+/// # Errors
+/// A path that exists and is not a folder (a file, a device), naming `option` and the path.
+pub fn check_output_dir(path: &Path, option: &str, inputs: &[Input<'_>]) -> anyhow::Result<()> {
+    let shown = path.display();
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(());
+    };
+    if !meta.is_dir() {
+        for (what, input) in inputs {
+            if same_file(path, &meta, input) {
+                bail!(
+                    "{option} {shown}: is {what} ({}), an input of this command, not a folder",
+                    input.display()
+                );
+            }
+        }
+        bail!("{option} {shown}: is not a folder; give a folder (created if missing)");
+    }
+    Ok(())
+}
+
+/// True when `input` is the file `path` (whose metadata is `meta`), by identity.
+fn same_file(path: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        let _ = path;
+        std::fs::metadata(input).is_ok_and(|m| m.dev() == meta.dev() && m.ino() == meta.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = meta;
+        let canonical = |p: &Path| -> Option<PathBuf> { std::fs::canonicalize(p).ok() };
+        canonical(path).is_some_and(|a| canonical(input) == Some(a))
+    }
+}
+
+/// The files a scene names (the scene itself, each robot's URDF, SRDF and gripper file, the
+/// object and environment meshes), as inputs for [`check_output_file`]. `package://` paths
+/// and the meshes a URDF names are not included.
+pub fn scene_inputs(scene_path: &Path, scene: &pickplace::Scene) -> Vec<(String, PathBuf)> {
+    let mut inputs = vec![("the scene".to_owned(), scene_path.to_path_buf())];
+    for robot in &scene.robots {
+        inputs.push(("the robot's URDF".to_owned(), robot.urdf.clone()));
+        if let Some(p) = &robot.srdf {
+            inputs.push(("the robot's SRDF".to_owned(), p.clone()));
+        }
+        if let Some(p) = &robot.gripper {
+            inputs.push(("the gripper file".to_owned(), p.clone()));
+        }
+    }
+    inputs.push(("the object mesh".to_owned(), scene.object.mesh.clone()));
+    for env in &scene.environment {
+        inputs.push((format!("the mesh of {:?}", env.name), env.mesh.clone()));
+    }
+    inputs
+}
+
+/// `inputs` as [`Input`]s.
+pub fn as_inputs(inputs: &[(String, PathBuf)]) -> Vec<Input<'_>> {
+    inputs
+        .iter()
+        .map(|(w, p)| (w.as_str(), p.as_path()))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn output_destinations_that_must_not_be_written_are_refused() {
+        let dir = tempfile_dir();
+        let scene = dir.join("scene.toml");
+        std::fs::write(&scene, "x").expect("scene");
+        let inputs: [Input<'_>; 1] = [("the scene", &scene)];
+        let link = dir.join("link.json");
+        std::os::unix::fs::symlink(dir.join("elsewhere.json"), &link).expect("symlink");
+        let hard = dir.join("hard.toml");
+        std::fs::hard_link(&scene, &hard).expect("hard link");
+        let message = |p: &Path| {
+            format!(
+                "{:#}",
+                check_output_file(p, "--out", &inputs).expect_err("refused")
+            )
+        };
+        assert!(message(&link).contains("is a symbolic link"));
+        assert!(message(&dir).contains("is a folder"));
+        assert!(message(Path::new("/dev/null")).contains("is a device"));
+        let m = message(&scene);
+        assert!(
+            m.starts_with(&format!("--out {}: is the scene", scene.display())),
+            "{m}"
+        );
+        assert!(message(&hard).contains("is the scene"));
+        assert!(message(&dir.join(".").join("scene.toml")).contains("is the scene"));
+        // A new file and an existing regular file are fine.
+        check_output_file(&dir.join("new.json"), "--out", &inputs).expect("new");
+        std::fs::write(dir.join("old.json"), "x").expect("old");
+        check_output_file(&dir.join("old.json"), "--out", &inputs).expect("old");
+        // Folders.
+        check_output_dir(&dir, "--out", &inputs).expect("a folder");
+        check_output_dir(&dir.join("new"), "--out", &inputs).expect("created later");
+        let e = check_output_dir(&scene, "--out", &inputs).expect_err("the scene");
+        assert!(format!("{e:#}").contains("is the scene"), "{e:#}");
+        let e = check_output_dir(Path::new("/dev/null"), "--out", &[]).expect_err("device");
+        assert!(format!("{e:#}").contains("is not a folder"), "{e:#}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A fresh folder under the system's temporary folder.
+    #[cfg(unix)]
+    fn tempfile_dir() -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("pickplace-args-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("scratch");
+        dir
+    }
     use pickplace_geometry::math::Vector3;
 
     fn error(text: &str) -> String {

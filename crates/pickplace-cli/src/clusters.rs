@@ -7,13 +7,14 @@
 //! `precompute` reads and checks every mesh before it writes any database, so a failed run
 //! leaves no partial file behind.
 
+use crate::output::note;
 use anyhow::{Context, Result};
 use pickplace::precompute::{self, DatabaseReport, Job, PrecomputeOptions, Rebuild};
 use pickplace_geometry::cluster::{ClusterParams, Clustering, ContactMode};
 use pickplace_geometry::db::{CacheStatus, ClusterDatabase};
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::mesh::{self, MeshOptions, TriMesh};
-use std::io::Write as _;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -132,6 +133,14 @@ fn pairs_note(c: &Clustering) -> String {
 pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     let params = args.mode.params(args.h_max)?;
     let size = crate::view::parse_size(&args.size)?;
+    // Before any work: no output may replace a link, a device or an input.
+    let mut inputs: Vec<crate::args::Input<'_>> = vec![("the mesh", &args.mesh)];
+    inputs.extend(args.db.as_deref().map(|db| ("the database", db)));
+    for (option, path) in [("--ply", &args.ply), ("--png", &args.png)] {
+        if let Some(path) = path {
+            crate::args::check_output_file(path, option, &inputs)?;
+        }
+    }
     let mesh = load_mesh(&args.mesh, args.scale)?;
     let db = match &args.db {
         Some(db_path) => ClusterDatabase::load(db_path, mesh_hash(&mesh), &params)?,
@@ -140,7 +149,7 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
     let c = &db.clustering;
     if let Some(ply) = &args.ply {
         pickplace_geometry::export::write_clusters_ply(ply, &mesh, c)?;
-        eprintln!("wrote {} ({} clusters)", ply.display(), c.clusters.len());
+        note!("wrote {} ({} clusters)", ply.display(), c.clusters.len());
     }
     if let Some(png) = &args.png {
         let options = pickplace_view::PictureOptions {
@@ -148,15 +157,13 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
             ..Default::default()
         };
         pickplace_view::render_clusters(&mesh, c, &options)?.write_png(png)?;
-        eprintln!("wrote {} ({} clusters)", png.display(), c.clusters.len());
+        note!("wrote {} ({} clusters)", png.display(), c.clusters.len());
     }
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
     if args.json {
         let json = db.to_json(&mesh, &args.mesh.to_string_lossy());
-        serde_json::to_writer_pretty(&mut out, &json)?;
-        writeln!(out)?;
+        crate::output::print_json(&json)?;
     } else {
+        let mut out = String::new();
         writeln!(
             out,
             "{}: {} triangles, {} {} clusters (h_max {} m){}",
@@ -189,8 +196,8 @@ pub fn run_clusters(args: ClustersArgs) -> Result<ExitCode> {
                 p.first, p.second, p.width, p.overlap_area
             )?;
         }
+        crate::output::print(&out)?;
     }
-    out.flush()?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -223,7 +230,7 @@ impl precompute::Progress for PrecomputeBar {
                 report.db_path.display(),
                 report.elapsed.as_secs_f64() * 1e3
             );
-            self.0.suspend(|| eprintln!("{line}"));
+            self.0.suspend(|| note!("{line}"));
             self.0.inc(1);
         }
     }
@@ -239,13 +246,19 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
         .iter()
         .map(|m| m.params(args.h_max))
         .collect::<Result<_>>()?;
+    let out = args.out.clone().unwrap_or_else(default_cache_dir);
+    let inputs: Vec<crate::args::Input<'_>> = args
+        .meshes
+        .iter()
+        .map(|m| ("a mesh", m.as_path()))
+        .collect();
+    crate::args::check_output_dir(&out, "--out", &inputs)?;
     // Every mesh is read and checked before any database is written.
     let meshes: Vec<TriMesh> = args
         .meshes
         .iter()
         .map(|p| load_mesh(p, 1.0))
         .collect::<Result<_>>()?;
-    let out = args.out.clone().unwrap_or_else(default_cache_dir);
     std::fs::create_dir_all(&out)
         .with_context(|| format!("{}: cannot create the folder", out.display()))?;
 

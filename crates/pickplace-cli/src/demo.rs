@@ -7,6 +7,7 @@
 //! then re-checks each plan with the independent validator and draws the handover plan
 //! (animated glTF and key-pose pictures) and the clusters of the can and the pallet.
 
+use crate::output::note;
 use crate::plan::{PlanArgs, plan_setup, setup};
 use anyhow::Context;
 use pickplace::planner::Outcome;
@@ -57,7 +58,8 @@ pub struct DemoArgs {
 /// Runs the demo.
 pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let start = Instant::now();
-    eprintln!("pickplace demo: the paper's Fig. 9, a can into a dent of a pallet, by NX-HIRO");
+    note!("pickplace demo: the paper's Fig. 9, a can into a dent of a pallet, by NX-HIRO");
+    crate::args::check_output_dir(&args.out, "--out", &[])?;
     let scene_dir = args.out.join("scene");
     write_scene(&scene_dir)?;
     let mut written: Vec<PathBuf> = Vec::new();
@@ -86,7 +88,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         ("far-left", "scenes/fig9-far-left.toml"),
     ] {
         let scene_path = scene_dir.join(scene);
-        eprintln!(
+        note!(
             "{case}: the can starts {}",
             match case {
                 "near" => "near the right hand",
@@ -116,7 +118,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         written.push(plan_path.clone());
         let report = pickplace::validate::validate(&setup, &plan, &plan_path)?;
         if report.problems.is_empty() {
-            eprintln!(
+            note!(
                 "  validated: {} states checked densely, stability margin {:.1} mm",
                 report.states_checked,
                 report.stability_margin.unwrap_or(0.0) * 1e3
@@ -124,12 +126,12 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         } else {
             failed = true;
             for p in &report.problems {
-                eprintln!("  INVALID: {p}");
+                note!("  INVALID: {p}");
             }
         }
         let view_dir = args.out.join(format!("view-{case}"));
         let pictures = crate::view::write_view(&setup.scene, &scene_path, &plan, &view_dir)?;
-        eprintln!(
+        note!(
             "  pictures: {} (animated glTF) and {} key-pose PNGs",
             pictures
                 .first()
@@ -138,10 +140,12 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
         );
         written.extend(pictures);
     }
-    eprintln!("done in {:.2} s; wrote:", start.elapsed().as_secs_f64());
+    note!("done in {:.2} s; wrote:", start.elapsed().as_secs_f64());
+    let mut text = String::new();
     for path in &written {
-        println!("{}", path.display());
+        crate::output::outln!(text, "{}", path.display());
     }
+    crate::output::print(&text)?;
     Ok(if failed {
         ExitCode::from(1)
     } else {

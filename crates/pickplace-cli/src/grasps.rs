@@ -1,12 +1,12 @@
 //! `pickplace grasps OBJECT_MESH --robot DIR_OR_CONFIG [--json]`: parallel-gripper grasps of an
 //! object (Harada et al. §III-B.1), ranked, with the candidates rejected per reason.
 
+use crate::output::note;
 use anyhow::Context as _;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_grasp::json::GraspsJson;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -96,15 +96,9 @@ pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
             )?;
         }
     }
-    // A closed pipe (`| head`) is not an error of ours.
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            return Err(e).context("writing to stdout");
-        }
-        _ => {}
-    }
+    crate::output::print(&text)?;
     if set.grasps.is_empty() {
-        eprintln!("no grasp: every candidate was rejected (see the counts above)");
+        note!("no grasp: every candidate was rejected (see the counts above)");
         return Ok(ExitCode::from(1));
     }
     Ok(ExitCode::SUCCESS)

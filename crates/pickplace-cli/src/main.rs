@@ -1,16 +1,20 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution
 //! (no plan, or an infeasible scene such as a start state in collision), 2 bad input or usage.
+//! Everything printed on standard output goes through [`output`]: a closed standard output
+//! (`pickplace plan … | head`) ends the printing quietly, never with a panic.
 
 mod args;
 mod clusters;
 mod demo;
 mod grasps;
+mod output;
 mod placements;
 mod plan;
 mod robot;
 mod view;
 
 use clap::{Parser, Subcommand};
+use output::note;
 use std::process::ExitCode;
 
 #[derive(Debug, Parser)]
@@ -71,7 +75,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {}", message(&e));
+            note!("error: {}", message(&e));
             exit_code(&e)
         }
     }
@@ -93,7 +97,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Demo(args) => demo::run(&args),
         Command::MeshInfo { mesh } => {
             let m = pickplace_geometry::mesh::load(&mesh, &Default::default())?;
-            println!("{}", serde_json::to_string_pretty(m.report())?);
+            output::print_json(m.report())?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Clusters(args) => clusters::run_clusters(args),

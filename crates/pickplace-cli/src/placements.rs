@@ -2,6 +2,8 @@
 //! its resting poses on a horizontal plane when no environment is given.
 
 use crate::args::{parse_point, parse_pose};
+use crate::output::note;
+use crate::output::outln;
 use anyhow::{Context, bail};
 use pickplace_geometry::cluster::{ClusterParams, ContactMode, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3};
@@ -68,6 +70,12 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         ..Default::default()
     };
     let size = crate::view::parse_size(&args.size)?;
+    if let Some(png) = &args.png {
+        // Before any work: the picture may not replace a link, a device or an input.
+        let mut inputs: Vec<crate::args::Input<'_>> = vec![("the object mesh", &args.object)];
+        inputs.extend(args.on.as_deref().map(|on| ("the environment mesh", on)));
+        crate::args::check_output_file(png, "--png", &inputs)?;
+    }
     let object_mesh = mesh::load(&args.object, &options)?;
     let mass = MassProperties::of(&object_mesh);
     let cog = mass.center_of_mass;
@@ -134,7 +142,7 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
             &options,
         )?
         .write_png(png)?;
-        eprintln!("wrote {} ({} placements)", png.display(), poses.len());
+        note!("wrote {} ({} placements)", png.display(), poses.len());
     }
     let out = PlacementsJson::from_set(object_name, env_path.display().to_string(), &target, &set);
     print(&out, args.json)
@@ -187,16 +195,18 @@ fn write_resting_png(
     };
     pickplace_view::render_placements(object, &plate, &world_from_plate, &poses, None, &options)?
         .write_png(png)?;
-    eprintln!("wrote {} ({} resting poses)", png.display(), poses.len());
+    note!("wrote {} ({} resting poses)", png.display(), poses.len());
     Ok(())
 }
 
 fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
     if json {
-        println!("{}", serde_json::to_string_pretty(out)?);
+        crate::output::print_json(out)?;
     } else {
+        let mut text = String::new();
         if let Some(t) = out.target {
-            println!(
+            outln!(
+                text,
                 "target ({:.4}, {:.4}, {:.4}) on environment cluster {}",
                 t[0],
                 t[1],
@@ -205,16 +215,23 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
                     .map_or_else(|| "-".into(), |c| c.to_string())
             );
         }
-        println!(
+        outln!(
+            text,
             "{:>3}  {:<9}  {:>7}  {:>10}  {:>9}  {:>7}  position",
-            "#", "contact", "object", "margin(m)", "dist(m)", "tilt(°)"
+            "#",
+            "contact",
+            "object",
+            "margin(m)",
+            "dist(m)",
+            "tilt(°)"
         );
         for (i, p) in out.placements.iter().enumerate() {
             let contact = match p.contact {
                 ContactKind::FaceFace => "face-face",
                 ContactKind::EdgeFace => "edge-face",
             };
-            println!(
+            outln!(
+                text,
                 "{:>3}  {:<9}  {:>7}  {:>10.4}  {:>9}  {:>7.2}  ({:.4}, {:.4}, {:.4})",
                 i,
                 contact,
@@ -229,13 +246,17 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
                 p.pose.position[2],
             );
         }
+        crate::output::print(&text)?;
     }
     if out.placements.is_empty() {
-        eprintln!("no stable placement found:");
+        note!("no stable placement found:");
         for r in &out.rejections {
-            eprintln!(
+            note!(
                 "  environment cluster {}: {} object regions did not fit, {} poses unstable, {} penetrate the environment",
-                r.env_cluster, r.did_not_fit, r.unstable, r.penetrates
+                r.env_cluster,
+                r.did_not_fit,
+                r.unstable,
+                r.penetrates
             );
         }
         return Ok(ExitCode::from(1));

@@ -1,6 +1,7 @@
 //! `pickplace plan SCENE` and `pickplace validate SCENE PLAN`.
 
 use crate::clusters::default_cache_dir;
+use crate::output::note;
 use anyhow::Context;
 use pickplace::planner::{Outcome, PlanOptions};
 use pickplace::scene::StrategyChoice;
@@ -89,9 +90,9 @@ pub fn setup(
     };
     let setup = Setup::load(scene, &options)?;
     for line in &setup.log {
-        eprintln!("  {line}");
+        note!("  {line}");
     }
-    eprintln!(
+    note!(
         "  scene {} set up in {:.0} ms",
         scene.display(),
         t.elapsed().as_secs_f64() * 1e3
@@ -115,13 +116,13 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
     match &outcome {
         Outcome::Planned(plan) => {
             for s in &plan.stats.strategies {
-                eprintln!(
+                note!(
                     "  {}: {}",
                     s.strategy,
                     if s.success { "planned" } else { "failed" }
                 );
             }
-            eprintln!(
+            note!(
                 "  plan: {} with a {} placement on {:?} (margin {:.1} mm), {} grasp(s), {} key poses, {:.2} s of motion, {} samples; planned in {elapsed:.1} ms",
                 plan.strategy,
                 plan.placement.contact,
@@ -134,9 +135,9 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
             );
         }
         Outcome::NoPlan(failure) => {
-            eprintln!("  no plan ({elapsed:.1} ms):");
+            note!("  no plan ({elapsed:.1} ms):");
             for r in &failure.reasons {
-                eprintln!("    {r}");
+                note!("    {r}");
             }
         }
     }
@@ -145,7 +146,13 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
 
 /// Runs `pickplace plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
-    eprintln!("pickplace plan {}", args.scene.display());
+    note!("pickplace plan {}", args.scene.display());
+    if let Some(out) = &args.out {
+        // Before any work: the plan must not replace a link, a device or an input.
+        let scene = pickplace::Scene::load(&args.scene)?;
+        let inputs = crate::args::scene_inputs(&args.scene, &scene);
+        crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
+    }
     let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {
@@ -154,9 +161,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
                 Some(out) => {
                     write_atomic(out, json.as_bytes())
                         .with_context(|| format!("{}: cannot write the plan", out.display()))?;
-                    eprintln!("  wrote {}", out.display());
+                    note!("  wrote {}", out.display());
                 }
-                None => print!("{json}"),
+                None => crate::output::print(&json)?,
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -186,7 +193,7 @@ pub struct ValidateArgs {
 
 /// Runs `pickplace validate`: exit 0 when the plan passes, 1 when it does not.
 pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
-    eprintln!(
+    note!(
         "pickplace validate {} {}",
         args.scene.display(),
         args.plan.display()
@@ -198,24 +205,24 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
     let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
     let t = Instant::now();
     let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
-    eprintln!(
+    note!(
         "  checked {} states over {:.2} s of motion in {:.0} ms",
         report.states_checked,
         report.duration,
         t.elapsed().as_secs_f64() * 1e3
     );
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        crate::output::print_json(&report)?;
     }
     if report.problems.is_empty() {
-        eprintln!("  valid");
+        note!("  valid");
         Ok(ExitCode::SUCCESS)
     } else {
         for p in report.problems.iter().take(20) {
-            eprintln!("  {p}");
+            note!("  {p}");
         }
         if report.problems.len() > 20 {
-            eprintln!("  … {} problems in all", report.problems.len());
+            note!("  … {} problems in all", report.problems.len());
         }
         Ok(ExitCode::from(1))
     }

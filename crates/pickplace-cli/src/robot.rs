@@ -3,6 +3,7 @@
 //! robot that has none.
 
 use crate::args::{parse_point, parse_pose};
+use crate::output::outln;
 use anyhow::{Context as _, bail};
 use clap::{Args, Subcommand};
 use pickplace_robot::assistant::{CloseOptions, StarterOptions, starting_srdf};
@@ -205,7 +206,7 @@ fn check(
         .transpose()?;
     let report = CheckJson::with_options(&model, urdf, semantics.as_ref(), close)?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        crate::output::print_json(&report)?;
     } else {
         print_check_text(&model, &report)?;
     }
@@ -213,16 +214,19 @@ fn check(
 }
 
 fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()> {
-    println!(
+    let mut text = String::new();
+    outln!(
+        text,
         "robot {:?}: {} links, {} joints, {} variables",
         model.name(),
         model.links().len(),
         model.joints().len(),
         model.variable_count()
     );
-    println!("arms: {}", report.arms.len());
+    outln!(text, "arms: {}", report.arms.len());
     for a in &report.arms {
-        println!(
+        outln!(
+            text,
             "  {}: {} joints to {}{}",
             a.group,
             a.joints.len(),
@@ -234,34 +238,48 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         match (&a.gripper, &a.gripper_error) {
             (Some(g), _) => {
                 let (p, q) = g.tool_point;
-                println!(
+                outln!(
+                    text,
                     "    gripper: opening {:.1} to {:.1} mm; tool point [{:.4}, {:.4}, {:.4}] m, orientation [{:.4}, {:.4}, {:.4}, {:.4}] in the tip's frame",
-                    g.opening_mm[0], g.opening_mm[1], p[0], p[1], p[2], q[0], q[1], q[2], q[3]
+                    g.opening_mm[0],
+                    g.opening_mm[1],
+                    p[0],
+                    p[1],
+                    p[2],
+                    q[0],
+                    q[1],
+                    q[2],
+                    q[3]
                 );
                 for d in &g.drives {
-                    println!(
+                    outln!(
+                        text,
                         "    drive {}: closed at {:.4}, open at {:.4}",
-                        d.joint, d.closed, d.open
+                        d.joint,
+                        d.closed,
+                        d.open
                     );
                 }
-                println!(
+                outln!(
+                    text,
                     "    fingers: {} | {}",
                     g.fingers[0].join(", "),
                     g.fingers[1].join(", ")
                 );
             }
             (None, Some(e)) => {
-                println!("    gripper: not measured: {e}");
-                println!(
+                outln!(text, "    gripper: not measured: {e}");
+                outln!(
+                    text,
                     "    fix: give the hand two fingers with collision geometry moved by one or two actuated joints below the arm"
                 );
             }
             (None, None) => {}
         }
     }
-    println!("tree:");
-    print_tree(model, model.root(), 1);
-    println!("joints:");
+    outln!(text, "tree:");
+    print_tree(&mut text, model, model.root(), 1);
+    outln!(text, "joints:");
     for j in model.joints() {
         let limits = if j.joint_type == pickplace_robot::JointType::Fixed {
             String::new()
@@ -273,12 +291,18 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         } else {
             String::from("unlimited")
         };
-        println!("  {:<22} {:<10} {limits}", j.name, j.joint_type.as_str());
+        outln!(
+            text,
+            "  {:<22} {:<10} {limits}",
+            j.name,
+            j.joint_type.as_str()
+        );
     }
     if let Some(groups) = &report.groups {
-        println!("groups:");
+        outln!(text, "groups:");
         for g in groups {
-            println!(
+            outln!(
+                text,
                 "  {:<18} tip {:<18} joints {}",
                 g.name,
                 g.tip.as_deref().unwrap_or("-"),
@@ -287,7 +311,8 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         }
     }
     if let Some(acm) = &report.collision_matrix {
-        println!(
+        outln!(
+            text,
             "collision matrix: {} disabled pairs {} of {} link pairs with geometry; {} shape pairs checked",
             acm.disabled_pairs,
             serde_json::to_string(&acm.by_reason)?,
@@ -296,39 +321,45 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
         );
     }
     if let Some(warnings) = &report.srdf_warnings {
-        println!("SRDF warnings: {}", warnings.len());
+        outln!(text, "SRDF warnings: {}", warnings.len());
         for w in warnings {
-            println!("  {w}");
+            outln!(text, "  {w}");
         }
     }
-    println!("unreadable meshes: {}", report.unreadable_meshes.len());
+    outln!(
+        text,
+        "unreadable meshes: {}",
+        report.unreadable_meshes.len()
+    );
     for m in &report.unreadable_meshes {
-        println!("  link {:?}: {:?}: {}", m.link, m.uri, m.reason);
-        println!("    fix: {}", m.fix);
+        outln!(text, "  link {:?}: {:?}: {}", m.link, m.uri, m.reason);
+        outln!(text, "    fix: {}", m.fix);
     }
-    println!(
+    outln!(
+        text,
         "joints without limits: {}",
         report.joints_without_limits.len()
     );
     for j in &report.joints_without_limits {
-        println!("  {}: {}", j.joint, j.problem);
-        println!("    fix: {}", j.fix);
+        outln!(text, "  {}: {}", j.joint, j.problem);
+        outln!(text, "    fix: {}", j.fix);
     }
     if let Some(pairs) = &report.always_close {
-        println!(
+        outln!(
+            text,
             "always closer than 10 mm, not disabled: {} link pairs",
             pairs.len()
         );
         for p in pairs {
-            println!("  {} and {}", p.link1, p.link2);
-            println!("    fix: {}", p.fix);
+            outln!(text, "  {} and {}", p.link1, p.link2);
+            outln!(text, "    fix: {}", p.fix);
         }
     }
-    println!("warnings: {}", report.warnings.len());
+    outln!(text, "warnings: {}", report.warnings.len());
     for w in &report.warnings {
-        println!("  {w}");
+        outln!(text, "  {w}");
     }
-    Ok(())
+    crate::output::print(&text)
 }
 
 fn write_srdf(
@@ -341,6 +372,7 @@ fn write_srdf(
     if samples == 0 {
         bail!("--samples must be at least 1");
     }
+    crate::args::check_output_file(out, "--out", &[("the URDF", urdf)])?;
     let model = load(urdf, args)?;
     let starter = starting_srdf(
         &model,
@@ -353,16 +385,19 @@ fn write_srdf(
     Semantics::resolve(&model, &Srdf::from_xml_str(&xml)?, out)
         .context("the generated SRDF does not resolve (a bug)")?;
     pickplace_geometry::export::write_atomic(out, xml.as_bytes())?;
+    let mut text = String::new();
     for (reason, count) in AllowedCollisionMatrix::from_srdf(&starter.srdf).counts_by_reason() {
-        println!("{:>9}: {count} pairs", reason.as_str());
+        outln!(text, "{:>9}: {count} pairs", reason.as_str());
     }
-    println!(
+    outln!(
+        text,
         "{} checked link pairs collide in some of the {} samples",
         starter.sometimes.len(),
         starter.samples
     );
     for (n, arm) in starter.arms.iter().enumerate() {
-        println!(
+        outln!(
+            text,
             "arm_{n}: {} joints from {} to {}, hand with {} finger joints",
             arm.joints.len(),
             model.links()[arm.base_link].name,
@@ -370,14 +405,15 @@ fn write_srdf(
             arm.finger_joints.len()
         );
     }
-    println!("wrote {}", out.display());
+    outln!(text, "wrote {}", out.display());
+    crate::output::print(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
-fn print_tree(model: &RobotModel, link: usize, depth: usize) {
-    println!("{}{}", "  ".repeat(depth), model.links()[link].name);
+fn print_tree(text: &mut String, model: &RobotModel, link: usize, depth: usize) {
+    outln!(text, "{}{}", "  ".repeat(depth), model.links()[link].name);
     for j in model.joints().iter().filter(|j| j.parent_link == link) {
-        print_tree(model, j.child_link, depth + 1);
+        print_tree(text, model, j.child_link, depth + 1);
     }
 }
 
@@ -411,7 +447,7 @@ fn fk(urdf: &Path, joints: &str, args: &LoadArgs) -> anyhow::Result<ExitCode> {
     let mut q = model.zero_configuration();
     apply_joints(&model, joints, &mut q)?;
     let report = FkJson::new(&model, &q)?;
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    crate::output::print_json(&report)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -454,7 +490,7 @@ fn ik(
     };
     let solution = solver.solve(&target, &q, &options)?;
     let report = IkJson::new(&model, group, &solution);
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    crate::output::print_json(&report)?;
     Ok(if solution.success {
         ExitCode::SUCCESS
     } else {

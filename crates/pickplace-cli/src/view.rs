@@ -73,11 +73,21 @@ pub fn run(args: &ViewArgs) -> Result<ExitCode> {
     for robot in &mut scene.robots {
         robot.package_dirs.extend(args.package_dirs.iter().cloned());
     }
+    // Before any work: no output may replace a link, a device or an input.
+    let mut inputs = crate::args::scene_inputs(&args.scene, &scene);
+    inputs.push(("the plan".to_owned(), args.plan.clone()));
+    let inputs = crate::args::as_inputs(&inputs);
+    crate::args::check_output_dir(&args.out, "--out", &inputs)?;
+    for name in output_names(&plan) {
+        crate::args::check_output_file(&args.out.join(name), "--out", &inputs)?;
+    }
     let written = write_view_sized(&scene, &args.scene, &plan, &args.out, size)
         .with_context(|| format!("{}", args.plan.display()))?;
+    let mut text = String::new();
     for path in &written {
-        println!("{}", path.display());
+        crate::output::outln!(text, "{}", path.display());
     }
+    crate::output::print(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -113,13 +123,14 @@ pub fn write_view_sized(
         .context("building the glTF")?;
     let options = render_options(size);
     let camera = view.camera(f64::from(size.0) / f64::from(size.1))?;
-    let mut files: Vec<(PathBuf, Vec<u8>)> = vec![(out.join("plan.glb"), glb)];
-    for (i, key) in plan.key_poses.iter().enumerate() {
+    let mut names = output_names(plan).into_iter();
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::with_capacity(plan.key_poses.len() + 1);
+    files.extend(names.next().map(|name| (out.join(name), glb)));
+    for (key, name) in plan.key_poses.iter().zip(names) {
         let frame = view.frame_at_time(key.time);
         let png = view
             .render_frame(frame, Some(&camera), &options)?
             .encode_png()?;
-        let name = format!("keypose-{:02}-{}.png", i, file_name_part(&key.name));
         files.push((out.join(name), png));
     }
     std::fs::create_dir_all(out)
@@ -130,6 +141,19 @@ pub fn write_view_sized(
         written.push(path);
     }
     Ok(written)
+}
+
+/// The names of the files [`write_view`] writes for `plan`: `plan.glb`, then one PNG per key
+/// pose.
+fn output_names(plan: &Plan) -> Vec<String> {
+    std::iter::once("plan.glb".to_owned())
+        .chain(
+            plan.key_poses
+                .iter()
+                .enumerate()
+                .map(|(i, key)| format!("keypose-{:02}-{}.png", i, file_name_part(&key.name))),
+        )
+        .collect()
 }
 
 /// `name` with every character outside `[A-Za-z0-9_-]` replaced by `-`.

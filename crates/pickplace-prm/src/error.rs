@@ -101,6 +101,25 @@ pub enum Error {
         /// Length of the list given.
         found: usize,
     },
+    /// A timed trajectory would have more samples than
+    /// [`crate::timing::MAX_TRAJECTORY_SAMPLES`]: refused before it is allocated.
+    #[error(
+        "the timed trajectory would last {duration:.4e} s, {samples:.4e} samples at {sample_period} s, more than the limit of {limit} samples (MAX_TRAJECTORY_SAMPLES); joint {joint}, velocity limit {velocity}, sets the pace: is a velocity or acceleration limit far too small?"
+    )]
+    TooManySamples {
+        /// Samples the trajectory would have.
+        samples: f64,
+        /// The limit.
+        limit: usize,
+        /// Its duration (s).
+        duration: f64,
+        /// The sampling period (s).
+        sample_period: f64,
+        /// The joint that sets the pace of its longest segment.
+        joint: usize,
+        /// That joint's velocity limit.
+        velocity: f64,
+    },
     /// A path has no waypoints.
     #[error("the path has no waypoints")]
     EmptyPath,

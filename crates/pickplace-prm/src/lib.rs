@@ -68,5 +68,7 @@ pub use roadmap::{Roadmap, RoadmapOptions, Validation};
 pub use rrt::{RrtOptions, rrt_connect};
 pub use shortcut::{ShortcutOptions, shortcut};
 pub use space::JointSpace;
-pub use timing::{TimingOptions, Trajectory, TrajectoryPoint, time_parameterize};
+pub use timing::{
+    MAX_TRAJECTORY_SAMPLES, TimingOptions, Trajectory, TrajectoryPoint, time_parameterize,
+};
 pub use validity::{AlwaysValid, ValidityChecker, motion_valid_by_interpolation};

@@ -10,6 +10,11 @@
 use crate::error::{Error, Result};
 use crate::path::Path;
 
+/// Most samples [`time_parameterize`] returns (a million: 2.8 hours of motion at the default
+/// period of 0.01 s, some 200 MB for 6 joints). A longer trajectory (a velocity limit of 1e-6
+/// rad/s, a tiny period) is refused with [`Error::TooManySamples`] before it is allocated.
+pub const MAX_TRAJECTORY_SAMPLES: usize = 1_000_000;
+
 /// Options of [`time_parameterize`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimingOptions {
@@ -120,7 +125,8 @@ impl Profile {
 /// # Errors
 /// [`Error::EmptyPath`]; [`Error::JointCount`] when a limit list has the wrong length;
 /// [`Error::InvalidLimit`] for a non-positive or non-finite limit; [`Error::InvalidOption`] for
-/// a non-positive sample period.
+/// a non-positive sample period; [`Error::TooManySamples`] when the trajectory would have more
+/// than [`MAX_TRAJECTORY_SAMPLES`] samples (checked before any is made).
 pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Trajectory> {
     let d = path.dimension();
     if path.is_empty() {
@@ -164,22 +170,43 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
     // One profile per segment with motion; zero-length segments take no time.
     let mut segments: Vec<(usize, Profile)> = Vec::new();
     let mut time = 0.0;
+    // The joint that sets the pace of the longest segment, for the error message.
+    let (mut longest, mut slowest_joint) = (0.0, 0);
     for i in 0..path.len().saturating_sub(1) {
         let (a, b) = (path.waypoint(i), path.waypoint(i + 1));
         let mut v = f64::INFINITY;
         let mut acc = f64::INFINITY;
+        let mut pace = 0;
         for j in 0..d {
             let delta = (b[j] - a[j]).abs();
             if delta > 0.0 {
+                if options.max_velocities[j] / delta < v {
+                    pace = j;
+                }
                 v = v.min(options.max_velocities[j] / delta);
                 acc = acc.min(options.max_accelerations[j] / delta);
             }
         }
         if v.is_finite() {
             let profile = Profile::new(time, v, acc);
+            if profile.duration() > longest {
+                (longest, slowest_joint) = (profile.duration(), pace);
+            }
             time += profile.duration();
             segments.push((i, profile));
         }
+    }
+    // One sample per period, one per waypoint and the first: bounded before any is made.
+    let samples = time / options.sample_period + segments.len() as f64 + 1.0;
+    if samples.is_nan() || samples > MAX_TRAJECTORY_SAMPLES as f64 {
+        return Err(Error::TooManySamples {
+            samples,
+            limit: MAX_TRAJECTORY_SAMPLES,
+            duration: time,
+            sample_period: options.sample_period,
+            joint: slowest_joint,
+            velocity: options.max_velocities[slowest_joint],
+        });
     }
 
     let point = |time_from_start: f64, segment: Option<&(usize, Profile)>| match segment {
@@ -202,7 +229,8 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
     };
 
     let period = options.sample_period;
-    let mut points = vec![point(0.0, segments.first())];
+    let mut points = Vec::with_capacity(samples as usize);
+    points.push(point(0.0, segments.first()));
     if segments.is_empty() {
         return Ok(Trajectory { points });
     }
@@ -315,6 +343,49 @@ mod tests {
                 what: "max_accelerations",
                 ..
             })
+        ));
+    }
+
+    #[test]
+    fn a_trajectory_beyond_the_sample_limit_is_refused_before_it_is_made() {
+        // 1 rad at 1e-6 rad/s: 1e6 s, 1e8 samples (the 2.6 GB of issue 18).
+        let path = Path::from_waypoints(2, [[0.0, 0.0], [0.0, 1.0]]).expect("path");
+        let slow = TimingOptions {
+            max_velocities: vec![1.0, 1e-6],
+            ..options(1.0, 1.0)
+        };
+        let e = time_parameterize(&path, &slow).expect_err("too long");
+        assert!(
+            matches!(
+                e,
+                Error::TooManySamples {
+                    joint: 1,
+                    limit: MAX_TRAJECTORY_SAMPLES,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        let message = e.to_string();
+        assert!(message.contains("1000000"), "{message}");
+        assert!(message.contains("joint 1"), "{message}");
+        // Just under the limit: 9999.9 s at 0.01 s.
+        let limit = TimingOptions {
+            max_velocities: vec![1.0, 1.0 / 9_000.0],
+            max_accelerations: vec![1.0; 2],
+            sample_period: 0.01,
+        };
+        let t = time_parameterize(&path, &limit).expect("under the limit");
+        assert!(t.points.len() <= MAX_TRAJECTORY_SAMPLES);
+        assert!(t.points.len() > 900_000);
+        // A tiny period counts as well.
+        let fine = TimingOptions {
+            sample_period: 1e-9,
+            ..options(1.0, 1.0)
+        };
+        assert!(matches!(
+            time_parameterize(&path, &fine),
+            Err(Error::TooManySamples { .. })
         ));
     }
 }

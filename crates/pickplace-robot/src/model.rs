@@ -373,8 +373,9 @@ impl RobotModel {
     /// Reads a URDF file. Relative mesh paths resolve against the file's directory.
     ///
     /// # Errors
-    /// [`Error::Io`], [`Error::UrdfSyntax`], [`Error::InvalidModel`] (cycle, missing link,
-    /// inverted limits, non-finite numbers, ...) or [`Error::Mesh`].
+    /// [`Error::Io`], [`Error::UrdfSyntax`] (also for elements nested more than 256 deep,
+    /// refused before parsing), [`Error::InvalidModel`] (cycle, missing link, inverted limits,
+    /// non-finite numbers, ...) or [`Error::Mesh`].
     pub fn from_urdf_file(path: &Path, options: &LoadOptions) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             path: path.to_path_buf(),
@@ -398,6 +399,15 @@ impl RobotModel {
         base_dir: &Path,
         options: &LoadOptions,
     ) -> Result<Self> {
+        if let Some(line) = crate::urdf::too_deep(text, crate::urdf::MAX_XML_DEPTH) {
+            return Err(Error::UrdfSyntax {
+                path: path.to_path_buf(),
+                detail: format!(
+                    "elements nested more than {} deep at line {line} (MAX_XML_DEPTH): refused before parsing",
+                    crate::urdf::MAX_XML_DEPTH
+                ),
+            });
+        }
         let robot = urdf_rs::read_from_string(text).map_err(|e| Error::UrdfSyntax {
             path: path.to_path_buf(),
             detail: e.to_string(),

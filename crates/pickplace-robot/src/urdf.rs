@@ -506,3 +506,112 @@ fn load_mesh(
     };
     Ok((resolved, mesh))
 }
+
+/// Deepest element nesting a URDF may have (a real one nests 4 or 5 deep). urdf-rs parses
+/// recursively: a deeper document (a hostile 1.4 MB file of nested elements) would overflow
+/// the stack and abort, so the text is scanned for its depth before it is parsed.
+pub const MAX_XML_DEPTH: usize = 256;
+
+/// Where `text` nests elements deeper than `limit`: the 1-based line of the first element
+/// beyond it. A cheap scan of the tags (comments, CDATA, processing instructions and
+/// declarations skipped, quoted attribute values honoured); a malformed document is left to
+/// the parser to report.
+pub(crate) fn too_deep(text: &str, limit: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let find = |from: usize, pattern: &[u8]| -> Option<usize> {
+        bytes
+            .get(from..)?
+            .windows(pattern.len())
+            .position(|w| w == pattern)
+            .map(|p| from + p + pattern.len())
+    };
+    let mut depth = 0usize;
+    let mut i = 0;
+    while let Some(offset) = bytes
+        .get(i..)
+        .and_then(|b| b.iter().position(|&c| c == b'<'))
+    {
+        let start = i + offset;
+        let rest = &bytes[start..];
+        let end = if rest.starts_with(b"<!--") {
+            find(start, b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            find(start, b"]]>")
+        } else if rest.starts_with(b"<?") {
+            find(start, b"?>")
+        } else if rest.starts_with(b"<!") {
+            find(start, b">")
+        } else if rest.starts_with(b"</") {
+            depth = depth.saturating_sub(1);
+            find(start, b">")
+        } else {
+            // A start tag: to its `>`, outside quoted attribute values.
+            let mut quote = None;
+            let mut close = None;
+            for (k, &c) in rest.iter().enumerate().skip(1) {
+                match (quote, c) {
+                    (Some(q), c) if c == q => quote = None,
+                    (Some(_), _) => {}
+                    (None, b'"' | b'\'') => quote = Some(c),
+                    (None, b'>') => {
+                        close = Some(k);
+                        break;
+                    }
+                    _ => {}
+                }
+            }
+            close.map(|k| {
+                if rest[k - 1] != b'/' {
+                    depth += 1;
+                }
+                start + k + 1
+            })
+        };
+        if depth > limit {
+            return Some(1 + bytes[..start].iter().filter(|&&c| c == b'\n').count());
+        }
+        match end {
+            Some(end) => i = end,
+            None => return None,
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod depth_tests {
+    use super::*;
+
+    fn nested(depth: usize) -> String {
+        format!(
+            "<?xml version=\"1.0\"?>\n<!-- <a><a><a> -->\n<robot name=\"r\" note=\"a>b\">{}{}</robot>\n",
+            "<a>".repeat(depth),
+            "</a>".repeat(depth)
+        )
+    }
+
+    #[test]
+    fn nesting_beyond_the_limit_is_found_with_its_line() {
+        assert_eq!(too_deep(&nested(MAX_XML_DEPTH - 1), MAX_XML_DEPTH), None);
+        assert_eq!(too_deep(&nested(MAX_XML_DEPTH), MAX_XML_DEPTH), Some(3));
+        // Siblings, self-closing tags, comments and CDATA add no depth.
+        let flat = format!(
+            "<robot>{}<![CDATA[<a><a>]]><link name='x'/></robot>",
+            "<link name=\"l\"><visual/></link>".repeat(10_000)
+        );
+        assert_eq!(too_deep(&flat, 3), None);
+        // Unterminated text is the parser's to report.
+        assert_eq!(too_deep("<robot><a", 1), None);
+    }
+
+    #[test]
+    fn a_deeply_nested_urdf_is_refused_before_parsing() {
+        // 200 000 levels overflowed urdf-rs's stack (issue 18).
+        let text = nested(200_000);
+        let e = RobotModel::from_urdf_str(&text, Path::new("."), &LoadOptions::default())
+            .expect_err("too deep");
+        let message = e.to_string();
+        assert!(message.contains("MAX_XML_DEPTH"), "{message}");
+        assert!(message.contains("line 3"), "{message}");
+    }
+}

@@ -310,10 +310,48 @@ impl Plan {
         s
     }
 
-    /// Reads a plan from JSON.
+    /// Checks every pose of the plan (the object's, events', rests', grasps' and key poses'):
+    /// finite numbers and a non-zero quaternion.
     ///
     /// # Errors
-    /// The parser's message (line and column) when the text is not a plan of this format.
+    /// The first invalid pose, by its field (`key_poses[3].world_from_tcp: orientation
+    /// quaternion is zero`).
+    pub fn check_poses(&self) -> Result<(), String> {
+        let check = |field: String, pose: &PoseSpec| {
+            pose.to_isometry()
+                .map(|_| ())
+                .map_err(|r| format!("{field}: {r}"))
+        };
+        check("object.start_pose".into(), &self.object.start_pose)?;
+        check("object.placed_pose".into(), &self.object.placed_pose)?;
+        for (i, e) in self.events.iter().enumerate() {
+            check(format!("events[{i}].link_from_object"), &e.link_from_object)?;
+        }
+        for (i, r) in self.rests.iter().enumerate() {
+            check(
+                format!("rests[{i}].world_from_object"),
+                &r.world_from_object,
+            )?;
+        }
+        for (i, g) in self.grasps.iter().enumerate() {
+            check(format!("grasps[{i}].object_from_tcp"), &g.object_from_tcp)?;
+        }
+        for (i, k) in self.key_poses.iter().enumerate() {
+            check(format!("key_poses[{i}].world_from_tcp"), &k.world_from_tcp)?;
+            check(
+                format!("key_poses[{i}].world_from_object"),
+                &k.world_from_object,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Reads a plan from JSON and checks its form: one position per joint name, finite
+    /// numbers, times from 0 on that never decrease, valid poses ([`Plan::check_poses`]).
+    ///
+    /// # Errors
+    /// The parser's message (line and column) when the text is not a plan of this format, or
+    /// the first sample or pose whose form is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
         let plan: Plan = serde_json::from_str(text).map_err(|e| e.to_string())?;
         if plan.format != PLAN_FORMAT {
@@ -330,10 +368,17 @@ impl Plan {
             if !p.time_from_start.is_finite() || p.positions.iter().any(|v| !v.is_finite()) {
                 return Err(format!("trajectory[{i}] has a non-finite number"));
             }
+            if p.time_from_start < 0.0 {
+                return Err(format!(
+                    "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
+                    p.time_from_start
+                ));
+            }
             if i > 0 && p.time_from_start < plan.trajectory[i - 1].time_from_start {
                 return Err(format!("trajectory[{i}] goes back in time"));
             }
         }
+        plan.check_poses()?;
         Ok(plan)
     }
 }

@@ -15,12 +15,90 @@ pub const SCENE_FORMAT: u32 = 1;
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PoseSpec {
-    /// Position (m).
+    /// Position (m); exactly 3 numbers.
+    #[serde(deserialize_with = "exact::position")]
     pub position: [Real; 3],
-    /// Orientation quaternion in ROS order `[x, y, z, w]` (default: identity). Normalised on
-    /// reading; a zero quaternion is an error.
-    #[serde(default = "identity_quaternion")]
+    /// Orientation quaternion in ROS order `[x, y, z, w]` (default: identity); exactly 4
+    /// numbers. Normalised on reading; a zero quaternion is an error.
+    #[serde(
+        default = "identity_quaternion",
+        deserialize_with = "exact::quaternion"
+    )]
     pub orientation: [Real; 4],
+}
+
+/// Fixed-length arrays read exactly: serde's `[T; N]` takes the first N values of a longer
+/// array and drops the rest, so a 4-value position or a 6-value quaternion would be read as
+/// something the user did not write.
+mod exact {
+    use super::Real;
+    use serde::Deserialize as _;
+    use serde::de::{Deserializer, Error as _, IgnoredAny, SeqAccess, Visitor};
+    use std::fmt;
+
+    /// A pose's `position = [x, y, z]`.
+    pub fn position<'de, D: Deserializer<'de>>(d: D) -> Result<[Real; 3], D::Error> {
+        d.deserialize_seq(Exact::<3>("position", "[x, y, z]"))
+    }
+
+    /// `target.point = [x, y, z]`.
+    pub fn point<'de, D: Deserializer<'de>>(d: D) -> Result<[Real; 3], D::Error> {
+        d.deserialize_seq(Exact::<3>("point", "[x, y, z]"))
+    }
+
+    /// A pose's `orientation = [x, y, z, w]`.
+    pub fn quaternion<'de, D: Deserializer<'de>>(d: D) -> Result<[Real; 4], D::Error> {
+        d.deserialize_seq(Exact::<4>("orientation", "[x, y, z, w]"))
+    }
+
+    /// `object.center_of_gravity = [x, y, z]`, optional.
+    pub fn optional_xyz<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[Real; 3]>, D::Error> {
+        /// The array, for `Option`'s own handling of an absent value.
+        struct Xyz([Real; 3]);
+        impl<'de> serde::Deserialize<'de> for Xyz {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                d.deserialize_seq(Exact::<3>("center_of_gravity", "[x, y, z]"))
+                    .map(Xyz)
+            }
+        }
+        Ok(Option::<Xyz>::deserialize(d)?.map(|x| x.0))
+    }
+
+    /// Reads exactly N numbers; the field's name and the numbers' meaning are in the error.
+    struct Exact<const N: usize>(&'static str, &'static str);
+
+    impl<'de, const N: usize> Visitor<'de> for Exact<N> {
+        type Value = [Real; N];
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            write!(f, "{}: exactly {N} numbers {}", self.0, self.1)
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut values = [0.0; N];
+            let mut count = 0;
+            while let Some(v) = seq.next_element::<Real>()? {
+                if count < N {
+                    values[count] = v;
+                }
+                count += 1;
+                if count > N {
+                    // Count the rest without keeping it.
+                    while seq.next_element::<IgnoredAny>()?.is_some() {
+                        count += 1;
+                    }
+                }
+            }
+            if count == N {
+                Ok(values)
+            } else {
+                Err(A::Error::custom(format!(
+                    "{}: expected exactly {N} numbers {}, got {count}",
+                    self.0, self.1
+                )))
+            }
+        }
+    }
 }
 
 fn identity_quaternion() -> [Real; 4] {
@@ -177,7 +255,7 @@ pub struct ObjectSpec {
     #[serde(default)]
     pub mass: Option<Real>,
     /// Centre of gravity in the object frame (m) (default: from the mesh, uniform density).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_xyz")]
     pub center_of_gravity: Option<[Real; 3]>,
 }
 
@@ -206,6 +284,7 @@ pub struct EnvironmentSpec {
 #[serde(deny_unknown_fields)]
 pub struct TargetSpec {
     /// A point on an environment surface (world frame, m).
+    #[serde(deserialize_with = "exact::point")]
     pub point: [Real; 3],
     /// How far (m) the vertical through the placed object's centre of mass may pass from
     /// `point` for `pickplace validate` to accept the placement (default:
@@ -528,6 +607,55 @@ point = [0.45, 0.1, 0.02]
         assert_eq!(s.target.tolerance(), DEFAULT_TARGET_TOLERANCE);
         let s = parse(&MINIMAL.replace("[target]", "[target]\ntolerance = 0.01")).expect("valid");
         assert_eq!(s.target.tolerance(), 0.01);
+    }
+
+    #[test]
+    fn fixed_length_arrays_are_exact() {
+        for (from, to, expected) in [
+            (
+                "[0.4, -0.2, 0.0] }",
+                "[0.4, -0.2, 0.0, 9.0] }",
+                "position: expected exactly 3 numbers [x, y, z], got 4",
+            ),
+            (
+                "[0.4, -0.2, 0.0] }",
+                "[0.4, -0.2] }",
+                "expected exactly 3 numbers [x, y, z], got 2",
+            ),
+            (
+                "[0.4, -0.2, 0.0] }",
+                "[0.4, -0.2, 0.0], orientation = [0, 0, 0, 1, 0, 0] }",
+                "orientation: expected exactly 4 numbers [x, y, z, w], got 6",
+            ),
+            (
+                "[0.4, -0.2, 0.0] }",
+                "[0.4, -0.2, 0.0], orientation = [0, 0, 1] }",
+                "expected exactly 4 numbers [x, y, z, w], got 3",
+            ),
+            (
+                "point = [0.45, 0.1, 0.02]",
+                "point = [0.45, 0.1, 0.02, 0.0]",
+                "got 4",
+            ),
+            ("point = [0.45, 0.1, 0.02]", "point = []", "got 0"),
+            (
+                "mesh = \"can.stl\"",
+                "mesh = \"can.stl\"\ncenter_of_gravity = [0, 0, 0.1, 0]",
+                "got 4",
+            ),
+        ] {
+            let text = MINIMAL.replace(from, to);
+            assert_ne!(text, MINIMAL, "{to}");
+            let err = parse(&text).expect_err(to).to_string();
+            assert!(err.starts_with("scene.toml: "), "{err}");
+            assert!(err.contains(expected), "{to}: {err}");
+        }
+        let s = parse(&MINIMAL.replace(
+            "mesh = \"can.stl\"",
+            "mesh = \"can.stl\"\ncenter_of_gravity = [0, 0, 0.1]",
+        ))
+        .expect("three numbers");
+        assert_eq!(s.object.center_of_gravity, Some([0.0, 0.0, 0.1]));
     }
 
     #[test]

@@ -41,6 +41,10 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// Most interpolated states one validation checks (a million: minutes of collision queries).
+/// A plan that would need more (a joint jumping 1e4 rad between samples, an unlimited joint
+/// far off) is refused with [`Error::BadPlan`] before any state is checked.
+pub const MAX_CHECKED_STATES: usize = 1_000_000;
 /// Largest joint change between checked states (rad): 1°.
 pub const MAX_JOINT_STEP: Real = std::f64::consts::PI / 180.0;
 /// Largest tool-frame displacement between checked states (m).
@@ -62,6 +66,15 @@ pub const HAND_CLEARANCE_SLACK: Real = 0.001;
 pub const PENETRATION_LIFT: Real = 1e-3;
 /// Reach (m) of the contact points that make a resting object's support hull.
 pub const REST_CONTACT_REACH: Real = 1.5e-3;
+
+/// `value` with 4 decimals, or in scientific notation from 1e6 on (1e300 is not 301 digits).
+fn short_number(value: Real) -> String {
+    if value.abs() < 1e6 {
+        format!("{value:.4}")
+    } else {
+        format!("{value:.4e}")
+    }
+}
 
 /// What `validate` found.
 #[derive(Debug, Clone, Serialize)]
@@ -105,7 +118,10 @@ struct Rest {
 ///
 /// # Errors
 /// [`Error::BadPlan`] when the plan does not fit the robot (joint names, vector lengths,
-/// non-finite numbers, an event on a link that is no arm's tool link) or is empty;
+/// non-finite numbers, a negative time, an invalid pose — zero or non-finite quaternion — in
+/// an event, a key pose, a grasp, a rest or the object's poses, an event on a link that is no
+/// arm's tool link), is empty, or would need more than [`MAX_CHECKED_STATES`] interpolated
+/// states;
 /// [`Error::Internal`] when a lower layer (collision queries, meshes) fails: a check that
 /// cannot be made is never read as passed. A plan that fits but fails a check is not an
 /// error: its problems are listed.
@@ -139,6 +155,37 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         }
         if !p.time_from_start.is_finite() || p.positions.iter().any(|x| !x.is_finite()) {
             return Err(bad(format!("trajectory[{i}] has a non-finite number")));
+        }
+        if p.time_from_start < 0.0 {
+            return Err(bad(format!(
+                "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
+                p.time_from_start
+            )));
+        }
+    }
+    plan.check_poses().map_err(bad)?;
+    let end = plan.trajectory.last().map_or(0.0, |p| p.time_from_start);
+    // Every value against its joint's limits before anything is interpolated: a value far
+    // outside would make the interpolation endless. The first one is the plan's only problem.
+    let limits: Vec<_> = model.variable_limits().copied().collect();
+    for (i, p) in plan.trajectory.iter().enumerate() {
+        for (j, (&q, l)) in p.positions.iter().zip(&limits).enumerate() {
+            if !l.contains(q, 1e-6) {
+                return Ok(ValidationReport {
+                    format: "pickplace.validation/1",
+                    states_checked: 0,
+                    duration: end,
+                    stability_margin: None,
+                    problems: vec![format!(
+                        "t = {:.3} s: {} = {} is outside its limits [{:.4}, {:.4}] (trajectory[{i}]; nothing else checked)",
+                        p.time_from_start,
+                        names[j],
+                        short_number(q),
+                        l.lower,
+                        l.upper
+                    )],
+                });
+            }
         }
     }
     let arm_of_link = |link: &str| -> Option<Arm> {
@@ -183,7 +230,6 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         .placed_pose
         .to_isometry()
         .map_err(|r| bad(format!("object.placed_pose: {r}")))?;
-    let end = plan.trajectory.last().map_or(0.0, |p| p.time_from_start);
 
     let mut v = Validator::new(setup)?;
     for (e, named) in &events {
@@ -225,7 +271,40 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             "the trajectory does not begin at the scene's start state".into(),
         );
     }
-    let limits: Vec<_> = model.variable_limits().copied().collect();
+    // The interpolated states between each pair of samples, counted and bounded before any
+    // is checked.
+    let mut steps = Vec::with_capacity(plan.trajectory.len());
+    let mut total: Real = 0.0;
+    for w in plan.trajectory.windows(2) {
+        let (p, n_next) = (&w[0], &w[1]);
+        let max_dq = p
+            .positions
+            .iter()
+            .zip(&n_next.positions)
+            .map(|(a, b)| (b - a).abs())
+            .fold(0.0, Real::max);
+        let tcp_move = setup
+            .arms
+            .iter()
+            .map(|a| {
+                (v.tcp(a.arm, &n_next.positions).translation.vector
+                    - v.tcp(a.arm, &p.positions).translation.vector)
+                    .norm()
+            })
+            .fold(0.0, Real::max);
+        let n = (max_dq / MAX_JOINT_STEP)
+            .max(tcp_move / MAX_CARTESIAN_STEP)
+            .ceil()
+            .max(1.0);
+        total += n;
+        if total.is_nan() || total > MAX_CHECKED_STATES as Real {
+            return Err(bad(format!(
+                "checking the trajectory up to trajectory[{}] would take more than {MAX_CHECKED_STATES} interpolated states (MAX_CHECKED_STATES; one per 1° of joint motion and 1 cm of tool motion): a joint or tool moves too far between samples",
+                steps.len() + 1
+            )));
+        }
+        steps.push(n as usize);
+    }
     let windows = closing_windows(setup, &plan.trajectory, &events);
     let closing_at = |now: Real| {
         Arm::BOTH.map(|a| {
@@ -246,11 +325,6 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     for i in 0..plan.trajectory.len() {
         let p = &plan.trajectory[i];
         let t = p.time_from_start;
-        for (j, (&q, l)) in p.positions.iter().zip(&limits).enumerate() {
-            if !l.contains(q, 1e-6) {
-                v.problem(t, format!("{} = {q:.4} is outside its limits", names[j]));
-            }
-        }
         // Where the held object is at this sample, before its events (a release leaves it
         // here).
         if let Some(&(arm, link_from_object)) = holders.first() {
@@ -356,25 +430,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             }
         }
         // Dense interpolation between the samples (checked whatever the times say).
-        let max_dq = p
-            .positions
-            .iter()
-            .zip(&n_next.positions)
-            .map(|(a, b)| (b - a).abs())
-            .fold(0.0, Real::max);
-        let tcp_move = setup
-            .arms
-            .iter()
-            .map(|a| {
-                (v.tcp(a.arm, &n_next.positions).translation.vector
-                    - v.tcp(a.arm, &p.positions).translation.vector)
-                    .norm()
-            })
-            .fold(0.0, Real::max);
-        let steps = ((max_dq / MAX_JOINT_STEP)
-            .max(tcp_move / MAX_CARTESIAN_STEP)
-            .ceil() as usize)
-            .max(1);
+        let steps = steps[i];
         let mut q = p.positions.clone();
         for s in 0..steps {
             let f = s as Real / steps as Real;

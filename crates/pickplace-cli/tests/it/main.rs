@@ -3,6 +3,7 @@
 mod bad_input;
 mod clusters;
 mod demo;
+mod hardening;
 mod placements;
 mod plan;
 mod precompute;

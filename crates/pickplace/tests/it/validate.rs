@@ -364,6 +364,95 @@ fn a_joint_beyond_its_limit_is_refused() {
 }
 
 #[test]
+fn a_value_far_outside_its_limits_is_reported_first_and_nothing_is_interpolated() {
+    // Issue 18: 1e4 rad made the interpolation run for seconds, larger values for ever.
+    let (setup, plan) = near();
+    let j = idle_wrist(setup, plan);
+    let mut faulty = plan.clone();
+    faulty.trajectory[3].positions[j] = 1e300;
+    faulty.trajectory[5].positions[j] = -1e4;
+    let report = check(setup, &faulty);
+    assert_eq!(report.states_checked, 0);
+    assert_eq!(report.problems.len(), 1, "{:#?}", report.problems);
+    let name = &plan.joint_names[j];
+    assert!(
+        report.problems[0].contains(&format!("{name} = 1.0000e300 is outside its limits [")),
+        "{}",
+        report.problems[0]
+    );
+    assert!(
+        report.problems[0].contains("trajectory[3]"),
+        "{}",
+        report.problems[0]
+    );
+}
+
+#[test]
+fn a_trajectory_needing_too_many_checked_states_is_refused_before_checking() {
+    // Every value within its limits, but the idle wrist swings from limit to limit at every
+    // one of many samples: more than MAX_CHECKED_STATES states at 1° each.
+    let (setup, plan) = near();
+    let j = idle_wrist(setup, plan);
+    let l = setup
+        .model
+        .variable_limits()
+        .nth(j)
+        .copied()
+        .expect("limits");
+    let per_swing = ((l.upper - l.lower) / pickplace::validate::MAX_JOINT_STEP).ceil() as usize;
+    let samples = pickplace::validate::MAX_CHECKED_STATES / per_swing + 10;
+    let mut faulty = plan.clone();
+    let start = plan.trajectory[0].positions.clone();
+    faulty.trajectory = (0..samples)
+        .map(|i| {
+            let mut q = start.clone();
+            q[j] = if i % 2 == 0 { l.lower } else { l.upper };
+            TrajectoryPoint {
+                time_from_start: i as Real,
+                positions: q,
+            }
+        })
+        .collect();
+    let e = validate(setup, &faulty, Path::new("plan.json")).expect_err("too many states");
+    let message = e.to_string();
+    assert!(
+        message.starts_with("plan.json: ") && message.contains("MAX_CHECKED_STATES"),
+        "{message}"
+    );
+}
+
+#[test]
+fn negative_times_and_invalid_key_poses_do_not_fit() {
+    let (setup, plan) = near();
+    let mut faulty = plan.clone();
+    for p in &mut faulty.trajectory {
+        p.time_from_start -= 1.0;
+    }
+    let e = validate(setup, &faulty, Path::new("plan.json")).expect_err("negative time");
+    assert!(
+        e.to_string()
+            .contains("trajectory[0]: time_from_start -1 s is negative"),
+        "{e}"
+    );
+    let mut faulty = plan.clone();
+    faulty.key_poses[1].world_from_object.orientation = [0.0; 4];
+    let e = validate(setup, &faulty, Path::new("plan.json")).expect_err("zero quaternion");
+    assert!(
+        e.to_string()
+            .contains("key_poses[1].world_from_object: orientation quaternion is zero"),
+        "{e}"
+    );
+    let mut faulty = plan.clone();
+    faulty.grasps[0].object_from_tcp.orientation[0] = Real::NAN;
+    let e = validate(setup, &faulty, Path::new("plan.json")).expect_err("NaN");
+    assert!(
+        e.to_string()
+            .contains("grasps[0].object_from_tcp: pose has a non-finite number"),
+        "{e}"
+    );
+}
+
+#[test]
 fn a_joint_faster_than_its_limit_is_refused() {
     let (setup, plan) = near();
     let j = idle_wrist(setup, plan);
