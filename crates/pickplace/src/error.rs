@@ -112,6 +112,13 @@ pub enum Error {
         /// Why (`the target is not on any surface: …`, too steep, too small).
         reason: String,
     },
+    /// The timed trajectory would exceed a limit (a joint velocity limit so small that the
+    /// motion would take millions of samples): bad input in the robot's files, exit status 2.
+    #[error("trajectory: {reason}")]
+    TrajectoryLimit {
+        /// The time parameterization's message (the limit, the duration, the joint).
+        reason: String,
+    },
     /// A lower layer failed on input the façade had checked: a bug, reported with its cause.
     #[error("internal error in {stage}: {reason}")]
     Internal {

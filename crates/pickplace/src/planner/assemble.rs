@@ -111,8 +111,12 @@ impl Ctx<'_> {
                 .map_err(crate::error::internal("trajectory"))?;
             let offset = trajectory.last().map_or(0.0, |p| p.time_from_start);
             if path.len() >= 2 {
-                let timed =
-                    time_parameterize(&path, &timing).map_err(crate::error::internal("timing"))?;
+                let timed = time_parameterize(&path, &timing).map_err(|e| match e {
+                    pickplace_prm::Error::TooManySamples { .. } => crate::Error::TrajectoryLimit {
+                        reason: e.to_string(),
+                    },
+                    other => crate::error::internal("timing")(other),
+                })?;
                 for p in timed.points.iter().skip(1) {
                     trajectory.push(TrajectoryPoint {
                         time_from_start: round_time(offset + p.time_from_start),
