@@ -101,14 +101,18 @@ impl ClusterDatabase {
     /// [`crate::hash::mesh_hash`]) and the parameters `params`.
     ///
     /// # Errors
-    /// [`Error::Io`] when the file cannot be read; [`Error::Database`] when it is not a
+    /// [`Error::Io`] when the file cannot be read, is not a regular file or is larger than
+    /// [`crate::io::MAX_CACHE_ENTRY_BYTES`]; [`Error::Database`] when it is not a
     /// database, has another format version, was built for another mesh or other parameters,
     /// or is corrupt.
     pub fn load(path: &Path, expected_hash: u64, params: &ClusterParams) -> Result<Self> {
-        let bytes = std::fs::read(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let bytes =
+            crate::io::read_bytes(path, crate::io::FileKind::CacheEntry).map_err(|source| {
+                Error::Io {
+                    path: path.to_path_buf(),
+                    source,
+                }
+            })?;
         codec::decode(&bytes, expected_hash, params).map_err(|kind| Error::Database {
             path: path.to_path_buf(),
             kind,
@@ -120,7 +124,8 @@ impl ClusterDatabase {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters, [`Error::Io`] when the file exists
-    /// but cannot be read, or cannot be written.
+    /// but cannot be read, or cannot be written. A path that is not a regular file (a FIFO, a
+    /// device) or a file over [`crate::io::MAX_CACHE_ENTRY_BYTES`] is a damaged entry: rebuilt.
     pub fn load_or_build(
         path: &Path,
         mesh: &TriMesh,
@@ -131,6 +136,10 @@ impl ClusterDatabase {
             Ok(db) => return Ok((db, CacheStatus::Loaded)),
             Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => None,
             Err(e @ Error::Database { .. }) => Some(e.to_string()),
+            // Not a regular file, or too large: a damaged entry, rebuilt.
+            Err(e) if matches!(&e, Error::Io { source, .. } if crate::io::is_refused(source)) => {
+                Some(e.to_string())
+            }
             Err(e) => return Err(e),
         };
         let db = Self::build(mesh, params)?;

@@ -31,6 +31,7 @@ pub mod db;
 pub mod error;
 pub mod export;
 pub mod hash;
+pub mod io;
 pub mod json;
 pub mod math;
 pub mod mesh;

@@ -507,16 +507,18 @@ impl MeshFormat {
 /// [`TriMesh::report`].
 ///
 /// # Errors
-/// [`Error::Io`] when the file cannot be read; [`Error::Mesh`] naming the file when the
+/// [`Error::Io`] when the file cannot be read, is not a regular file or is larger than
+/// [`crate::io::MAX_MESH_BYTES`] (see [`crate::io`]); [`Error::Mesh`] naming the file when the
 /// extension is unknown, the file is empty, malformed (truncated binary STL, a bad number or
 /// keyword, with its line), has a non-finite coordinate, an out-of-range face index, or only
 /// zero-area triangles, or when `options.scale` is not positive.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<TriMesh> {
     let format = MeshFormat::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes =
+        crate::io::read_bytes(path, crate::io::FileKind::Mesh).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
     read_format(format, &bytes, path, options)
 }
 

@@ -109,6 +109,30 @@ fn load_or_build_rebuilds_stale_files() {
 }
 
 #[test]
+fn a_fifo_as_cache_entry_is_rebuilt_not_waited_on() {
+    let dir = temp_dir("fifo");
+    let path = dir.join("box.ppdb");
+    let _ = std::fs::remove_file(&path);
+    let made = std::process::Command::new("mkfifo")
+        .arg(&path)
+        .status()
+        .expect("mkfifo");
+    assert!(made.success());
+    let mesh = box_mesh([0.05, 0.04, 0.03]);
+    let params = ClusterParams::environment();
+    let (_, status) = ClusterDatabase::load_or_build(&path, &mesh, &params).expect("rebuilt");
+    match status {
+        CacheStatus::Built { reason: Some(r) } => assert!(r.contains("is a FIFO"), "{r}"),
+        s => panic!("{s:?}"),
+    }
+    // The FIFO was replaced by the database.
+    assert!(std::fs::symlink_metadata(&path).expect("entry").is_file());
+    let (_, status) = ClusterDatabase::load_or_build(&path, &mesh, &params).expect("loaded");
+    assert_eq!(status, CacheStatus::Loaded);
+    std::fs::remove_dir_all(&dir).expect("cleanup");
+}
+
+#[test]
 fn saving_into_a_missing_directory_fails_cleanly() {
     let db = ClusterDatabase::build(&box_mesh([0.1, 0.1, 0.1]), &ClusterParams::default())
         .expect("valid");

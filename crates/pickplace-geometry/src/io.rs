@@ -1,0 +1,364 @@
+//! Reading input files safely: regular files only, at most a limit of bytes per kind of file.
+//!
+//! Every reader of the workspace (scenes, gripper files, URDF, SRDF, plans, meshes, cache
+//! entries) goes through [`read_bytes`] or [`read_text`]. A FIFO, a character or block device,
+//! a socket or a folder is refused before it is opened (opening a FIFO for reading blocks
+//! until a writer comes), and the opened file is checked again, so a file swapped in between
+//! is refused too. A file larger than its kind's limit ([`FileKind::limit`]) is refused
+//! without being read; `/dev/zero` and friends are refused as devices. Symbolic links to
+//! regular files are followed.
+//!
+//! The errors are [`std::io::Error`]s whose message says what is wrong (the kind of file
+//! found, or the size and the limit and how to raise it) but not the path: every caller wraps
+//! them in its own error, which names the path. [`is_refused`] tells these refusals from
+//! ordinary I/O errors (a cache entry that is refused is rebuilt, like a damaged one).
+
+use std::fmt;
+use std::io::Read as _;
+use std::path::Path;
+
+/// The environment variable that raises every limit of [`FileKind`]: a number of bytes. A
+/// kind's limit is the larger of its default and this value; it never lowers a limit.
+pub const MAX_FILE_BYTES_VAR: &str = "PICKPLACE_MAX_FILE_BYTES";
+
+const MIB: u64 = 1 << 20;
+
+/// Default limit of a scene TOML file: 1 MiB.
+pub const MAX_SCENE_BYTES: u64 = MIB;
+/// Default limit of a gripper TOML file (or gripper overrides): 1 MiB.
+pub const MAX_GRIPPER_BYTES: u64 = MIB;
+/// Default limit of a URDF file: 64 MiB.
+pub const MAX_URDF_BYTES: u64 = 64 * MIB;
+/// Default limit of an SRDF file: 16 MiB.
+pub const MAX_SRDF_BYTES: u64 = 16 * MIB;
+/// Default limit of a plan JSON file: 1 GiB.
+pub const MAX_PLAN_BYTES: u64 = 1024 * MIB;
+/// Default limit of a mesh file (STL, OBJ, PLY, COLLADA): 1 GiB.
+pub const MAX_MESH_BYTES: u64 = 1024 * MIB;
+/// Default limit of a cache entry (cluster database, roadmap): 1 GiB.
+pub const MAX_CACHE_ENTRY_BYTES: u64 = 1024 * MIB;
+
+/// The kinds of input file, each with its own size limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum FileKind {
+    /// A scene TOML file.
+    Scene,
+    /// A gripper TOML file or gripper overrides.
+    Gripper,
+    /// A URDF file.
+    Urdf,
+    /// An SRDF file.
+    Srdf,
+    /// A plan JSON file.
+    Plan,
+    /// A mesh file (STL, OBJ, PLY, COLLADA).
+    Mesh,
+    /// A cache entry (cluster database, roadmap).
+    CacheEntry,
+}
+
+impl FileKind {
+    /// The default limit in bytes (the `MAX_*_BYTES` constants).
+    pub const fn default_limit(self) -> u64 {
+        match self {
+            Self::Scene => MAX_SCENE_BYTES,
+            Self::Gripper => MAX_GRIPPER_BYTES,
+            Self::Urdf => MAX_URDF_BYTES,
+            Self::Srdf => MAX_SRDF_BYTES,
+            Self::Plan => MAX_PLAN_BYTES,
+            Self::Mesh => MAX_MESH_BYTES,
+            Self::CacheEntry => MAX_CACHE_ENTRY_BYTES,
+        }
+    }
+
+    /// The limit in force: the default, raised by [`MAX_FILE_BYTES_VAR`] when that holds a
+    /// larger number of bytes (an unreadable value is ignored).
+    pub fn limit(self) -> u64 {
+        self.limit_raised_by(std::env::var(MAX_FILE_BYTES_VAR).ok().as_deref())
+    }
+
+    fn limit_raised_by(self, value: Option<&str>) -> u64 {
+        let raised = value
+            .and_then(|v| v.trim().parse::<u64>().ok())
+            .unwrap_or(0);
+        self.default_limit().max(raised)
+    }
+
+    /// The name used in messages ("a scene", "a mesh", ...).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Scene => "a scene",
+            Self::Gripper => "a gripper file",
+            Self::Urdf => "a URDF",
+            Self::Srdf => "an SRDF",
+            Self::Plan => "a plan",
+            Self::Mesh => "a mesh",
+            Self::CacheEntry => "a cache entry",
+        }
+    }
+}
+
+/// Why a file was refused; carried inside the [`std::io::Error`] of [`read_limited`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Refusal {
+    /// The path is not a regular file.
+    NotRegular {
+        /// What it is ("a FIFO", "a character device", "a folder", ...).
+        found: &'static str,
+    },
+    /// The file is larger than the limit.
+    TooLarge {
+        /// Its size in bytes (at least; a file still growing may be larger).
+        size: u64,
+        /// The limit in bytes.
+        limit: u64,
+        /// The kind of file, when known.
+        kind: Option<FileKind>,
+    },
+}
+
+impl fmt::Display for Refusal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotRegular { found } => {
+                write!(f, "is {found}, not a regular file; give a regular file")
+            }
+            Self::TooLarge { size, limit, kind } => {
+                write!(f, "is {size} bytes, over the limit of {limit} bytes")?;
+                if let Some(kind) = kind {
+                    write!(f, " for {}", kind.name())?;
+                }
+                write!(
+                    f,
+                    "; raise it with the environment variable {MAX_FILE_BYTES_VAR}=<bytes>"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for Refusal {}
+
+/// Whether `error` is a refusal of [`read_limited`] (not a regular file, or too large) rather
+/// than an ordinary I/O error.
+pub fn is_refused(error: &std::io::Error) -> bool {
+    error
+        .get_ref()
+        .is_some_and(|inner| inner.downcast_ref::<Refusal>().is_some())
+}
+
+fn kind_name(file_type: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt as _;
+    if file_type.is_dir() {
+        "a folder"
+    } else if file_type.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if file_type.is_char_device() {
+        "a character device"
+    } else if file_type.is_block_device() {
+        "a block device"
+    } else if file_type.is_socket() {
+        "a socket"
+    } else {
+        "not a file"
+    }
+}
+
+fn refuse(refusal: Refusal) -> std::io::Error {
+    let kind = match refusal {
+        Refusal::NotRegular { .. } => std::io::ErrorKind::InvalidInput,
+        Refusal::TooLarge { .. } => std::io::ErrorKind::FileTooLarge,
+    };
+    std::io::Error::new(kind, refusal)
+}
+
+fn check(meta: &std::fs::Metadata, limit: u64, kind: Option<FileKind>) -> std::io::Result<()> {
+    if !meta.is_file() {
+        return Err(refuse(Refusal::NotRegular {
+            found: kind_name(meta.file_type()),
+        }));
+    }
+    if meta.len() > limit {
+        return Err(refuse(Refusal::TooLarge {
+            size: meta.len(),
+            limit,
+            kind,
+        }));
+    }
+    Ok(())
+}
+
+/// Reads the regular file at `path` (symbolic links followed), at most `limit` bytes.
+///
+/// # Errors
+/// An [`std::io::Error`] when the file cannot be opened or read (`NotFound`, ...); a refusal
+/// ([`is_refused`], kind `InvalidInput`) when it is not a regular file, checked before it is
+/// opened and again on the opened file; a refusal (kind `FileTooLarge`) when it holds more
+/// than `limit` bytes. The messages do not name `path`: the caller's error does.
+pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    read_checked(path, limit, None)
+}
+
+fn read_checked(path: &Path, limit: u64, kind: Option<FileKind>) -> std::io::Result<Vec<u8>> {
+    // Before opening: opening a FIFO for reading waits for a writer.
+    check(&std::fs::metadata(path)?, limit, kind)?;
+    let file = std::fs::File::open(path)?;
+    // The path may have been replaced between the two calls.
+    let meta = file.metadata()?;
+    check(&meta, limit, kind)?;
+    let capacity = usize::try_from(meta.len()).unwrap_or(0);
+    let mut bytes = Vec::with_capacity(capacity);
+    // One byte more than the limit tells a file that grew past it.
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    let read = bytes.len() as u64;
+    if read > limit {
+        return Err(refuse(Refusal::TooLarge {
+            size: read,
+            limit,
+            kind,
+        }));
+    }
+    Ok(bytes)
+}
+
+/// Reads the regular file at `path`, at most `kind`'s [limit](FileKind::limit).
+///
+/// # Errors
+/// As [`read_limited`].
+pub fn read_bytes(path: &Path, kind: FileKind) -> std::io::Result<Vec<u8>> {
+    read_checked(path, kind.limit(), Some(kind))
+}
+
+/// Reads the regular file at `path` as UTF-8 text, at most `kind`'s [limit](FileKind::limit).
+///
+/// # Errors
+/// As [`read_limited`]; `InvalidData` when the file is not UTF-8.
+pub fn read_text(path: &Path, kind: FileKind) -> std::io::Result<String> {
+    String::from_utf8(read_bytes(path, kind)?).map_err(|_| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "stream did not contain valid UTF-8",
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir() -> tempfile::TempDir {
+        tempfile::tempdir().expect("tempdir")
+    }
+
+    fn mkfifo(path: &Path) {
+        let status = std::process::Command::new("mkfifo")
+            .arg(path)
+            .status()
+            .expect("mkfifo");
+        assert!(status.success());
+    }
+
+    #[test]
+    fn a_regular_file_is_read() {
+        let d = dir();
+        let p = d.path().join("a.toml");
+        std::fs::write(&p, "hello").expect("write");
+        assert_eq!(read_text(&p, FileKind::Scene).expect("read"), "hello");
+        assert_eq!(read_limited(&p, 5).expect("read"), b"hello");
+    }
+
+    #[test]
+    fn a_fifo_is_refused_without_blocking() {
+        let d = dir();
+        let p = d.path().join("pipe.toml");
+        mkfifo(&p);
+        let e = read_bytes(&p, FileKind::Scene).expect_err("a FIFO");
+        assert!(is_refused(&e), "{e}");
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        assert!(e.to_string().contains("is a FIFO"), "{e}");
+    }
+
+    #[test]
+    fn dev_zero_is_refused_as_a_device() {
+        let e = read_bytes(Path::new("/dev/zero"), FileKind::Mesh).expect_err("a device");
+        assert!(is_refused(&e), "{e}");
+        assert!(e.to_string().contains("is a character device"), "{e}");
+    }
+
+    #[test]
+    fn a_folder_is_refused() {
+        let d = dir();
+        let e = read_text(d.path(), FileKind::Urdf).expect_err("a folder");
+        assert!(is_refused(&e), "{e}");
+        assert!(
+            e.to_string().contains("is a folder, not a regular file"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_file_over_the_limit_is_refused_with_size_and_limit() {
+        let d = dir();
+        let p = d.path().join("big.json");
+        std::fs::write(&p, [b'x'; 100]).expect("write");
+        let e = read_limited(&p, 10).expect_err("too large");
+        assert!(is_refused(&e), "{e}");
+        assert_eq!(e.kind(), std::io::ErrorKind::FileTooLarge);
+        let m = e.to_string();
+        assert!(m.contains("100 bytes"), "{m}");
+        assert!(m.contains("limit of 10 bytes"), "{m}");
+        assert!(m.contains(MAX_FILE_BYTES_VAR), "{m}");
+        // At the limit exactly is fine.
+        assert_eq!(read_limited(&p, 100).expect("read").len(), 100);
+    }
+
+    #[test]
+    fn a_symlink_to_a_regular_file_is_followed() {
+        let d = dir();
+        let p = d.path().join("real.srdf");
+        std::fs::write(&p, "<robot/>").expect("write");
+        let link = d.path().join("link.srdf");
+        std::os::unix::fs::symlink(&p, &link).expect("symlink");
+        assert_eq!(read_text(&link, FileKind::Srdf).expect("read"), "<robot/>");
+    }
+
+    #[test]
+    fn a_symlink_to_a_fifo_is_refused() {
+        let d = dir();
+        let p = d.path().join("pipe");
+        mkfifo(&p);
+        let link = d.path().join("link.stl");
+        std::os::unix::fs::symlink(&p, &link).expect("symlink");
+        let e = read_bytes(&link, FileKind::Mesh).expect_err("a FIFO");
+        assert!(is_refused(&e), "{e}");
+    }
+
+    #[test]
+    fn a_missing_file_is_an_ordinary_not_found() {
+        let d = dir();
+        let e = read_bytes(&d.path().join("none"), FileKind::CacheEntry).expect_err("missing");
+        assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
+        assert!(!is_refused(&e));
+    }
+
+    #[test]
+    fn limits_are_generous_and_ordered() {
+        assert_eq!(FileKind::Scene.default_limit(), 1 << 20);
+        assert!(FileKind::Mesh.default_limit() >= FileKind::Urdf.default_limit());
+        assert!(FileKind::Urdf.default_limit() >= FileKind::Srdf.default_limit());
+        // The variable may only raise a limit (not set in tests: the default holds).
+        assert!(FileKind::Plan.limit() >= FileKind::Plan.default_limit());
+    }
+
+    #[test]
+    fn the_variable_raises_every_limit_and_never_lowers_one() {
+        let big = "5000000000";
+        assert_eq!(FileKind::Scene.limit_raised_by(Some(big)), 5_000_000_000);
+        assert_eq!(FileKind::Mesh.limit_raised_by(Some(big)), 5_000_000_000);
+        assert_eq!(FileKind::Scene.limit_raised_by(Some("10")), MAX_SCENE_BYTES);
+        assert_eq!(FileKind::Urdf.limit_raised_by(Some("lots")), MAX_URDF_BYTES);
+        assert_eq!(FileKind::Srdf.limit_raised_by(None), MAX_SRDF_BYTES);
+    }
+}
