@@ -198,8 +198,9 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
         args.scene.display(),
         args.plan.display()
     );
-    let text = std::fs::read_to_string(&args.plan)
-        .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
+    let text =
+        pickplace_geometry::io::read_text(&args.plan, pickplace_geometry::io::FileKind::Plan)
+            .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
     let plan = Plan::from_json(&text)
         .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
     let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;

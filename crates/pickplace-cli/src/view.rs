@@ -65,8 +65,9 @@ pub fn render_options(size: (u32, u32)) -> RenderOptions {
 /// `pickplace view`.
 pub fn run(args: &ViewArgs) -> Result<ExitCode> {
     let size = parse_size(&args.size)?;
-    let text = std::fs::read_to_string(&args.plan)
-        .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
+    let text =
+        pickplace_geometry::io::read_text(&args.plan, pickplace_geometry::io::FileKind::Plan)
+            .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
     let plan = Plan::from_json(&text)
         .map_err(|e| anyhow::anyhow!("{}: not a valid plan: {e}", args.plan.display()))?;
     let mut scene = Scene::load(&args.scene)?;

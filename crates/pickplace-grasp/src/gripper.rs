@@ -100,10 +100,12 @@ impl GripperParams {
     /// # Errors
     /// [`Error::Io`] when the file cannot be read, then as [`GripperParams::from_toml_str`].
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Gripper)
+                .map_err(|source| Error::Io {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
         Self::from_toml_str(&text, path)
     }
 

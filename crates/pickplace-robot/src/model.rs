@@ -377,10 +377,11 @@ impl RobotModel {
     /// refused before parsing), [`Error::InvalidModel`] (cycle, missing link, inverted limits,
     /// non-finite numbers, ...) or [`Error::Mesh`].
     pub fn from_urdf_file(path: &Path, options: &LoadOptions) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Urdf)
+            .map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Self::from_urdf_str_inner(&text, path, &base, options)
     }

@@ -242,10 +242,11 @@ impl Srdf {
     /// # Errors
     /// [`Error::Io`] or [`Error::Srdf`].
     pub fn from_file(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Srdf)
+            .map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
         Self::parse(&text).map_err(|kind| Error::Srdf {
             path: path.to_path_buf(),
             kind,

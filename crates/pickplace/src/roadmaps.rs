@@ -248,7 +248,8 @@ pub fn load_or_build(
         .collect();
     let requested = roadmap_options().node_count;
     if let Some(path) = cache
-        && let Ok(bytes) = std::fs::read(path)
+        && let Ok(bytes) =
+            pickplace_geometry::io::read_bytes(path, pickplace_geometry::io::FileKind::CacheEntry)
         && let Ok(roadmap) = codec::decode(&bytes, space)
     {
         let report = RoadmapReport {

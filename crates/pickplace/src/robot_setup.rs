@@ -9,6 +9,7 @@
 use crate::error::{Error, Result};
 use crate::scene::{GroupSpecToml, RobotSpec, Scene};
 use crate::strategy::Arm;
+use pickplace_geometry::io::FileKind;
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_grasp::GripperParams;
 use pickplace_grasp::gripper::PalmBox;
@@ -89,7 +90,7 @@ impl GripperOverrides {
             field: field.to_owned(),
             reason,
         };
-        let text = std::fs::read_to_string(path)
+        let text = pickplace_geometry::io::read_text(path, FileKind::Gripper)
             .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
         let o: Self = toml::from_str(&text)
             .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
@@ -230,9 +231,9 @@ impl RobotSetup {
                 .base_pose
                 .to_isometry()
                 .map_err(|r| invalid(&field(i, "base_pose"), r.into()))?;
-            key_text.push_str(&read_text(&spec.urdf));
+            key_text.push_str(&read_text(&spec.urdf, FileKind::Urdf));
             if let Some(p) = &spec.srdf {
-                key_text.push_str(&read_text(p));
+                key_text.push_str(&read_text(p, FileKind::Srdf));
             }
             key_text.push_str(&format!("{:?}{:?}", spec.prefix, spec.groups));
             parts.push((model, srdf, world_from_root, spec));
@@ -436,8 +437,9 @@ fn group_spec(name: &str, g: &GroupSpecToml) -> GroupSpec {
     }
 }
 
-fn read_text(path: &Path) -> String {
-    std::fs::read_to_string(path).unwrap_or_default()
+fn read_text(path: &Path, kind: FileKind) -> String {
+    // A file that cannot be read keys as empty; loading it reports the error.
+    pickplace_geometry::io::read_text(path, kind).unwrap_or_default()
 }
 
 /// Several robots as one model under a `world` root, names prefixed.

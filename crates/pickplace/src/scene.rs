@@ -406,10 +406,11 @@ impl Scene {
     /// # Errors
     /// [`SceneError`] naming the file, and the field or line at fault.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
+            .map_err(|source| SceneError::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let base = path.parent().unwrap_or(Path::new("."));
         Self::parse(&text, path, base)
     }

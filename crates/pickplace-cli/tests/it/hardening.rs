@@ -401,3 +401,213 @@ fn a_deeply_nested_urdf_is_refused_without_a_stack_overflow() {
         ],
     );
 }
+
+/// Runs `command` with a time limit, so that a reader that blocks again fails the test
+/// instead of hanging the suite; the child is killed at the limit.
+fn output_within(mut command: Command, limit: std::time::Duration) -> Output {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the pickplace binary runs");
+    // Drain the pipes on threads so that a chatty child cannot block on a full pipe.
+    let mut out = child.stdout.take().expect("stdout");
+    let mut err = child.stderr.take().expect("stderr");
+    let out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut out, &mut v);
+        v
+    });
+    let err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut err, &mut v);
+        v
+    });
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait") {
+            break status;
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("pickplace did not end within {limit:?}: a reader blocks");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("stdout thread"),
+        stderr: err.join().expect("stderr thread"),
+    }
+}
+
+fn mkfifo(path: &Path) {
+    let made = Command::new("mkfifo").arg(path).status().expect("mkfifo");
+    assert!(made.success(), "mkfifo {}", path.display());
+}
+
+const READ_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+#[cfg(unix)]
+#[test]
+fn fifos_and_devices_as_inputs_are_refused_without_blocking() {
+    let dir = Scratch::new("hardening-fifo");
+    let scene = scratch_scene(&dir);
+    // A FIFO as the scene.
+    let fifo_scene = dir.join("fifo.toml");
+    mkfifo(&fifo_scene);
+    let o = output_within(command(crate::args!["plan", fifo_scene]), READ_LIMIT);
+    refused(&o, &["fifo.toml", "is a FIFO", "not a regular file"]);
+    // A folder as the scene.
+    let folder = dir.join("folder.toml");
+    std::fs::create_dir(&folder).expect("folder");
+    let o = output_within(command(crate::args!["plan", folder]), READ_LIMIT);
+    refused(&o, &["folder.toml", "is a folder, not a regular file"]);
+    // A FIFO as the object mesh the scene names.
+    let text = std::fs::read_to_string(&scene).expect("scene");
+    mkfifo(&dir.join("pipe.stl"));
+    let piped = dir.file(
+        "piped.toml",
+        text.replace("\"can.stl\"", "\"pipe.stl\"").as_bytes(),
+    );
+    let o = output_within(command(crate::args!["plan", piped]), READ_LIMIT);
+    refused(&o, &["pipe.stl", "is a FIFO", "not a regular file"]);
+    // `/dev/zero` as the object mesh (through a link with the mesh's extension).
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero.stl")).expect("symlink");
+    let zero = dir.file(
+        "zero.toml",
+        text.replace("\"can.stl\"", "\"zero.stl\"").as_bytes(),
+    );
+    let o = output_within(command(crate::args!["plan", zero]), READ_LIMIT);
+    refused(
+        &o,
+        &["zero.stl", "is a character device", "not a regular file"],
+    );
+    let o = output_within(
+        command(crate::args!["mesh-info", dir.join("zero.stl")]),
+        READ_LIMIT,
+    );
+    crate::support::fails_with(&o, &["zero.stl", "is a character device"]);
+    // A FIFO as the URDF of `robot check`, and as the gripper file a scene names.
+    let fifo_urdf = dir.join("robot.urdf");
+    mkfifo(&fifo_urdf);
+    let o = output_within(
+        command(crate::args!["robot", "check", fifo_urdf]),
+        READ_LIMIT,
+    );
+    crate::support::fails_with(&o, &["robot.urdf", "is a FIFO", "not a regular file"]);
+    let fifo_gripper = dir.join("gripper.toml");
+    mkfifo(&fifo_gripper);
+    let gripper_line = text
+        .lines()
+        .find(|l| l.starts_with("gripper = "))
+        .expect("the scene names a gripper file");
+    let gripped = dir.file(
+        "gripped.toml",
+        text.replace(
+            gripper_line,
+            &format!("gripper = {:?}", fifo_gripper.to_string_lossy()),
+        )
+        .as_bytes(),
+    );
+    let o = output_within(command(crate::args!["plan", gripped]), READ_LIMIT);
+    refused(&o, &["gripper.toml", "is a FIFO", "not a regular file"]);
+    // A FIFO as the plan given to `validate` and to `view`.
+    let fifo_plan = dir.join("plan.json");
+    mkfifo(&fifo_plan);
+    let o = output_within(
+        command(crate::args!["validate", scene, fifo_plan]),
+        READ_LIMIT,
+    );
+    refused(&o, &["plan.json", "is a FIFO", "not a regular file"]);
+    let o = output_within(
+        command(crate::args![
+            "view",
+            "--scene",
+            scene,
+            fifo_plan,
+            "--out",
+            dir.join("view")
+        ]),
+        READ_LIMIT,
+    );
+    refused(&o, &["plan.json", "is a FIFO", "not a regular file"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_plan_over_the_limit_names_its_size_the_limit_and_the_variable() {
+    let dir = Scratch::new("hardening-large");
+    let scene = scratch_scene(&dir);
+    // 1 GiB + 1 byte without writing it: a sparse file.
+    let big = dir.join("big.json");
+    let file = std::fs::File::create(&big).expect("create");
+    file.set_len((1 << 30) + 1).expect("sparse file");
+    let o = output_within(command(crate::args!["validate", scene, big]), READ_LIMIT);
+    refused(
+        &o,
+        &[
+            "big.json",
+            "1073741825 bytes, over the limit of 1073741824 bytes for a plan",
+            "PICKPLACE_MAX_FILE_BYTES",
+        ],
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn fifos_in_the_cache_folder_are_rebuilt_over_not_waited_on() {
+    let dir = Scratch::new("hardening-cache-fifo");
+    let scene = root().join("scenes/fig9-near.toml");
+    let cache = dir.join("cache");
+    let plan = |out: &str| {
+        let mut c = command(crate::args![
+            "plan",
+            scene,
+            "--out",
+            dir.join(out),
+            "--no-timings"
+        ]);
+        c.env("PICKPLACE_CACHE", &cache);
+        output_within(c, std::time::Duration::from_secs(600))
+    };
+    let o = plan("first.json");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Every cache entry (cluster databases, roadmaps) becomes a FIFO.
+    let mut entries = Vec::new();
+    let mut folders = vec![cache.clone()];
+    while let Some(folder) = folders.pop() {
+        for e in std::fs::read_dir(&folder).expect("cache folder") {
+            let path = e.expect("entry").path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                entries.push(path);
+            }
+        }
+    }
+    assert!(
+        entries
+            .iter()
+            .any(|e| e.to_string_lossy().contains("roadmap"))
+            && entries.len() >= 2,
+        "cluster databases and a roadmap expected: {entries:?}"
+    );
+    for entry in &entries {
+        std::fs::remove_file(entry).expect("remove entry");
+        mkfifo(entry);
+    }
+    let o = plan("second.json");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let first = std::fs::read(dir.join("first.json")).expect("first plan");
+    let second = std::fs::read(dir.join("second.json")).expect("second plan");
+    assert_eq!(first, second, "the rebuilt cache gives the same plan");
+    // The entries were rebuilt as regular files.
+    for entry in &entries {
+        let meta = std::fs::symlink_metadata(entry).expect("entry");
+        assert!(meta.is_file(), "{} is still not a file", entry.display());
+    }
+}
