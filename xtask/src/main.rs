@@ -9,6 +9,7 @@ mod roadmaps;
 mod suite;
 mod suite_run;
 mod test;
+mod torture;
 
 use std::path::PathBuf;
 
@@ -22,6 +23,7 @@ fn main() -> anyhow::Result<()> {
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
         Some("suite") => suite::run(&repo_root(), &rest_args()),
         Some("test") => test::run(&repo_root(), &rest_args()),
+        Some("torture") => torture::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -56,7 +58,11 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      the release CLI and check each expectation (docs/suite.md)\n  \
      test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
      from PyPI into target/robots-venv, once), run cargo test --workspace, then cargo \
-     xtask suite run";
+     xtask suite run\n  \
+     torture      hostile and careless use of the release CLI (FIFOs, devices, huge, \
+     truncated, NaN and nested inputs, kill -9 during writes, concurrent runs on one cache, \
+     unusable cache folders, closed pipes): every case's exit status, message and files \
+     left; target/torture/report.txt";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
