@@ -60,6 +60,7 @@ pub mod rrt;
 pub mod shortcut;
 pub mod space;
 pub mod timing;
+pub mod toppra;
 pub mod validity;
 pub use error::{Error, Result};
 pub use path::Path;
