@@ -539,15 +539,13 @@ impl Stage {
     /// length `d`: `x ∈ [0, x_max]` with some admissible `u` such that
     /// `x + 2 d u ∈ [lo, hi]`.
     fn x_range(&self, d: f64, lo: f64, hi: f64) -> (f64, f64) {
-        let mut lower = self.lower.clone();
-        let mut upper = self.upper.clone();
-        // (lo - x) / 2d ≤ u ≤ (hi - x) / 2d
-        lower.push((-1.0 / (2.0 * d), lo / (2.0 * d)));
-        upper.push((-1.0 / (2.0 * d), hi / (2.0 * d)));
+        // (lo - x) / 2d ≤ u ≤ (hi - x) / 2d joins the stage's own lines.
+        let next_lower = (-1.0 / (2.0 * d), lo / (2.0 * d));
+        let next_upper = (-1.0 / (2.0 * d), hi / (2.0 * d));
         let mut a: f64 = 0.0;
         let mut b = self.x_max;
-        for &(ls, lo_) in &lower {
-            for &(hs, ho) in &upper {
+        for &(ls, lo_) in self.lower.iter().chain(std::iter::once(&next_lower)) {
+            for &(hs, ho) in self.upper.iter().chain(std::iter::once(&next_upper)) {
                 // ls x + lo_ ≤ hs x + ho  ⇔  (ls - hs) x ≤ ho - lo_
                 let c = ls - hs;
                 let r = ho - lo_;
