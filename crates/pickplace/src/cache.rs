@@ -186,11 +186,21 @@ pub(crate) fn write_reason(entry: &Path, e: &pickplace_geometry::Error) -> Strin
     format!("cannot write {what}: {}", io_reason(e))
 }
 
-/// The system's words for a geometry error (its I/O cause alone when it has one).
+/// The system's words for a geometry error: its I/O cause alone when it has one, and for an
+/// error of the system only the system's message (`Permission denied (os error 13)`, without
+/// the temporary file's name a writer may add).
 pub(crate) fn io_reason(e: &pickplace_geometry::Error) -> String {
     match e {
-        pickplace_geometry::Error::Io { source, .. } => source.to_string(),
+        pickplace_geometry::Error::Io { source, .. } => os_reason(source),
         other => other.to_string(),
+    }
+}
+
+/// The system's message of an I/O error alone, when it is the system's.
+pub(crate) fn os_reason(e: &std::io::Error) -> String {
+    match e.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+        None => e.to_string(),
     }
 }
 

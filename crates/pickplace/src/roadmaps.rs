@@ -321,7 +321,7 @@ pub fn load_or_build(
             Err(e) => {
                 cache_warning = Some(CacheWarning::Unreadable {
                     entry: entry.path.to_path_buf(),
-                    reason: e.to_string(),
+                    reason: crate::cache::os_reason(&e),
                 });
             }
         }
