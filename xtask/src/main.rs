@@ -45,7 +45,8 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
      precompute   [--force]: cluster every mesh in meshes/ (env and finger) into the \
      cache and a PRM roadmap per arm group of NX-HIRO into the cache \
-     ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
+     ($PICKPLACE_CACHE or target/pickplace-cache, not the CLI's per-user \
+     default); --force rebuilds\n  \
      bench        [--quick] [--no-run | --text-only] [-- FILTER…]: run the criterion \
      benches and write docs/benchmarks.md from their results and \
      benches/targets.toml; --no-run uses the results on disk, --text-only keeps \

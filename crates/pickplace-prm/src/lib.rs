@@ -65,7 +65,7 @@ pub mod validity;
 pub use error::{Error, Result};
 pub use path::Path;
 pub use planner::{PrmPlanner, QueryOptions, QueryStats};
-pub use roadmap::{Roadmap, RoadmapOptions, Validation};
+pub use roadmap::{ALGORITHM_VERSION, Roadmap, RoadmapOptions, Validation};
 pub use rrt::{RrtOptions, rrt_connect};
 pub use shortcut::{ShortcutOptions, shortcut};
 pub use space::JointSpace;
