@@ -630,7 +630,10 @@ fn a_bad_value_in_the_gripper_file_names_that_file() {
         .expect("runs");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("my-gripper.toml") && err.contains("opening_min"), "{err}");
+    assert!(
+        err.contains("my-gripper.toml") && err.contains("opening_min"),
+        "{err}"
+    );
     assert!(!err.contains("<memory>"), "{err}");
     assert!(!dir.join("plan.json").exists());
 }
