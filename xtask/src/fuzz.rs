@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Every fuzz target of `fuzz/Cargo.toml`, in the order they run.
-pub const TARGETS: [&str; 8] = [
+pub const TARGETS: [&str; 11] = [
     "mesh_stl",
     "mesh_obj",
     "mesh_ply",
@@ -22,6 +22,9 @@ pub const TARGETS: [&str; 8] = [
     "scene",
     "cluster_db",
     "prm_roadmap",
+    "plan_json",
+    "gripper",
+    "srdf_writer",
 ];
 
 /// Command-line options of `cargo xtask fuzz`.
