@@ -31,7 +31,11 @@ fn nx_hiro() -> &'static (RobotModel, Vec<usize>) {
         let srdf = Srdf::from_xml_str(&text).expect("the shipped SRDF parses");
         let semantics =
             Semantics::resolve(&model, &srdf, Path::new("nx-hiro.srdf")).expect("resolves");
-        let arm = semantics.group("right_arm").expect("right_arm").variables.clone();
+        let arm = semantics
+            .group("right_arm")
+            .expect("right_arm")
+            .variables
+            .clone();
         (model, arm)
     })
 }
@@ -39,7 +43,10 @@ fn nx_hiro() -> &'static (RobotModel, Vec<usize>) {
 fn overrides_path() -> &'static Path {
     static PATH: OnceLock<PathBuf> = OnceLock::new();
     PATH.get_or_init(|| {
-        std::env::temp_dir().join(format!("pickplace-fuzz-gripper-{}.toml", std::process::id()))
+        std::env::temp_dir().join(format!(
+            "pickplace-fuzz-gripper-{}.toml",
+            std::process::id()
+        ))
     })
 }
 
@@ -55,11 +62,20 @@ fn check_params(params: &GripperParams) {
     for opening in [params.opening_min, params.opening_max] {
         for finger in params.fingers(opening) {
             assert!(finger.center.iter().all(|x| x.is_finite()), "{params:?}");
-            assert!(finger.half_extents.iter().all(|x| x.is_finite() && *x > 0.0), "{params:?}");
+            assert!(
+                finger
+                    .half_extents
+                    .iter()
+                    .all(|x| x.is_finite() && *x > 0.0),
+                "{params:?}"
+            );
         }
     }
     let palm = params.palm_box();
-    assert!(palm.half_extents.iter().all(|x| x.is_finite() && *x > 0.0), "{params:?}");
+    assert!(
+        palm.half_extents.iter().all(|x| x.is_finite() && *x > 0.0),
+        "{params:?}"
+    );
 }
 
 fuzz_target!(|data: &[u8]| {
@@ -125,7 +141,10 @@ fuzz_target!(|data: &[u8]| {
         for width in [params.opening_min, params.opening_max] {
             gripper.set_grasp(&mut q, width);
             let s = gripper.parameter_of(&q);
-            assert!(s.is_finite() && (-1e-9..=1.0 + 1e-9).contains(&s), "s = {s} for {width}");
+            assert!(
+                s.is_finite() && (-1e-9..=1.0 + 1e-9).contains(&s),
+                "s = {s} for {width}"
+            );
         }
     }
 });

@@ -17,8 +17,8 @@ fn joint_names() -> &'static [String] {
     static NAMES: OnceLock<Vec<String>> = OnceLock::new();
     NAMES.get_or_init(|| {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../robots/nx-hiro/nx-hiro.urdf");
-        let model =
-            RobotModel::from_urdf_file(&path, &LoadOptions::default()).expect("the shipped URDF loads");
+        let model = RobotModel::from_urdf_file(&path, &LoadOptions::default())
+            .expect("the shipped URDF loads");
         model.variable_names().map(str::to_owned).collect()
     })
 }
@@ -30,7 +30,11 @@ fuzz_target!(|data: &[u8]| {
         let back = Plan::from_json(&written)
             .unwrap_or_else(|e| panic!("an accepted plan does not read back: {e}\n{written}"));
         assert_eq!(back, plan, "the plan changed on a write and read");
-        assert_eq!(back.to_json(), written, "the second write differs from the first");
+        assert_eq!(
+            back.to_json(),
+            written,
+            "the second write differs from the first"
+        );
         if let Ok(holds) = plan.holds() {
             for h in &holds {
                 assert!(h.link_from_object.rotation.quaternion().norm().is_finite());

@@ -15,9 +15,11 @@ use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let Ok(model) =
-        RobotModel::from_urdf_str(&text, Path::new("/nonexistent-fuzz-dir"), &LoadOptions::default())
-    else {
+    let Ok(model) = RobotModel::from_urdf_str(
+        &text,
+        Path::new("/nonexistent-fuzz-dir"),
+        &LoadOptions::default(),
+    ) else {
         return;
     };
     let options = StarterOptions {
@@ -32,7 +34,10 @@ fuzz_target!(|data: &[u8]| {
     let xml = starter.to_xml(0);
     let back = Srdf::from_xml_str(&xml)
         .unwrap_or_else(|e| panic!("the written SRDF does not parse: {e}\n{xml}"));
-    assert_eq!(back, starter.srdf, "the SRDF changed on a write and read\n{xml}");
+    assert_eq!(
+        back, starter.srdf,
+        "the SRDF changed on a write and read\n{xml}"
+    );
     if let Err(e) = Semantics::resolve(&model, &back, Path::new("fuzz.srdf")) {
         panic!("the written SRDF does not resolve against its model: {e}\n{xml}");
     }
