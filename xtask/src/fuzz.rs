@@ -583,6 +583,28 @@ Base64: cGx5Cg==
     }
 
     #[test]
+    fn targets_are_the_bins_of_the_fuzz_crate() {
+        let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/Cargo.toml");
+        let text = std::fs::read_to_string(&manifest).expect("fuzz/Cargo.toml");
+        let bins: Vec<&str> = text
+            .split("[[bin]]")
+            .skip(1)
+            .filter_map(|bin| {
+                let line = bin.lines().find(|l| l.trim_start().starts_with("name"))?;
+                Some(line.split('"').nth(1)?)
+            })
+            .collect();
+        assert_eq!(bins, TARGETS, "TARGETS and the [[bin]] entries differ");
+        for target in TARGETS {
+            let seeds = Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../fuzz/seeds")
+                .join(target);
+            let count = std::fs::read_dir(&seeds).map_or(0, |d| d.count());
+            assert!(count > 0, "no seeds in {}", seeds.display());
+        }
+    }
+
+    #[test]
     fn arguments() {
         let args = |a: &[&str]| parse_args(&a.iter().map(|s| s.to_string()).collect::<Vec<_>>());
         let all = args(&[]).expect("defaults");
