@@ -591,7 +591,7 @@ Base64: cGx5Cg==
             .skip(1)
             .filter_map(|bin| {
                 let line = bin.lines().find(|l| l.trim_start().starts_with("name"))?;
-                Some(line.split('"').nth(1)?)
+                line.split('"').nth(1)
             })
             .collect();
         assert_eq!(bins, TARGETS, "TARGETS and the [[bin]] entries differ");
