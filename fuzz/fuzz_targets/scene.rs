@@ -11,8 +11,12 @@ fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     if let Ok(scene) = Scene::parse(&text, Path::new("fuzz.toml"), Path::new("/fuzz")) {
         let _ = scene.target_point();
-        let poses = [&scene.robot.base_pose, &scene.object.start_pose]
-            .into_iter()
+        let poses = scene
+            .robot
+            .iter()
+            .chain(&scene.robots)
+            .map(|r| &r.base_pose)
+            .chain([&scene.object.start_pose])
             .chain(scene.environment.iter().map(|e| &e.pose));
         for pose in poses {
             let iso = pose.to_isometry().expect("a parsed scene's pose converts");

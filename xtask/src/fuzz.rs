@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Every fuzz target of `fuzz/Cargo.toml`, in the order they run.
-pub const TARGETS: [&str; 8] = [
+pub const TARGETS: [&str; 11] = [
     "mesh_stl",
     "mesh_obj",
     "mesh_ply",
@@ -22,6 +22,9 @@ pub const TARGETS: [&str; 8] = [
     "scene",
     "cluster_db",
     "prm_roadmap",
+    "plan_json",
+    "gripper",
+    "srdf_writer",
 ];
 
 /// Command-line options of `cargo xtask fuzz`.
@@ -577,6 +580,28 @@ Base64: cGx5Cg==
         assert!(row.starts_with("scene"));
         assert!(row.ends_with("  0"), "{row}");
         assert!(row.contains("60123"));
+    }
+
+    #[test]
+    fn targets_are_the_bins_of_the_fuzz_crate() {
+        let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/Cargo.toml");
+        let text = std::fs::read_to_string(&manifest).expect("fuzz/Cargo.toml");
+        let bins: Vec<&str> = text
+            .split("[[bin]]")
+            .skip(1)
+            .filter_map(|bin| {
+                let line = bin.lines().find(|l| l.trim_start().starts_with("name"))?;
+                line.split('"').nth(1)
+            })
+            .collect();
+        assert_eq!(bins, TARGETS, "TARGETS and the [[bin]] entries differ");
+        for target in TARGETS {
+            let seeds = Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../fuzz/seeds")
+                .join(target);
+            let count = std::fs::read_dir(&seeds).map_or(0, |d| d.count());
+            assert!(count > 0, "no seeds in {}", seeds.display());
+        }
     }
 
     #[test]

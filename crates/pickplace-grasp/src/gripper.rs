@@ -158,6 +158,10 @@ impl GripperParams {
             if !axis.iter().all(|c| c.is_finite()) || axis.norm() < 1e-9 {
                 return Err(bad(field, "must be a finite non-zero vector"));
             }
+            // A length that overflows (components near 1e308) would normalise to zero.
+            if !axis.norm().is_finite() {
+                return Err(bad(field, "is too long: its length overflows"));
+            }
         }
         let (a, c) = (
             self.approach_axis.normalize(),

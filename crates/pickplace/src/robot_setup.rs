@@ -94,16 +94,20 @@ impl GripperOverrides {
             .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
         let o: Self = toml::from_str(&text)
             .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
+        // Scaled by the largest component before normalising, so a huge axis keeps its
+        // direction; a zero or non-finite axis gives NaN, which is along nothing.
+        let along = |a: [Real; 3], want: [Real; 3]| {
+            let v = Vector3::from(a);
+            ((v / v.amax()).normalize() - Vector3::from(want)).norm() <= 1e-9
+        };
         let axis = |field: &str, given: Option<[Real; 3]>, want: [Real; 3]| -> Result<()> {
             match given {
-                Some(a) if (Vector3::from(a).normalize() - Vector3::from(want)).norm() > 1e-9 => {
-                    Err(invalid(
-                        field,
-                        format!(
-                            "the tool frame is measured on the fingers with {field} = {want:?}; use tool_offset to move the tool point"
-                        ),
-                    ))
-                }
+                Some(a) if !along(a, want) => Err(invalid(
+                    field,
+                    format!(
+                        "the tool frame is measured on the fingers with {field} = {want:?}; use tool_offset to move the tool point"
+                    ),
+                )),
                 _ => Ok(()),
             }
         };

@@ -27,3 +27,40 @@ fn huge_quaternion_gives_a_unit_rotation() {
         "{q:?}"
     );
 }
+
+/// Gripper overrides files (a scene's `robot.gripper`) that broke an invariant of the
+/// `gripper` fuzz target, kept under `tests/fuzz-regressions/gripper/`: an accepted file's
+/// axes are the tool frame's.
+mod gripper_overrides {
+    use pickplace::Error;
+    use pickplace::robot_setup::GripperOverrides;
+    use std::path::{Path, PathBuf};
+
+    fn input(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fuzz-regressions/gripper")
+            .join(name)
+    }
+
+    #[test]
+    fn a_zero_approach_axis_is_refused() {
+        // approach_axis = [0, 0, 0] normalised to NaN, and `NaN > 1e-9` is false: accepted.
+        let path = input("zero-approach-axis.toml");
+        match GripperOverrides::load(&path) {
+            Err(Error::Invalid { path: p, field, .. }) => {
+                assert_eq!(p, path);
+                assert_eq!(field, "approach_axis");
+            }
+            other => panic!("expected Invalid for approach_axis, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn huge_axes_along_the_tool_frame_are_accepted() {
+        // [0, 0, 1e308] is along +z: scaled before normalising, it is not refused as NaN.
+        let o = GripperOverrides::load(&input("huge-axes-along-the-tool-frame.toml"))
+            .expect("axes along the tool frame");
+        assert_eq!(o.approach_axis, Some([0.0, 0.0, 1e308]));
+        assert_eq!(o.closing_axis, Some([0.0, 1e308, 0.0]));
+    }
+}
