@@ -33,6 +33,7 @@ fuzz_target!(|data: &[u8]| {
         let header = (
             SEED_MESH_HASH,
             params.clone(),
+            pickplace_geometry::cluster::ALGORITHM_VERSION,
             rest.len() as u64,
             hash_bytes(rest),
         );
