@@ -94,6 +94,18 @@ pub enum MeshErrorKind {
         /// The scale given.
         scale: f64,
     },
+    /// The file holds (or its header declares) more of something than a mesh may have
+    /// ([`crate::mesh::MAX_MESH_TRIANGLES`], [`crate::mesh::MAX_MESH_VERTICES`]); refused
+    /// before the memory for it is allocated.
+    #[error("{count} {what}, over the limit of {limit}")]
+    OverLimit {
+        /// What was counted: "triangles", "vertices", "triangles declared in the header", ….
+        what: &'static str,
+        /// How many the file holds or declares.
+        count: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// A per-axis scale has a zero or non-finite component (negative ones mirror).
     #[error("scale {scale:?} has a zero or non-finite component")]
     InvalidScaleVector {

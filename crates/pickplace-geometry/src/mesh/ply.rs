@@ -5,7 +5,7 @@
 //! are skipped. A face with more than three corners is fan-triangulated (`a b c`, `a c d`, …),
 //! so "the file's triangle order" is the order of faces with each polygon replaced by its fan.
 
-use super::{Soup, fan_triangulate};
+use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, check_limit, fan_triangulate};
 use crate::error::MeshErrorKind;
 use crate::math::{Point3, Real};
 use ply_rs_bw::parser::Parser;
@@ -45,7 +45,9 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
     })
 }
 
-/// Refuses a header that declares more elements than bytes follow it.
+/// Refuses a header that declares more vertices than [`MAX_MESH_VERTICES`], more faces than
+/// [`MAX_MESH_TRIANGLES`], more elements than both together, or more elements than bytes
+/// follow it.
 ///
 /// Every element takes at least one byte of the body (binary: its first property; ASCII: its
 /// line), so a larger count can only be a damaged or hostile file. `ply-rs-bw` would otherwise
@@ -71,8 +73,28 @@ fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind>
                 return Ok(());
             }
             Some("element") => {
-                if let Some(count) = words.nth(1).and_then(|c| c.parse::<u64>().ok()) {
+                let name = words.next().unwrap_or("");
+                if let Some(count) = words.next().and_then(|c| c.parse::<u64>().ok()) {
+                    // Limits from the header, before ply-rs-bw allocates the elements.
+                    match name {
+                        "vertex" => check_limit(
+                            "vertices declared in the PLY header",
+                            count,
+                            MAX_MESH_VERTICES,
+                        )?,
+                        "face" => check_limit(
+                            "faces declared in the PLY header",
+                            count,
+                            MAX_MESH_TRIANGLES,
+                        )?,
+                        _ => {}
+                    }
                     declared += u128::from(count);
+                    check_limit(
+                        "elements declared in the PLY header",
+                        u64::try_from(declared).unwrap_or(u64::MAX),
+                        MAX_MESH_VERTICES + MAX_MESH_TRIANGLES,
+                    )?;
                 }
             }
             _ => {}
@@ -150,6 +172,7 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
             polygon.push(index as u32);
         }
         fan_triangulate(&polygon, &mut soup.triangles);
+        check_limit("triangles", soup.triangles.len() as u64, MAX_MESH_TRIANGLES)?;
     }
     Ok(soup)
 }
@@ -164,11 +187,11 @@ mod tests {
     fn element_counts_beyond_the_body_are_refused() {
         // An element without properties reads no bytes: without the check, ply-rs-bw would
         // build a billion empty elements.
-        let hostile = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float z\nelement face 1211111111\nend_header\n\0\0\0\0";
+        let hostile = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float z\nelement face 1211\nend_header\n\0\0\0\0";
         let e = parse(hostile).expect_err("refused");
         assert!(
             e.to_string()
-                .contains("declares 1211111112 elements but only 4 bytes"),
+                .contains("declares 1212 elements but only 4 bytes"),
             "{e}"
         );
         // Exactly one byte per element is still accepted by the check (the parser decides).
@@ -179,6 +202,38 @@ mod tests {
         assert!(check_declared_counts(b"ply\nelement vertex 99\n").is_ok());
         // The shipped square passes.
         assert!(check_declared_counts(SQUARE.as_bytes()).is_ok());
+    }
+
+    #[test]
+    fn header_counts_over_the_limits_are_refused() {
+        // Regression (issue 18): a header claiming 1e12 vertices, refused from the header.
+        let hostile = b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nend_header\n0\n";
+        let e = parse(hostile).expect_err("refused");
+        assert_eq!(
+            e,
+            MeshErrorKind::OverLimit {
+                what: "vertices declared in the PLY header",
+                count: 1_000_000_000_000,
+                limit: MAX_MESH_VERTICES as u64
+            }
+        );
+        let faces = SQUARE.replace("element face 1", "element face 2000001");
+        let e = parse(faces.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("2000001 faces declared in the PLY header, over the limit of 2000000"),
+            "{e}"
+        );
+        let other = SQUARE.replace(
+            "element face 1",
+            "element face 1\nelement edge 8000000\nproperty uchar a",
+        );
+        let e = parse(other.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("elements declared in the PLY header"),
+            "{e}"
+        );
     }
 
     #[test]
