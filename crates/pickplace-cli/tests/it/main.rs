@@ -4,6 +4,7 @@ mod bad_input;
 mod clusters;
 mod demo;
 mod hardening;
+mod limits;
 mod placements;
 mod plan;
 mod precompute;
