@@ -324,6 +324,20 @@ pub enum SrdfErrorKind {
         /// What the parser reported.
         detail: String,
     },
+    /// An attribute value is over its limit: a name over
+    /// [`MAX_NAME_BYTES`](pickplace_geometry::io::MAX_NAME_BYTES), a `value` or `reason` over
+    /// [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES).
+    #[error("<{element}> attribute {attribute:?} is {bytes} bytes, over the limit of {limit}")]
+    TooLong {
+        /// The element.
+        element: &'static str,
+        /// The attribute.
+        attribute: &'static str,
+        /// Its length (bytes, as written in the file).
+        bytes: usize,
+        /// The limit (bytes).
+        limit: usize,
+    },
     /// The text has no `<robot>` element: not an SRDF.
     #[error("no <robot> element: not an SRDF file")]
     NoRobotElement,

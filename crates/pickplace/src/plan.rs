@@ -353,7 +353,8 @@ impl Plan {
     /// The parser's message (line and column) when the text is not a plan of this format, or
     /// the first sample or pose whose form is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        let plan: Plan = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let plan: Plan = serde_json::from_str(text)
+            .map_err(|e| pickplace_geometry::io::short_message(&e.to_string()))?;
         if plan.format != PLAN_FORMAT {
             return Err(format!("format {:?} is not {PLAN_FORMAT:?}", plan.format));
         }

@@ -92,8 +92,12 @@ impl GripperOverrides {
         };
         let text = pickplace_geometry::io::read_text(path, FileKind::Gripper)
             .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
-        let o: Self = toml::from_str(&text)
-            .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
+        let o: Self = toml::from_str(&text).map_err(|e| {
+            invalid(
+                "(syntax)",
+                pickplace_geometry::io::parse_error(&text, e.span().map(|s| s.start), e.message()),
+            )
+        })?;
         let axis = |field: &str, given: Option<[Real; 3]>, want: [Real; 3]| -> Result<()> {
             match given {
                 Some(a) if (Vector3::from(a).normalize() - Vector3::from(want)).norm() > 1e-9 => {

@@ -422,7 +422,11 @@ impl Scene {
     pub fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, SceneError> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| SceneError::Syntax {
             path: path.to_path_buf(),
-            message: e.to_string().trim_end().to_string(),
+            message: pickplace_geometry::io::parse_error(
+                text,
+                e.span().map(|s| s.start),
+                e.message(),
+            ),
         })?;
         let invalid = |field: &str, reason: String| SceneError::Invalid {
             path: path.to_path_buf(),
@@ -459,6 +463,7 @@ impl Scene {
             }
             (None, false) => {}
         }
+        check_lengths(&scene).map_err(|(field, reason)| invalid(&field, reason))?;
         let several = scene.robots.len() > 1;
         let mut prefixes = std::collections::BTreeSet::new();
         for (i, robot) in scene.robots.iter().enumerate() {
@@ -562,6 +567,69 @@ impl Scene {
     pub fn target_point(&self) -> Point3 {
         Point3::from(self.target.point)
     }
+}
+
+/// Refuses names over [`MAX_NAME_BYTES`](pickplace_geometry::io::MAX_NAME_BYTES) and paths
+/// over [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES): `Err((field, reason))`.
+fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
+    use pickplace_geometry::io::{check_name, check_path_text};
+    let name = |field: String, text: &str| check_name("the name", text).map_err(|r| (field, r));
+    let path = |field: String, p: &Path| {
+        check_path_text("the path", &p.to_string_lossy()).map_err(|r| (field, r))
+    };
+    let several = scene.robots.len() > 1;
+    for (i, robot) in scene.robots.iter().enumerate() {
+        let field = |f: &str| {
+            if several {
+                format!("robots[{i}].{f}")
+            } else {
+                format!("robot.{f}")
+            }
+        };
+        path(field("urdf"), &robot.urdf)?;
+        if let Some(p) = &robot.srdf {
+            path(field("srdf"), p)?;
+        }
+        if let Some(p) = &robot.gripper {
+            path(field("gripper"), p)?;
+        }
+        for (k, p) in robot.package_dirs.iter().enumerate() {
+            path(field(&format!("package_dirs[{k}]")), p)?;
+        }
+        if let Some(n) = &robot.named_state {
+            name(field("named_state"), n)?;
+        }
+        name(field("prefix"), &robot.prefix)?;
+        // Keys first: a long key would otherwise end up in the field name of the error.
+        for key in robot.start_state.keys() {
+            name(field("start_state"), key)?;
+        }
+        for (key, g) in &robot.groups {
+            name(field("groups"), key)?;
+            for (f, n) in [("base_link", &g.base_link), ("tip_link", &g.tip_link)] {
+                if let Some(n) = n {
+                    name(field(&format!("groups.{key}.{f}")), n)?;
+                }
+            }
+            for (k, n) in g.joints.iter().enumerate() {
+                name(field(&format!("groups.{key}.joints[{k}]")), n)?;
+            }
+        }
+    }
+    path("object.mesh".into(), &scene.object.mesh)?;
+    for (i, env) in scene.environment.iter().enumerate() {
+        name(format!("environment[{i}].name"), &env.name)?;
+        path(format!("environment[{i}].mesh"), &env.mesh)?;
+    }
+    for (f, n) in [
+        ("planner.right_arm", &scene.planner.right_arm),
+        ("planner.left_arm", &scene.planner.left_arm),
+    ] {
+        if let Some(n) = n {
+            name(f.into(), n)?;
+        }
+    }
+    Ok(())
 }
 
 fn positive(value: Real) -> Result<(), String> {
@@ -679,5 +747,47 @@ point = [0.45, 0.1, 0.02]
         assert!(err.to_string().contains("planner.h_max_finger"), "{err}");
         let err = parse("[robot").unwrap_err();
         assert!(err.to_string().starts_with("scene.toml: "), "{err}");
+    }
+
+    #[test]
+    fn names_and_paths_over_their_limits_are_refused() {
+        let long = "n".repeat(1025);
+        let err = parse(&MINIMAL.replace("name = \"pallet\"", &format!("name = \"{long}\"")))
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "scene.toml: environment[0].name: the name is 1025 bytes, over the limit of 1024"
+        );
+        let err = parse(&MINIMAL.replace(
+            "[object]",
+            &format!("start_state = {{ {long} = 1.0 }}\n[object]"),
+        ))
+        .unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("robot.start_state: the name is 1025 bytes"),
+            "{err}"
+        );
+        let err = parse(&MINIMAL.replace("can.stl", &"p".repeat(5000))).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("object.mesh: the path is 5000 bytes, over the limit of 4096"),
+            "{err}"
+        );
+        assert!(parse(&MINIMAL.replace("pallet\"", &format!("{}\"", "n".repeat(1018)))).is_ok());
+    }
+
+    #[test]
+    fn syntax_errors_give_line_and_column_without_quoting_the_file() {
+        // Regression (issue 18): `gripper = "/etc/passwd"` printed the file's first line.
+        let err = parse("root:x:0:0:root:/root:/bin/bash\n").unwrap_err();
+        let message = err.to_string();
+        assert!(message.starts_with("scene.toml: "), "{message}");
+        assert!(
+            message.contains("line 1, column 32: key with no value"),
+            "{message}"
+        );
+        assert!(!message.contains("/bin/bash"), "{message}");
+        assert!(!message.contains('|'), "{message}");
     }
 }
