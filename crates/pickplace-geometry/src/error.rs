@@ -24,7 +24,7 @@ pub enum Error {
         kind: MeshErrorKind,
     },
     /// A parameter is outside its valid range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", crate::io::fmt_real(*.value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
@@ -89,7 +89,7 @@ pub enum MeshErrorKind {
         triangles: usize,
     },
     /// The scale factor is not a positive finite number.
-    #[error("scale {scale} must be positive and finite")]
+    #[error("scale {} must be positive and finite", crate::io::fmt_real(*.scale))]
     InvalidScale {
         /// The scale given.
         scale: f64,
@@ -107,7 +107,12 @@ pub enum MeshErrorKind {
         limit: u64,
     },
     /// A per-axis scale has a zero or non-finite component (negative ones mirror).
-    #[error("scale {scale:?} has a zero or non-finite component")]
+    #[error(
+        "scale [{}, {}, {}] has a zero or non-finite component",
+        crate::io::fmt_real(.scale[0]),
+        crate::io::fmt_real(.scale[1]),
+        crate::io::fmt_real(.scale[2])
+    )]
     InvalidScaleVector {
         /// The scale given, per axis.
         scale: [f64; 3],

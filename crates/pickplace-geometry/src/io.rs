@@ -75,6 +75,29 @@ fn check_length(what: &str, text: &str, limit: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// A number as messages show it: Rust's shortest form between 1e-4 and 1e6 (`0.25`, `-3`),
+/// scientific notation outside (`1e300`, `-2.5e-9`), so a value from a file never prints in
+/// hundreds of digits (`{}` prints 1e300 in 301). `NaN`, `inf` and `-inf` as Rust writes them.
+pub fn fmt_real(value: f64) -> String {
+    let magnitude = value.abs();
+    if !value.is_finite() || value == 0.0 || (1e-4..1e6).contains(&magnitude) {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
+/// As [`fmt_real`] with `decimals` digits after the point (after the mantissa's point in
+/// scientific notation).
+pub fn fmt_real_fixed(value: f64, decimals: usize) -> String {
+    let magnitude = value.abs();
+    if !value.is_finite() || value == 0.0 || (1e-4..1e6).contains(&magnitude) {
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.decimals$e}")
+    }
+}
+
 /// Longest parser message kept in an error (bytes); longer ones are cut at a character
 /// boundary and end with `…`.
 pub const MAX_PARSER_MESSAGE_BYTES: usize = 200;
@@ -319,6 +342,24 @@ pub fn read_text(path: &Path, kind: FileKind) -> std::io::Result<String> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn numbers_print_compactly() {
+        // Regression (issue 18): 1e300 printed in 301 digits.
+        assert_eq!(super::fmt_real(1e300), "1e300");
+        assert_eq!(super::fmt_real(-2.5e-9), "-2.5e-9");
+        assert_eq!(super::fmt_real(0.25), "0.25");
+        assert_eq!(super::fmt_real(-3.0), "-3");
+        assert_eq!(super::fmt_real(0.0), "0");
+        assert_eq!(super::fmt_real(f64::NAN), "NaN");
+        assert_eq!(super::fmt_real(f64::NEG_INFINITY), "-inf");
+        assert_eq!(super::fmt_real_fixed(1e300, 3), "1.000e300");
+        assert_eq!(super::fmt_real_fixed(1.23456, 3), "1.235");
+        assert_eq!(
+            super::fmt_real(f64::MAX).len(),
+            "1.7976931348623157e308".len()
+        );
+    }
+
     #[test]
     fn parse_errors_give_the_position_not_the_line() {
         let text = "a = 1\nroot:x:0:0:root:/root:/bin/bash\n";

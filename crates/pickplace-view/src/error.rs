@@ -24,7 +24,7 @@ pub enum Error {
         source: png::EncodingError,
     },
     /// A parameter is outside its valid range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", pickplace_geometry::io::fmt_real(*.value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
