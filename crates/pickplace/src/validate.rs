@@ -161,7 +161,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         if p.time_from_start < 0.0 {
             return Err(bad(format!(
                 "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
-                p.time_from_start
+                pickplace_geometry::io::fmt_real(p.time_from_start)
             )));
         }
     }
@@ -228,6 +228,9 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             e.arm,
         ));
     }
+    // The rest of the plan's form (docs/plan-format.md): start at time 0, events in time
+    // order and consistent with the strategy, grasps, rests and key poses.
+    plan.check_form().map_err(bad)?;
     // Stable: a release and a grasp at one instant keep their order in the file.
     events.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
     let placed = plan
