@@ -537,10 +537,7 @@ pub(crate) enum TextProblem {
 impl std::fmt::Display for TextProblem {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::TooDeep => write!(
-                f,
-                "elements nested more than {MAX_XML_DEPTH} deep (MAX_XML_DEPTH)"
-            ),
+            Self::TooDeep => write!(f, "elements nested more than {MAX_XML_DEPTH} deep"),
             Self::TooMany { element, limit } => {
                 write!(f, "more than {limit} <{element}> elements")
             }
@@ -559,8 +556,13 @@ impl std::fmt::Display for TextProblem {
 /// Checks a URDF's text against the limits before urdf-rs parses it (it copies every value
 /// and recurses into every element): `Some(message)` with the line of the first problem.
 pub(crate) fn check_text(text: &str) -> Option<String> {
-    scan(text, MAX_XML_DEPTH)
-        .map(|(line, problem)| format!("line {line}: {problem}: refused before parsing"))
+    scan(text, MAX_XML_DEPTH).map(|(line, problem)| match problem {
+        // The words of the first of these limits, which tests and users know.
+        TextProblem::TooDeep => format!(
+            "elements nested more than {MAX_XML_DEPTH} deep at line {line} (MAX_XML_DEPTH): refused before parsing"
+        ),
+        _ => format!("line {line}: {problem}: refused before parsing"),
+    })
 }
 
 /// Where `text` nests elements deeper than `limit`: the 1-based line of the first element
