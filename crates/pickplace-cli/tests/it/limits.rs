@@ -46,18 +46,32 @@ fn a_binary_stl_claiming_four_billion_triangles_is_refused_from_its_header() {
 }
 
 #[test]
-fn a_ply_claiming_a_trillion_vertices_is_refused_from_its_header() {
+fn a_ply_header_over_the_vertex_limit_is_refused_before_parsing() {
+    // Regression (issue 18): counts are checked from the header, against the file's size
+    // (a trillion vertices in a few bytes) and against the limits (the bytes are there).
     let scratch = Scratch::new("limits-ply");
-    let path = scratch.file(
-        "huge.ply",
-        b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n",
+    let header = "ply\nformat binary_little_endian 1.0\nelement vertex COUNT\nproperty uchar x\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let claim = scratch.file(
+        "claim.ply",
+        header.replace("COUNT", "1000000000000").as_bytes(),
     );
-    let o = run(crate::args!["mesh-info", path]);
+    let o = run(crate::args!["mesh-info", claim]);
     assert_refused(
         &o,
         &[
-            "huge.ply",
-            "1000000000000 vertices declared in the PLY header, over the limit of 6000000",
+            "claim.ply",
+            "declares 1000000000001 elements but only 0 bytes",
+        ],
+    );
+    let mut bytes = header.replace("COUNT", "6000001").into_bytes();
+    bytes.resize(bytes.len() + 6_000_100, 0);
+    let big = scratch.file("big.ply", &bytes);
+    let o = run(crate::args!["mesh-info", big]);
+    assert_refused(
+        &o,
+        &[
+            "big.ply",
+            "6000001 vertices declared in the PLY header, over the limit of 6000000",
         ],
     );
 }

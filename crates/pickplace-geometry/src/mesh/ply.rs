@@ -58,6 +58,8 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind> {
     let mut offset = 0;
     let mut declared: u128 = 0;
+    // The first count over a limit; reported after the comparison with the body's size.
+    let mut over: std::result::Result<(), MeshErrorKind> = Ok(());
     for line in bytes.split_inclusive(|&b| b == b'\n') {
         offset += line.len();
         let text = String::from_utf8_lossy(line);
@@ -70,37 +72,40 @@ fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind>
                         "the header declares {declared} elements but only {body} bytes follow it"
                     )));
                 }
-                return Ok(());
+                return over;
             }
             Some("element") => {
                 let name = words.next().unwrap_or("");
                 if let Some(count) = words.next().and_then(|c| c.parse::<u64>().ok()) {
+                    declared += u128::from(count);
                     // Limits from the header, before ply-rs-bw allocates the elements.
-                    match name {
+                    let check = match name {
                         "vertex" => check_limit(
                             "vertices declared in the PLY header",
                             count,
                             MAX_MESH_VERTICES,
-                        )?,
+                        ),
                         "face" => check_limit(
                             "faces declared in the PLY header",
                             count,
                             MAX_MESH_TRIANGLES,
-                        )?,
-                        _ => {}
+                        ),
+                        _ => Ok(()),
                     }
-                    declared += u128::from(count);
-                    check_limit(
-                        "elements declared in the PLY header",
-                        u64::try_from(declared).unwrap_or(u64::MAX),
-                        MAX_MESH_VERTICES + MAX_MESH_TRIANGLES,
-                    )?;
+                    .and_then(|()| {
+                        check_limit(
+                            "elements declared in the PLY header",
+                            u64::try_from(declared).unwrap_or(u64::MAX),
+                            MAX_MESH_VERTICES + MAX_MESH_TRIANGLES,
+                        )
+                    });
+                    over = over.and(check);
                 }
             }
             _ => {}
         }
     }
-    Ok(())
+    over
 }
 
 pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
@@ -206,28 +211,37 @@ mod tests {
 
     #[test]
     fn header_counts_over_the_limits_are_refused() {
-        // Regression (issue 18): a header claiming 1e12 vertices, refused from the header.
+        // Regression (issue 18): a header claiming 1e12 vertices, refused from the header:
+        // first by the file's size, then by the limits when the bytes are there.
         let hostile = b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nend_header\n0\n";
         let e = parse(hostile).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("declares 1000000000000 elements but only 2 bytes"),
+            "{e}"
+        );
+        let mut padded = b"ply\nformat binary_little_endian 1.0\nelement vertex 6000001\nproperty uchar x\nend_header\n".to_vec();
+        padded.resize(padded.len() + 6_000_001, 0);
         assert_eq!(
-            e,
+            parse(&padded).expect_err("refused"),
             MeshErrorKind::OverLimit {
                 what: "vertices declared in the PLY header",
-                count: 1_000_000_000_000,
+                count: 6_000_001,
                 limit: MAX_MESH_VERTICES as u64
             }
         );
-        let faces = SQUARE.replace("element face 1", "element face 2000001");
+        let pad = |text: String| text + &" ".repeat(8_000_010);
+        let faces = pad(SQUARE.replace("element face 1", "element face 2000001"));
         let e = parse(faces.as_bytes()).expect_err("refused");
         assert!(
             e.to_string()
                 .contains("2000001 faces declared in the PLY header, over the limit of 2000000"),
             "{e}"
         );
-        let other = SQUARE.replace(
+        let other = pad(SQUARE.replace(
             "element face 1",
             "element face 1\nelement edge 8000000\nproperty uchar a",
-        );
+        ));
         let e = parse(other.as_bytes()).expect_err("refused");
         assert!(
             e.to_string()
