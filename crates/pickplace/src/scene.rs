@@ -30,9 +30,8 @@ pub struct PoseSpec {
 /// Fixed-length arrays read exactly: serde's `[T; N]` takes the first N values of a longer
 /// array and drops the rest, so a 4-value position or a 6-value quaternion would be read as
 /// something the user did not write.
-mod exact {
+pub(crate) mod exact {
     use super::Real;
-    use serde::Deserialize as _;
     use serde::de::{Deserializer, Error as _, IgnoredAny, SeqAccess, Visitor};
     use std::fmt;
 
@@ -53,15 +52,60 @@ mod exact {
 
     /// `object.center_of_gravity = [x, y, z]`, optional.
     pub fn optional_xyz<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "center_of_gravity")
+    }
+
+    /// The gripper overrides' `tool_offset = [x, y, z]`, optional.
+    pub(crate) fn optional_tool_offset<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "tool_offset")
+    }
+
+    /// The gripper overrides' `approach_axis = [x, y, z]`, optional.
+    pub(crate) fn optional_approach_axis<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "approach_axis")
+    }
+
+    /// The gripper overrides' `closing_axis = [x, y, z]`, optional.
+    pub(crate) fn optional_closing_axis<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "closing_axis")
+    }
+
+    /// An optional `[x, y, z]` named `field` in errors.
+    fn optional_exact3<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &'static str,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
         /// The array, for `Option`'s own handling of an absent value.
         struct Xyz([Real; 3]);
-        impl<'de> serde::Deserialize<'de> for Xyz {
-            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-                d.deserialize_seq(Exact::<3>("center_of_gravity", "[x, y, z]"))
-                    .map(Xyz)
+        /// The field's name, carried into the array's deserializer.
+        struct Named(&'static str);
+        impl<'de> serde::de::DeserializeSeed<'de> for Named {
+            type Value = Xyz;
+            fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Xyz, D::Error> {
+                d.deserialize_seq(Exact::<3>(self.0, "[x, y, z]")).map(Xyz)
             }
         }
-        Ok(Option::<Xyz>::deserialize(d)?.map(|x| x.0))
+        /// `Option` handling with a seed: `None` for a unit or absent value.
+        struct OptionOf(&'static str);
+        impl<'de> Visitor<'de> for OptionOf {
+            type Value = Option<Xyz>;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "{}: exactly 3 numbers [x, y, z]", self.0)
+            }
+            fn visit_none<E: serde::de::Error>(self) -> Result<Self::Value, E> {
+                Ok(None)
+            }
+            fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+                serde::de::DeserializeSeed::deserialize(Named(self.0), d).map(Some)
+            }
+        }
+        Ok(d.deserialize_option(OptionOf(field))?.map(|x| x.0))
     }
 
     /// Reads exactly N numbers; the field's name and the numbers' meaning are in the error.

@@ -187,3 +187,35 @@ fn an_output_name_of_255_bytes_is_written() {
     // Nothing else is left in the folder (no temporary file).
     assert_eq!(scratch.files(""), vec![name]);
 }
+
+#[test]
+fn gripper_override_arrays_have_exact_lengths() {
+    // serde's `[T; 3]` took the first three numbers of a longer array.
+    let scratch = Scratch::new("limits-overrides");
+    for (line, expected) in [
+        (
+            "tool_offset = [0.0, 0.0, 0.01, 5.0]",
+            "tool_offset: expected exactly 3 numbers [x, y, z], got 4",
+        ),
+        (
+            "approach_axis = [0.0, 1.0]",
+            "approach_axis: expected exactly 3 numbers [x, y, z], got 2",
+        ),
+    ] {
+        let overrides = scratch.file("overrides.toml", format!("{line}\n").as_bytes());
+        let scene = near_scene(&scratch, |t| {
+            t.lines()
+                .map(|l| {
+                    if l.starts_with("gripper =") {
+                        format!("gripper = {:?}", overrides.display().to_string())
+                    } else {
+                        l.to_string()
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("\n")
+        });
+        let o = run(crate::args!["plan", scene]);
+        assert_refused(&o, &["overrides.toml", expected]);
+    }
+}
