@@ -332,7 +332,63 @@ fn bench_problem(c: &mut Criterion, name: &str, problem: &Problem, checked_sampl
     group.finish();
 }
 
+/// TOPP-RA (issue 19's goal: a 1 000-waypoint path timed in at most 1 ms): a seeded random
+/// walk of 1 000 waypoints through 7 joints, 5 cm (rad) apart with turns of up to about 60°,
+/// corners blended within 1 cm, NX-HIRO-like limits (1–3 rad/s, 3 rad/s²), grid step 5 cm.
+fn bench_toppra(c: &mut Criterion) {
+    use pickplace_prm::toppra::{BlendedPath, ToppraOptions, parameterize};
+    let mut rng = pickplace_prm::rng::Rng::new(19);
+    let mut q = vec![0.0; 7];
+    let mut dir = vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut waypoints = vec![q.clone()];
+    for _ in 1..1000 {
+        for d in dir.iter_mut() {
+            *d += rng.uniform(-0.5, 0.5);
+        }
+        let n = dir.iter().map(|d| d * d).sum::<f64>().sqrt();
+        for (qj, d) in q.iter_mut().zip(dir.iter_mut()) {
+            *d /= n;
+            *qj += 0.05 * *d;
+        }
+        waypoints.push(q.clone());
+    }
+    let paths = BlendedPath::split(&waypoints, 0.01).expect("path");
+    let options = ToppraOptions {
+        max_velocities: vec![1.0, 1.5, 2.0, 3.0, 3.0, 3.0, 3.0],
+        max_accelerations: vec![3.0; 7],
+        grid_step: 0.05,
+        sample_period: 0.01,
+    };
+    let timed: f64 = paths
+        .iter()
+        .map(|p| parameterize(p, &options).expect("timed").duration())
+        .sum();
+    eprintln!(
+        "toppra: {} waypoints, {} part(s), {:.2} rad long, {timed:.2} s of motion",
+        waypoints.len(),
+        paths.len(),
+        paths.iter().map(BlendedPath::length).sum::<f64>()
+    );
+    let mut group = c.benchmark_group("toppra");
+    group.bench_function("1000_waypoints", |b| {
+        b.iter(|| {
+            for p in &paths {
+                black_box(parameterize(p, &options).expect("timed"));
+            }
+        })
+    });
+    group.bench_function("1000_waypoints_blend_and_time", |b| {
+        b.iter(|| {
+            for p in BlendedPath::split(&waypoints, 0.01).expect("path") {
+                black_box(parameterize(&p, &options).expect("timed"));
+            }
+        })
+    });
+    group.finish();
+}
+
 fn prm(c: &mut Criterion) {
+    bench_toppra(c);
     bench_problem(c, "prm_toy", &problem(), 20);
     bench_problem(c, "prm_nxhiro", &nxhiro_problem(), 10);
 }

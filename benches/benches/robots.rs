@@ -33,6 +33,7 @@ fn options(cache: Option<PathBuf>) -> SetupOptions {
     SetupOptions {
         cache_dir: cache,
         package_dirs: vec![packages()],
+        ..SetupOptions::default()
     }
 }
 

@@ -9,6 +9,7 @@ mod roadmaps;
 mod suite;
 mod suite_run;
 mod test;
+mod torture;
 
 use std::path::PathBuf;
 
@@ -22,6 +23,7 @@ fn main() -> anyhow::Result<()> {
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
         Some("suite") => suite::run(&repo_root(), &rest_args()),
         Some("test") => test::run(&repo_root(), &rest_args()),
+        Some("torture") => torture::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -43,7 +45,8 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
      precompute   [--force]: cluster every mesh in meshes/ (env and finger) into the \
      cache and a PRM roadmap per arm group of NX-HIRO into the cache \
-     ($PICKPLACE_CACHE or target/pickplace-cache); --force rebuilds\n  \
+     ($PICKPLACE_CACHE or target/pickplace-cache, not the CLI's per-user \
+     default); --force rebuilds\n  \
      bench        [--quick] [--no-run | --text-only] [-- FILTER…]: run the criterion \
      benches and write docs/benchmarks.md from their results and \
      benches/targets.toml; --no-run uses the results on disk, --text-only keeps \
@@ -56,7 +59,11 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      the release CLI and check each expectation (docs/suite.md)\n  \
      test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
      from PyPI into target/robots-venv, once), run cargo test --workspace, then cargo \
-     xtask suite run";
+     xtask suite run\n  \
+     torture      hostile and careless use of the release CLI (FIFOs, devices, huge, \
+     truncated, NaN and nested inputs, kill -9 during writes, concurrent runs on one cache, \
+     unusable cache folders, closed pipes): every case's exit status, message and files \
+     left; target/torture/report.txt";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {

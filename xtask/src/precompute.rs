@@ -1,6 +1,8 @@
 //! `cargo xtask precompute`: clusters every mesh in `meshes/` (both contact modes, the paper's
-//! h_max) in parallel and writes the cluster databases into the cache folder where the planner
-//! and `pickplace precompute` look for them: `$PICKPLACE_CACHE`, else `<repo>/target/pickplace-cache`.
+//! h_max) in parallel and writes the cluster databases into xtask's cache folder:
+//! `$PICKPLACE_CACHE`, else `<repo>/target/pickplace-cache` (the `pickplace` command's own
+//! default is per user, `~/.cache/pickplace`: give it this folder with `--cache` or
+//! `PICKPLACE_CACHE`).
 //! A database already valid for its mesh and parameters is kept unless `--force` is given.
 //! The loop is the façade's ([`pickplace::precompute`]); this task lists the meshes and shows
 //! the progress. Then every shipped scene is set up once, which caches the PRM roadmap of each

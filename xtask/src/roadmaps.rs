@@ -1,7 +1,8 @@
 //! Roadmaps of `cargo xtask precompute` (paper §III-C): every shipped scene in `scenes/` is set
 //! up once through the façade, which builds the PRM roadmap of each arm (prefiltered by
 //! self-collision, one roadmap serving every scene) and its cluster databases, and caches them
-//! where `pickplace plan` looks (file names keyed by the robot files and the options).
+//! in xtask's folder (file names keyed by the robot files, the options and the algorithm
+//! versions). A cache that cannot be written is an error here, not a warning.
 
 use anyhow::{Context, Result};
 use pickplace::roadmaps::ROADMAP_EXTENSION;
@@ -34,6 +35,10 @@ pub fn run(root: &Path, out: &Path, force: bool) -> Result<()> {
     for scene in scenes {
         let start = std::time::Instant::now();
         let setup = Setup::load(&scene, &options)?;
+        // Writing the cache is this task's whole job: a warning is an error here.
+        if let Some(warning) = setup.warnings.first() {
+            anyhow::bail!("{}: {warning}", scene.display());
+        }
         eprintln!(
             "{}: set up in {:.2} s",
             scene.display(),

@@ -566,9 +566,8 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         bail!("no scene matches {}", args.glob);
     }
     let cli = build_cli(root)?;
-    let cache = std::env::var_os("PICKPLACE_CACHE")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target/pickplace-cache"));
+    // xtask's own folder, as `cargo xtask precompute` fills it (passed with --cache).
+    let cache = pickplace::precompute::cache_dir(root);
     let scratch = root.join("target/suite-plans");
     std::fs::create_dir_all(&scratch)?;
     let start = std::time::Instant::now();

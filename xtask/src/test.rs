@@ -1,7 +1,8 @@
 //! `cargo xtask test [-- CARGO_TEST_ARGS…]`: every test of the workspace, with what the tests
 //! need installed first, then the scene suite in release (`cargo xtask suite run`, seeds 1 to
 //! 3: every feasible scene plans and validates, every infeasible one is refused for its
-//! reason).
+//! reason), then the torture suite (`cargo xtask torture`: hostile and careless input, kills,
+//! concurrent runs, unusable cache folders, closed pipes).
 //!
 //! The robots-as-shipped tests plan with PR2, Baxter, TALOS and two Pandas from the public
 //! PyPI package `example-robot-data` (version pinned below). It is installed with a plain
@@ -33,7 +34,10 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     }
     // The scene suite of issue 17 in release, every scene with seeds 1 to 3 (docs/suite.md).
     eprintln!("xtask test: cargo xtask suite run");
-    crate::suite_run::run(root, &[])
+    crate::suite_run::run(root, &[])?;
+    // Hostile and careless use of the release CLI (issue 18; docs/torture.md).
+    eprintln!("xtask test: cargo xtask torture");
+    crate::torture::run(root, &[])
 }
 
 /// Installs `example-robot-data` into its virtual environment when it is not there yet, and

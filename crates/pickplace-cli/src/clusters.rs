@@ -97,17 +97,13 @@ pub struct PrecomputeArgs {
         allow_negative_numbers = true
     )]
     pub h_max: Option<f64>,
-    /// Folder for the databases (default: $PICKPLACE_CACHE, else `target/pickplace-cache`).
+    /// Folder for the databases (default: $PICKPLACE_CACHE, else $XDG_CACHE_HOME/pickplace,
+    /// else ~/.cache/pickplace: where `plan` looks for them).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Rebuild even when a valid database exists.
     #[arg(long)]
     pub force: bool,
-}
-
-/// The default cache folder: `$PICKPLACE_CACHE`, else `target/pickplace-cache`.
-pub fn default_cache_dir() -> PathBuf {
-    precompute::cache_dir(Path::new(""))
 }
 
 fn load_mesh(path: &Path, scale: f64) -> Result<TriMesh> {
@@ -246,7 +242,15 @@ pub fn run_precompute(args: PrecomputeArgs) -> Result<ExitCode> {
         .iter()
         .map(|m| m.params(args.h_max))
         .collect::<Result<_>>()?;
-    let out = args.out.clone().unwrap_or_else(default_cache_dir);
+    let out = match args.out.clone() {
+        Some(out) => out,
+        // Writing the cache is this command's whole job: no folder is an error.
+        None => pickplace::cache::default_dir().map_err(|_| {
+            anyhow::anyhow!(
+                "no cache folder: none of PICKPLACE_CACHE, XDG_CACHE_HOME and HOME is set; give the folder with --out"
+            )
+        })?,
+    };
     let inputs: Vec<crate::args::Input<'_>> = args
         .meshes
         .iter()

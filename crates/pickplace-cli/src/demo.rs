@@ -8,7 +8,7 @@
 //! (animated glTF and key-pose pictures) and the clusters of the can and the pallet.
 
 use crate::output::note;
-use crate::plan::{PlanArgs, plan_setup, setup};
+use crate::plan::{CacheChoice, PlanArgs, plan_setup, setup};
 use anyhow::Context;
 use pickplace::planner::Outcome;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
@@ -53,6 +53,10 @@ pub struct DemoArgs {
     /// Folder the outputs are written to (created if missing).
     #[arg(long, default_value = "pickplace-demo")]
     pub out: PathBuf,
+    /// Use no cache: cluster databases and roadmaps are built in memory (by default they
+    /// are kept in `<out>/cache`, and a second run is faster).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 /// Runs the demo.
@@ -95,7 +99,12 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
                 _ => "far to the left",
             }
         );
-        let setup = setup(&scene_path, Some(args.out.join("cache")), &[])?;
+        let cache = if args.no_cache {
+            CacheChoice::Off
+        } else {
+            CacheChoice::Folder(args.out.join("cache"))
+        };
+        let setup = setup(&scene_path, cache, &[])?;
         let plan_args = PlanArgs {
             scene: scene_path.clone(),
             out: None,
@@ -103,6 +112,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
             strategy: None,
             no_timings: false,
             cache: None,
+            no_cache: false,
             package_dirs: Vec::new(),
         };
         let plan = match plan_setup(&setup, &plan_args)? {

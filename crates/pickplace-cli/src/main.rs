@@ -10,6 +10,7 @@ mod grasps;
 mod output;
 mod placements;
 mod plan;
+mod progress;
 mod robot;
 mod view;
 

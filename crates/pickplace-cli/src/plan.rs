@@ -1,6 +1,5 @@
 //! `pickplace plan SCENE` and `pickplace validate SCENE PLAN`.
 
-use crate::clusters::default_cache_dir;
 use crate::output::note;
 use anyhow::Context;
 use pickplace::planner::{Outcome, PlanOptions};
@@ -68,27 +67,63 @@ pub struct PlanArgs {
     #[arg(long)]
     pub no_timings: bool,
     /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
-    /// target/pickplace-cache).
-    #[arg(long)]
+    /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
+    #[arg(long, value_name = "DIR")]
     pub cache: Option<PathBuf>,
+    /// Use no cache: cluster databases and roadmaps are built in memory (same plan, slower).
+    #[arg(long, conflicts_with = "cache")]
+    pub no_cache: bool,
     /// A folder searched for `package://` mesh paths (repeatable; after the scene's
     /// `package_dirs`, before ROS_PACKAGE_PATH).
     #[arg(long = "package-dir", value_name = "DIR")]
     pub package_dirs: Vec<PathBuf>,
 }
 
-/// Loads a scene with progress on stderr.
-pub fn setup(
-    scene: &Path,
-    cache: Option<PathBuf>,
-    package_dirs: &[PathBuf],
-) -> anyhow::Result<Setup> {
+/// Which cache folder a command's setup uses.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum CacheChoice {
+    /// The per-user folder ([`pickplace::cache::default_dir`]).
+    Default,
+    /// The folder given (`--cache DIR`).
+    Folder(PathBuf),
+    /// No cache (`--no-cache`).
+    Off,
+}
+
+impl CacheChoice {
+    /// The choice of `--cache DIR` and `--no-cache` (clap makes them exclusive).
+    pub fn from_args(cache: Option<&Path>, no_cache: bool) -> Self {
+        match (cache, no_cache) {
+            (_, true) => Self::Off,
+            (Some(dir), false) => Self::Folder(dir.to_path_buf()),
+            (None, false) => Self::Default,
+        }
+    }
+}
+
+/// Loads a scene with its log, the cache's warning (if any) and progress on stderr.
+pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyhow::Result<Setup> {
     let t = Instant::now();
+    let cache_dir = match cache {
+        CacheChoice::Folder(dir) => Some(dir),
+        CacheChoice::Off => None,
+        CacheChoice::Default => match pickplace::cache::default_dir() {
+            Ok(dir) => Some(dir),
+            Err(warning) => {
+                note!("warning: {warning}");
+                None
+            }
+        },
+    };
     let options = SetupOptions {
-        cache_dir: Some(cache.unwrap_or_else(default_cache_dir)),
+        cache_dir,
         package_dirs: package_dirs.to_vec(),
+        progress: crate::progress::receiver(),
     };
     let setup = Setup::load(scene, &options)?;
+    for warning in &setup.warnings {
+        note!("warning: {warning}");
+    }
     for line in &setup.log {
         note!("  {line}");
     }
@@ -153,7 +188,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         let inputs = crate::args::scene_inputs(&args.scene, &scene);
         crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
     }
-    let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
+    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
+    let setup = setup(&args.scene, cache, &args.package_dirs)?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {
             let json = plan.to_json();
@@ -179,9 +215,12 @@ pub struct ValidateArgs {
     /// Plan file.
     pub plan: PathBuf,
     /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
-    /// target/pickplace-cache).
-    #[arg(long)]
+    /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
+    #[arg(long, value_name = "DIR")]
     pub cache: Option<PathBuf>,
+    /// Use no cache: cluster databases and roadmaps are built in memory.
+    #[arg(long, conflicts_with = "cache")]
+    pub no_cache: bool,
     /// A folder searched for `package://` mesh paths (repeatable; after the scene's
     /// `package_dirs`, before ROS_PACKAGE_PATH).
     #[arg(long = "package-dir", value_name = "DIR")]
@@ -203,7 +242,8 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
     let plan = Plan::from_json(&text)
         .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
-    let setup = setup(&args.scene, args.cache.clone(), &args.package_dirs)?;
+    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
+    let setup = setup(&args.scene, cache, &args.package_dirs)?;
     let t = Instant::now();
     let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
     note!(

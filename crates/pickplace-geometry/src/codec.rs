@@ -8,10 +8,11 @@
 //! | 8 | magic `PPCLUSTR` |
 //! | 4 | format version, u32 little-endian ([`FORMAT_VERSION`]) |
 //! | 4 | header length `H`, u32 little-endian |
-//! | H | header (bincode, standard config): mesh hash, parameters, payload length and hash |
+//! | H | header (bincode, standard config): mesh hash, parameters, clustering algorithm version, payload length and hash |
 //! | rest | payload (bincode): triangle count, clusters, pairs |
 //!
-//! Decoding checks, in order: magic, version, header, mesh hash, every parameter, payload
+//! Decoding checks, in order: magic, version, header, mesh hash, every parameter, the
+//! clustering algorithm's version ([`crate::cluster::ALGORITHM_VERSION`]), payload
 //! length and checksum, payload. Arbitrary bytes give a [`DatabaseErrorKind`], never a panic
 //! and never a wrongly decoded database.
 
@@ -23,14 +24,16 @@ use crate::hash::hash_bytes;
 /// First eight bytes of every cluster database.
 pub const MAGIC: [u8; 8] = *b"PPCLUSTR";
 /// Version of the format written and read by this build. Bump it whenever a serialized type
-/// or the mesh hash changes, or when the clustering algorithm changes what it computes (2: the
-/// merge pass, canonical triangle order and pairing of issue 17).
-pub const FORMAT_VERSION: u32 = 2;
+/// or the mesh hash changes (2: the merge pass, canonical triangle order and pairing of issue
+/// 17; 3: the header carries [`crate::cluster::ALGORITHM_VERSION`], which is bumped instead
+/// when the clustering algorithm changes what it computes).
+pub const FORMAT_VERSION: u32 = 3;
 
 #[derive(Debug, serde::Serialize, serde::Deserialize)]
 struct Header {
     mesh_hash: u64,
     params: ClusterParams,
+    algorithm_version: u32,
     payload_len: u64,
     payload_hash: u64,
 }
@@ -55,6 +58,11 @@ fn config() -> bincode::config::Configuration {
 
 /// Encodes a database.
 pub fn encode(db: &ClusterDatabase) -> Vec<u8> {
+    encode_as(db, crate::cluster::ALGORITHM_VERSION)
+}
+
+/// Encodes a database as if built by the clustering algorithm's version `algorithm_version`.
+fn encode_as(db: &ClusterDatabase, algorithm_version: u32) -> Vec<u8> {
     let payload = PayloadRef {
         triangle_count: db.triangle_count as u64,
         clusters: &db.clustering.clusters,
@@ -66,6 +74,7 @@ pub fn encode(db: &ClusterDatabase) -> Vec<u8> {
     let header = Header {
         mesh_hash: db.mesh_hash,
         params: db.clustering.params,
+        algorithm_version,
         payload_len: payload.len() as u64,
         payload_hash: hash_bytes(&payload),
     };
@@ -168,6 +177,13 @@ pub fn decode(
         ));
     }
     check_params(&header.params, expected)?;
+    if header.algorithm_version != crate::cluster::ALGORITHM_VERSION {
+        return Err(mismatch(
+            "clustering algorithm version",
+            header.algorithm_version,
+            crate::cluster::ALGORITHM_VERSION,
+        ));
+    }
     let payload = &bytes[16 + header_len..];
     if payload.len() as u64 != header.payload_len {
         return Err(corrupt(format!(
@@ -223,12 +239,38 @@ pub fn decode(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::box_mesh;
+
+    #[test]
+    fn a_database_of_another_algorithm_version_is_a_mismatch() {
+        let mesh = box_mesh([0.05, 0.03, 0.02]);
+        let params = ClusterParams::finger();
+        let db = ClusterDatabase::build(&mesh, &params).expect("clusters");
+        let hash = db.mesh_hash;
+        assert_eq!(
+            decode(&encode(&db), hash, &params).expect("same version"),
+            db
+        );
+        let older = encode_as(&db, crate::cluster::ALGORITHM_VERSION.wrapping_sub(1));
+        let e = decode(&older, hash, &params).expect_err("another algorithm");
+        assert!(
+            matches!(
+                &e,
+                DatabaseErrorKind::Mismatch {
+                    what: "clustering algorithm version",
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+    }
 
     /// A database file around `payload`, with a valid header for mesh hash 7.
     fn file(payload: &[u8], params: ClusterParams) -> Vec<u8> {
         let header = Header {
             mesh_hash: 7,
             params,
+            algorithm_version: crate::cluster::ALGORITHM_VERSION,
             payload_len: payload.len() as u64,
             payload_hash: hash_bytes(payload),
         };

@@ -3,12 +3,15 @@
 //! the online planner").
 //!
 //! A database is keyed by the mesh's content hash ([`crate::hash::mesh_hash`]: the welded
-//! mesh's canonical bytes) and by every clustering parameter; loading one built for another
-//! mesh, another format version or other parameters is an [`Error::Database`], never a silent
-//! reuse. Files are written atomically (temporary file, then rename). The byte format is in
+//! mesh's canonical bytes), by every clustering parameter and by the clustering algorithm's
+//! version ([`crate::cluster::ALGORITHM_VERSION`]); loading one built for another mesh,
+//! another format or algorithm version or other parameters is an [`Error::Database`], never
+//! a silent reuse. Files are written atomically (temporary file, then rename). The byte format is in
 //! [`crate::codec`].
 
-use crate::cluster::{ClusterParams, Clustering, ClustersJson, cluster_surface};
+use crate::cluster::{
+    ALGORITHM_VERSION, ClusterParams, Clustering, ClustersJson, cluster_surface_with_progress,
+};
 use crate::codec;
 use crate::error::{Error, Result};
 use crate::export::write_atomic;
@@ -21,11 +24,12 @@ use std::path::{Path, PathBuf};
 pub const DATABASE_EXTENSION: &str = "ppdb";
 
 /// Where the database of the mesh file `mesh_path` built with `params` lives in the cache
-/// folder `dir`: `<dir>/<file stem>.<mode>.<parameter hash>.ppdb`, e.g.
-/// `target/pickplace-cache/can.finger.1f0c…e2.ppdb`.
+/// folder `dir`: `<dir>/<file stem>.<mode>.<key>.ppdb`, e.g.
+/// `~/.cache/pickplace/can.finger.1f0c…e2.ppdb`.
 ///
-/// The name carries the mesh file's stem and a hash of every parameter, so each mesh and
-/// parameter set gets its own file. The mesh's content is not in the name: it is checked
+/// The name carries the mesh file's stem and a hash of every parameter and of the clustering
+/// algorithm's version ([`ALGORITHM_VERSION`]), so each mesh, parameter set and algorithm
+/// gets its own file: a newer build never even opens an older algorithm's database. The mesh's content is not in the name: it is checked
 /// when the file is read ([`ClusterDatabase::load`]), so an edited mesh (or two meshes with
 /// the same stem in different folders) makes [`ClusterDatabase::load_or_build`] rebuild the
 /// file, never reuse it.
@@ -40,6 +44,7 @@ pub fn cache_path(dir: &Path, mesh_path: &Path, params: &ClusterParams) -> PathB
     h.word(params.h_max.to_bits());
     h.word(params.max_facet_angle.to_bits());
     h.word(params.opposite_dot.to_bits());
+    h.word(u64::from(ALGORITHM_VERSION));
     dir.join(format!(
         "{stem}.{}.{:016x}.{DATABASE_EXTENSION}",
         params.mode.name(),
@@ -77,10 +82,23 @@ impl ClusterDatabase {
     /// # Errors
     /// [`Error::InvalidParameter`] for invalid parameters.
     pub fn build(mesh: &TriMesh, params: &ClusterParams) -> Result<Self> {
+        Self::build_with_progress(mesh, params, &|_, _| {})
+    }
+
+    /// [`ClusterDatabase::build`], telling `progress(done, total)` how far the clustering got
+    /// (see [`crate::cluster::cluster_surface_with_progress`]).
+    ///
+    /// # Errors
+    /// As [`ClusterDatabase::build`].
+    pub fn build_with_progress(
+        mesh: &TriMesh,
+        params: &ClusterParams,
+        progress: &dyn Fn(usize, usize),
+    ) -> Result<Self> {
         Ok(Self {
             mesh_hash: mesh_hash(mesh),
             triangle_count: mesh.triangle_count(),
-            clustering: cluster_surface(mesh, params)?,
+            clustering: cluster_surface_with_progress(mesh, params, progress)?,
         })
     }
 
@@ -134,22 +152,103 @@ impl ClusterDatabase {
         params.validate()?;
         let reason = match Self::load(path, mesh_hash(mesh), params) {
             Ok(db) => return Ok((db, CacheStatus::Loaded)),
-            Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound => None,
-            Err(e @ Error::Database { .. }) => Some(e.to_string()),
-            // Not a regular file, or too large: a damaged entry, rebuilt.
-            Err(e) if matches!(&e, Error::Io { source, .. } if crate::io::is_refused(source)) => {
-                Some(e.to_string())
-            }
-            Err(e) => return Err(e),
+            Err(e) => Self::rebuild_reason(e)?,
         };
         let db = Self::build(mesh, params)?;
         db.save(path)?;
         Ok((db, CacheStatus::Built { reason }))
     }
 
+    /// Why a cached database that [`ClusterDatabase::load`] refused is rebuilt, or the error
+    /// that stops [`ClusterDatabase::load_or_build`]: `Ok(None)` for a missing file,
+    /// `Ok(Some(reason))` for a damaged entry (another mesh, parameters, format or algorithm
+    /// version, corrupt bytes, not a regular file, too large), rebuilt over.
+    ///
+    /// # Errors
+    /// `error` itself when the file exists and cannot be read (permission denied, an I/O
+    /// error): a cache that is not a requirement reports it and builds in memory.
+    pub fn rebuild_reason(error: Error) -> Result<Option<String>> {
+        match error {
+            Error::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            e @ Error::Database { .. } => Ok(Some(e.to_string())),
+            // Not a regular file, or too large: a damaged entry, rebuilt.
+            e if matches!(&e, Error::Io { source, .. } if crate::io::is_refused(source)) => {
+                Ok(Some(e.to_string()))
+            }
+            e => Err(e),
+        }
+    }
+
     /// The "clusters" JSON document (see [`ClustersJson`]); `mesh` must be the mesh the
     /// database was built for.
     pub fn to_json(&self, mesh: &TriMesh, mesh_path: &str) -> ClustersJson {
         ClustersJson::new(&self.clustering, mesh, mesh_path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::box_mesh;
+
+    #[test]
+    fn a_cached_database_equals_a_freshly_built_one() {
+        let dir = std::env::temp_dir().join(format!("pickplace-db-fresh-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("cache folder");
+        let mesh = box_mesh([0.05, 0.03, 0.02]);
+        let params = ClusterParams::finger();
+        let path = cache_path(&dir, Path::new("box.stl"), &params);
+        let (first, status) = ClusterDatabase::load_or_build(&path, &mesh, &params).expect("built");
+        assert_eq!(status, CacheStatus::Built { reason: None });
+        let (second, status) =
+            ClusterDatabase::load_or_build(&path, &mesh, &params).expect("loaded");
+        assert_eq!(status, CacheStatus::Loaded);
+        let fresh = ClusterDatabase::build(&mesh, &params).expect("fresh");
+        assert_eq!(second, fresh);
+        assert_eq!(first, fresh);
+        std::fs::remove_dir_all(&dir).expect("cleanup");
+    }
+
+    #[test]
+    fn progress_reaches_its_total_once_and_never_goes_back() {
+        let mesh = box_mesh([0.05, 0.03, 0.02]);
+        for params in [ClusterParams::environment(), ClusterParams::finger()] {
+            let calls = std::cell::RefCell::new(Vec::new());
+            let with = ClusterDatabase::build_with_progress(&mesh, &params, &|done, total| {
+                calls.borrow_mut().push((done, total));
+            })
+            .expect("clusters");
+            let calls = calls.into_inner();
+            let total = crate::cluster::PROGRESS_TOTAL;
+            assert_eq!(calls.first(), Some(&(0, total)), "{calls:?}");
+            assert_eq!(calls.last(), Some(&(total, total)), "{calls:?}");
+            assert_eq!(
+                calls.iter().filter(|c| c.0 == total).count(),
+                1,
+                "{calls:?}"
+            );
+            assert!(calls.windows(2).all(|w| w[0].0 <= w[1].0), "{calls:?}");
+            assert!(calls.len() <= 102, "{calls:?}");
+            // Reporting does not change the clusters.
+            assert_eq!(with, ClusterDatabase::build(&mesh, &params).expect("again"));
+        }
+    }
+
+    #[test]
+    fn rebuild_reasons_missing_damaged_and_unreadable() {
+        let missing = Error::Io {
+            path: "x".into(),
+            source: std::io::Error::from(std::io::ErrorKind::NotFound),
+        };
+        assert_eq!(
+            ClusterDatabase::rebuild_reason(missing).expect("missing"),
+            None
+        );
+        let denied = Error::Io {
+            path: "x".into(),
+            source: std::io::Error::from(std::io::ErrorKind::PermissionDenied),
+        };
+        assert!(ClusterDatabase::rebuild_reason(denied).is_err());
     }
 }

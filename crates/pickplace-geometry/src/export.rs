@@ -85,6 +85,8 @@ pub fn write_clusters_ply(path: &Path, mesh: &TriMesh, clustering: &Clustering) 
 /// under an unpredictable name, so a file or symbolic link planted at a guessed name is never
 /// followed, and threads or processes writing the same path (a shared cache) never touch each
 /// other's temporary file. On failure the temporary file is removed and `path` is untouched.
+/// The name, `.pickplace-<host>-<pid>-XXXXXX.tmp`, says who made it: temporaries a killed run
+/// left in the folder are removed before writing ([`crate::temp::remove_stale`]).
 ///
 /// # Errors
 /// [`Error::Io`] naming `path`, when the directory cannot hold the temporary file, the bytes
@@ -107,7 +109,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     // The temporary file is deleted when `tmp` drops, on every error path below. It is
     // created with the mode `File::create` gives (0o666 less the umask), not tempfile's
     // owner-only default, so that the renamed file is readable as any other output is.
+    // Its name says which process on which host made it, so that a run killed before the
+    // rename leaves a temporary the next write into this folder removes (crate::temp).
+    crate::temp::remove_stale(dir);
+    let prefix = crate::temp::process_prefix();
     let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(crate::temp::SUFFIX);
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;

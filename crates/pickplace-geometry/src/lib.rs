@@ -39,5 +39,6 @@ pub mod obb;
 pub mod parry;
 pub mod polygon;
 pub mod shapes;
+pub mod temp;
 
 pub use error::{Error, Result};

@@ -122,7 +122,11 @@ impl GripperParams {
         self.validate_for(Path::new("<memory>"))
     }
 
-    fn validate_for(&self, path: &Path) -> Result<()> {
+    /// As [`GripperParams::validate`], naming `path` (the file the values came from).
+    ///
+    /// # Errors
+    /// [`Error::InvalidGripper`] naming `path` and the first bad parameter.
+    pub fn validate_for(&self, path: &Path) -> Result<()> {
         let bad = |field: &'static str, reason: &'static str| Error::InvalidGripper {
             path: PathBuf::from(path),
             field,

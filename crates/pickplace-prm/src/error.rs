@@ -120,6 +120,19 @@ pub enum Error {
         /// That joint's velocity limit.
         velocity: f64,
     },
+    /// A time-optimal parameterization ([`crate::toppra`]) would need more grid points or
+    /// samples than [`crate::timing::MAX_TRAJECTORY_SAMPLES`]: refused before allocating.
+    #[error(
+        "the time-optimal parameterization would need {count:.4e} {what}, more than the limit of {limit} (MAX_TRAJECTORY_SAMPLES): is a limit far too small or the step too fine?"
+    )]
+    TooManyPoints {
+        /// `"grid points"` or `"samples"`.
+        what: &'static str,
+        /// How many it would need.
+        count: f64,
+        /// The limit.
+        limit: usize,
+    },
     /// A path has no waypoints.
     #[error("the path has no waypoints")]
     EmptyPath,

@@ -135,6 +135,51 @@ impl PartialEq for Roadmap {
     }
 }
 
+/// Version of what the roadmap constructions compute. Bump it whenever [`Roadmap::build`],
+/// [`Roadmap::build_prefiltered`] or [`Roadmap::build_lazy`] give other nodes or edges for the
+/// same space, checker and options (a new sampling stream, another neighbour rule): callers
+/// that cache roadmaps put it in their key, so a newer build never reuses an older one's.
+pub const ALGORITHM_VERSION: u32 = 1;
+
+/// Progress of a construction shared by the pool's threads: `done` out of `total` units,
+/// passed on when it crosses a percent.
+struct Ticks<'a> {
+    progress: &'a (dyn Fn(usize, usize) + Sync),
+    total: usize,
+    done: std::sync::atomic::AtomicUsize,
+}
+
+impl<'a> Ticks<'a> {
+    fn new(progress: &'a (dyn Fn(usize, usize) + Sync), total: usize) -> Self {
+        Self {
+            progress,
+            total,
+            done: std::sync::atomic::AtomicUsize::new(0),
+        }
+    }
+
+    fn report(&self, done: usize) {
+        (self.progress)(done, self.total);
+    }
+
+    /// `k` more units; the total itself is said once, by [`Ticks::finish`].
+    fn add(&self, k: usize) {
+        if k == 0 {
+            return;
+        }
+        let before = self.done.fetch_add(k, std::sync::atomic::Ordering::Relaxed);
+        let after = before + k;
+        let step = (self.total / 100).max(1);
+        if after / step != before / step && after < self.total {
+            self.report(after);
+        }
+    }
+
+    fn finish(&self) {
+        self.report(self.total);
+    }
+}
+
 impl Roadmap {
     /// Builds a roadmap whose nodes and edges are all valid for `checker` ([`Validation::Checked`]).
     ///
@@ -152,7 +197,7 @@ impl Roadmap {
         checker: &C,
         options: &RoadmapOptions,
     ) -> Result<Self> {
-        Self::construct(space, checker, options, Validation::Checked)
+        Self::construct(space, checker, options, Validation::Checked, &|_, _| {})
     }
 
     /// Builds a roadmap valid for `prefilter` ([`Validation::Prefiltered`]), for lazy queries in
@@ -166,7 +211,30 @@ impl Roadmap {
         prefilter: &C,
         options: &RoadmapOptions,
     ) -> Result<Self> {
-        Self::construct(space, prefilter, options, Validation::Prefiltered)
+        Self::construct(
+            space,
+            prefilter,
+            options,
+            Validation::Prefiltered,
+            &|_, _| {},
+        )
+    }
+
+    /// [`Roadmap::build_prefiltered`], telling `progress(done, total)` how far it got: `total`
+    /// is twice `node_count`, the samples count for the first half and the candidate edges
+    /// checked for the second. Called from the pool's threads about a hundred times, not
+    /// always in increasing order of `done`; the last call is `(total, total)`. The roadmap is
+    /// the same as [`Roadmap::build_prefiltered`]'s.
+    ///
+    /// # Errors
+    /// As [`Roadmap::build`].
+    pub fn build_prefiltered_with_progress<C: ValidityChecker + ?Sized>(
+        space: &JointSpace,
+        prefilter: &C,
+        options: &RoadmapOptions,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Self> {
+        Self::construct(space, prefilter, options, Validation::Prefiltered, progress)
     }
 
     /// Builds a roadmap without any validity check ([`Validation::Lazy`]), for lazy queries in
@@ -175,7 +243,7 @@ impl Roadmap {
     /// # Errors
     /// As [`Roadmap::build`].
     pub fn build_lazy(space: &JointSpace, options: &RoadmapOptions) -> Result<Self> {
-        Self::construct(space, &AlwaysValid, options, Validation::Lazy)
+        Self::construct(space, &AlwaysValid, options, Validation::Lazy, &|_, _| {})
     }
 
     fn construct<C: ValidityChecker + ?Sized>(
@@ -183,10 +251,13 @@ impl Roadmap {
         checker: &C,
         options: &RoadmapOptions,
         validation: Validation,
+        progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<Self> {
         options.validate()?;
         let dimension = space.dimension();
         let n = options.node_count;
+        let ticks = Ticks::new(progress, 2 * n);
+        ticks.report(0);
 
         // Sample in parallel; sample i is drawn from its own generator.
         let mut samples = vec![0.0; n * dimension];
@@ -201,9 +272,10 @@ impl Roadmap {
                     space.sample_into(&mut rng, state);
                     if checker.is_state_valid(state) {
                         *ok = true;
-                        return;
+                        break;
                     }
                 }
+                ticks.add(1);
             });
         let states: Vec<f64> = samples
             .chunks_exact(dimension)
@@ -240,18 +312,26 @@ impl Roadmap {
         let edges: Vec<[u32; 2]> = match validation {
             Validation::Lazy => candidates,
             Validation::Checked | Validation::Prefiltered => {
+                // The second half of the work: edges checked, scaled to `n` units.
+                let checked = std::sync::atomic::AtomicUsize::new(0);
+                let edge_count = candidates.len().max(1);
                 let keep: Vec<bool> = candidates
                     .par_iter()
                     .map_init(
                         || vec![0.0; dimension],
                         |scratch, &[a, b]| {
-                            checker.is_motion_valid(
+                            let ok = checker.is_motion_valid(
                                 space,
                                 state_of(a),
                                 state_of(b),
                                 options.resolution,
                                 scratch,
-                            )
+                            );
+                            let k = checked.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            let before = n * k / edge_count;
+                            let after = n * (k + 1) / edge_count;
+                            ticks.add(after - before);
+                            ok
                         },
                     )
                     .collect();
@@ -263,6 +343,7 @@ impl Roadmap {
             }
         };
         debug_assert!(edges.iter().all(|e| (e[1] as usize) < node_count));
+        ticks.finish();
         Ok(Self::assemble(
             space.clone(),
             options.clone(),
@@ -549,5 +630,31 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn progress_reaches_twice_the_node_count_and_does_not_change_the_roadmap() {
+        let space = square();
+        let free = |q: &[f64]| !((0.4..0.6).contains(&q[0]) && q[1] < 0.7);
+        let options = RoadmapOptions {
+            node_count: 300,
+            ..RoadmapOptions::default()
+        };
+        let calls = std::sync::Mutex::new(Vec::new());
+        let with = Roadmap::build_prefiltered_with_progress(&space, &free, &options, &|d, t| {
+            calls.lock().expect("calls").push((d, t));
+        })
+        .expect("roadmap");
+        let calls = calls.into_inner().expect("calls");
+        assert_eq!(calls.first(), Some(&(0, 600)), "{calls:?}");
+        assert_eq!(calls.last(), Some(&(600, 600)), "{calls:?}");
+        assert_eq!(calls.iter().filter(|c| c.0 == 600).count(), 1, "{calls:?}");
+        assert!(calls.iter().all(|&(d, t)| d <= t && t == 600), "{calls:?}");
+        assert!(
+            calls.iter().any(|&(d, _)| d > 300 && d < 600),
+            "edges: {calls:?}"
+        );
+        assert!(calls.len() <= 205, "{}", calls.len());
+        assert!(with == Roadmap::build_prefiltered(&space, &free, &options).expect("again"));
     }
 }

@@ -55,8 +55,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let chain = semantics.chain(&model, group)?;
         let variables = chain.variables().to_vec();
         let space = roadmaps::arm_space(&model, &variables)?;
-        let (roadmap, report) =
-            roadmaps::load_or_build(&model, &world, group, &variables, &home, &space, None)?;
+        let (roadmap, report) = roadmaps::load_or_build(
+            &model,
+            &world,
+            group,
+            &variables,
+            &home,
+            &space,
+            None,
+            &|_, _| {},
+        )?;
         println!(
             "{group}: {report}; {} edges in {:.1} ms",
             roadmap.edge_count(),

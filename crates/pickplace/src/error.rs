@@ -55,15 +55,6 @@ pub enum Error {
         #[source]
         source: Box<pickplace_placement::TargetError>,
     },
-    /// A cached file (cluster database, roadmap) could not be written.
-    #[error("{}: cannot write the cache: {source}", path.display())]
-    Cache {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        #[source]
-        source: std::io::Error,
-    },
     /// A plan file is malformed or does not fit the scene's robot.
     #[error("{}: {reason}", path.display())]
     BadPlan {

@@ -39,6 +39,7 @@
 //! to its function.
 #![warn(missing_docs)]
 
+pub mod cache;
 pub mod checker;
 pub mod contact;
 pub mod error;
@@ -67,6 +68,6 @@ pub use plan::{PLAN_FORMAT, Plan};
 pub use planner::{Outcome, PlanOptions, plan};
 pub use robot_setup::RobotSetup;
 pub use scene::{Scene, SceneError};
-pub use setup::{Setup, SetupOptions};
+pub use setup::{ProgressFn, Setup, SetupOptions, SetupProgress};
 pub use start::check_start;
 pub use strategy::{Arm, Strategy};

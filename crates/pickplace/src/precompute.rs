@@ -37,14 +37,15 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Environment variable naming the cache folder.
-pub const CACHE_ENV: &str = "PICKPLACE_CACHE";
+pub use crate::cache::CACHE_ENV;
 
-/// The cache folder under a base folder when [`CACHE_ENV`] is not set.
+/// The cache folder under a base folder when [`CACHE_ENV`] is not set, for the xtask
+/// commands' own runs ([`cache_dir`]). The `pickplace` command's default is per user
+/// ([`crate::cache::default_dir`]).
 pub const DEFAULT_CACHE_DIR: &str = "target/pickplace-cache";
 
-/// The cache folder: `$PICKPLACE_CACHE` when set and not empty, else
-/// `base/`[`DEFAULT_CACHE_DIR`] (with an empty `base`, the relative path `target/pickplace-cache`).
+/// The cache folder of the xtask commands: `$PICKPLACE_CACHE` when set and not empty, else
+/// `base/`[`DEFAULT_CACHE_DIR`] (the repository's target folder).
 pub fn cache_dir(base: &Path) -> PathBuf {
     std::env::var_os(CACHE_ENV)
         .filter(|v| !v.is_empty())
@@ -350,10 +351,6 @@ mod tests {
                 assert_eq!(
                     cache_dir(Path::new("/repo")),
                     Path::new("/repo/target/pickplace-cache")
-                );
-                assert_eq!(
-                    cache_dir(Path::new("")),
-                    Path::new("target/pickplace-cache")
                 );
             }
         }

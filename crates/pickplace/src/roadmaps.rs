@@ -8,8 +8,12 @@
 //! static links are checked once, at the template, and reported
 //! ([`RoadmapReport::static_contacts`]). Roadmaps are cached in files named by
 //! the robot, the group and a hash of everything that defines them (URDF and SRDF text, the
-//! options, the codec version), so a stale file is never used.
+//! options, the codec version, the PRM's [`pickplace_prm::ALGORITHM_VERSION`] and the
+//! prefilter's rule); the file starts with that hash too, checked on reading, so a stale or
+//! renamed file is never used. A cache that cannot be read or written is not an error: the
+//! roadmap is built in memory and [`RoadmapReport::cache_warning`] says why.
 
+use crate::cache::CacheWarning;
 use crate::checker::ArmChecker;
 use crate::error::{Error, Result};
 use pickplace_geometry::hash::ContentHasher;
@@ -65,7 +69,8 @@ pub fn roadmap_path(dir: &Path, robot_name: &str, group: &str, key: u64) -> Path
     ))
 }
 
-/// The hash that names a roadmap: robot files' text, group, options and codec version.
+/// The hash that names a roadmap: robot files' text, group, options, codec and algorithm
+/// versions, the prefilter's rule.
 pub fn roadmap_key(urdf_text: &str, srdf_text: &str, group: &str) -> u64 {
     let o = roadmap_options();
     let mut h = ContentHasher::default();
@@ -78,10 +83,41 @@ pub fn roadmap_key(urdf_text: &str, srdf_text: &str, group: &str) -> u64 {
     h.word(o.resolution.to_bits());
     h.word(o.seed);
     h.word(u64::from(codec::FORMAT_VERSION));
+    h.word(u64::from(pickplace_prm::ALGORITHM_VERSION));
     // The prefilter's rule: the margin on the pairs the arm moves only (static pairs are
     // checked once at the template), which changed which nodes survive.
     h.bytes(PREFILTER_RULE.as_bytes());
     h.finish()
+}
+
+/// First bytes of a roadmap cache file, before its key and the codec's bytes.
+const ENTRY_MAGIC: [u8; 8] = *b"PPRMKEY1";
+
+/// A roadmap cache file: [`ENTRY_MAGIC`], the key (u64 little-endian), the roadmap.
+fn entry_bytes(key: u64, roadmap: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(16 + roadmap.len());
+    out.extend_from_slice(&ENTRY_MAGIC);
+    out.extend_from_slice(&key.to_le_bytes());
+    out.extend_from_slice(roadmap);
+    out
+}
+
+/// The roadmap's bytes of a cache file made for `key`, if it is one.
+fn entry_roadmap(bytes: &[u8], key: u64) -> Option<&[u8]> {
+    let rest = bytes.strip_prefix(&ENTRY_MAGIC[..])?;
+    let (found, roadmap) = rest.split_first_chunk::<8>()?;
+    (u64::from_le_bytes(*found) == key).then_some(roadmap)
+}
+
+/// A roadmap's cache file and the key that names it ([`roadmap_key`], [`roadmap_path`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RoadmapEntry<'a> {
+    /// The file.
+    pub path: &'a Path,
+    /// The key, also stored in the file and checked on reading.
+    pub key: u64,
+    /// Whether a roadmap built now is written to the file.
+    pub writable: bool,
 }
 
 /// Whether a roadmap came from the cache.
@@ -127,6 +163,9 @@ pub struct RoadmapReport {
     /// the template (its rest state): the prefilter does not check them per sample, but no
     /// state of the arm is free while they touch.
     pub static_contacts: Vec<(String, String)>,
+    /// Why the cache file could not be read or written (`None` when it could, or when
+    /// there is no cache): the roadmap is the same, built in memory.
+    pub cache_warning: Option<CacheWarning>,
 }
 
 impl std::fmt::Display for RoadmapReport {
@@ -213,10 +252,16 @@ impl ValidityChecker for CountingPrefilter<'_> {
 /// The roadmap and a report: its size against the size asked, the pair of bodies that
 /// rejected most samples, and the static pairs in contact at `home`.
 ///
+/// `progress(done, total)` is told how far a build got (see
+/// [`Roadmap::build_prefiltered_with_progress`]); nothing is said for a roadmap read from the
+/// cache.
+///
+/// A cache file that cannot be read (other than missing or damaged: rebuilt) or written is
+/// not an error: the report's [`RoadmapReport::cache_warning`] says why.
+///
 /// # Errors
 /// [`Error::EmptyRoadmap`] naming the pair that rejected most samples when no sample is
-/// free; [`Error::Cache`] when the file cannot be written; [`Error::Internal`] when the PRM
-/// rejects the space or the collision library fails.
+/// free; [`Error::Internal`] when the PRM rejects the space or the collision library fails.
 pub fn load_or_build(
     model: &RobotModel,
     self_world: &CollisionWorld,
@@ -224,7 +269,8 @@ pub fn load_or_build(
     variables: &[usize],
     home: &[f64],
     space: &JointSpace,
-    cache: Option<&Path>,
+    cache: Option<RoadmapEntry<'_>>,
+    progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Roadmap, RoadmapReport)> {
     let checker = ArmChecker::new(
         model,
@@ -247,41 +293,71 @@ pub fn load_or_build(
         })
         .collect();
     let requested = roadmap_options().node_count;
-    if let Some(path) = cache
-        && let Ok(bytes) =
-            pickplace_geometry::io::read_bytes(path, pickplace_geometry::io::FileKind::CacheEntry)
-        && let Ok(roadmap) = codec::decode(&bytes, space)
-    {
-        let report = RoadmapReport {
-            source: RoadmapSource::Loaded,
-            node_count: roadmap.node_count(),
-            requested,
-            most_rejected: None,
-            static_contacts,
-        };
-        return Ok((roadmap, report));
+    let mut cache_warning = None;
+    if let Some(entry) = cache {
+        match pickplace_geometry::io::read_bytes(
+            entry.path,
+            pickplace_geometry::io::FileKind::CacheEntry,
+        ) {
+            Ok(bytes) => {
+                if let Some(roadmap) = entry_roadmap(&bytes, entry.key)
+                    .and_then(|bytes| codec::decode(bytes, space).ok())
+                {
+                    let report = RoadmapReport {
+                        source: RoadmapSource::Loaded,
+                        node_count: roadmap.node_count(),
+                        requested,
+                        most_rejected: None,
+                        static_contacts,
+                        cache_warning: None,
+                    };
+                    return Ok((roadmap, report));
+                }
+            }
+            // Missing, or damaged (a FIFO, too large): built and written over.
+            Err(e)
+                if e.kind() == std::io::ErrorKind::NotFound
+                    || pickplace_geometry::io::is_refused(&e) => {}
+            Err(e) => {
+                cache_warning = Some(CacheWarning::Unreadable {
+                    entry: entry.path.to_path_buf(),
+                    reason: crate::cache::os_reason(&e),
+                });
+            }
+        }
     }
-    let (roadmap, report) = build(
+    let (roadmap, mut report) = build(
         self_world,
         group,
         checker,
         space,
         &roadmap_options(),
         static_contacts,
+        progress,
     )?;
-    if let Some(path) = cache {
+    if let Some(entry) = cache
+        && entry.writable
+        && cache_warning.is_none()
+    {
         let bytes = codec::encode(&roadmap).map_err(crate::error::internal("roadmap encoding"))?;
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|source| Error::Cache {
-                path: path.to_path_buf(),
-                source,
-            })?;
+        let written = match entry.path.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => {
+                std::fs::create_dir_all(dir).map_err(|e| (dir.to_path_buf(), e.to_string()))
+            }
+            _ => Ok(()),
         }
-        pickplace_geometry::export::write_atomic(path, &bytes).map_err(|e| Error::Cache {
-            path: path.to_path_buf(),
-            source: std::io::Error::other(e.to_string()),
-        })?;
+        .and_then(|()| {
+            pickplace_geometry::export::write_atomic(entry.path, &entry_bytes(entry.key, &bytes))
+                .map_err(|e| {
+                    let folder = entry.path.parent().unwrap_or(Path::new(".")).to_path_buf();
+                    (folder, crate::cache::write_reason(entry.path, &e))
+                })
+        });
+        if let Err((folder, reason)) = written {
+            cache_warning = Some(CacheWarning::NotWritable { folder, reason });
+        }
     }
+    report.cache_warning = cache_warning;
     Ok((roadmap, report))
 }
 
@@ -293,12 +369,13 @@ fn build(
     space: &JointSpace,
     options: &RoadmapOptions,
     static_contacts: Vec<(String, String)>,
+    progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Roadmap, RoadmapReport)> {
     let prefilter = CountingPrefilter {
         checker,
         rejections: Mutex::default(),
     };
-    let roadmap = Roadmap::build_prefiltered(space, &prefilter, options)
+    let roadmap = Roadmap::build_prefiltered_with_progress(space, &prefilter, options, progress)
         .map_err(crate::error::internal("roadmap construction"))?;
     prefilter.checker.check_error()?;
     let counts = prefilter
@@ -340,6 +417,7 @@ fn build(
         requested: options.node_count,
         most_rejected,
         static_contacts,
+        cache_warning: None,
     };
     Ok((roadmap, report))
 }
@@ -380,6 +458,7 @@ mod tests {
             &arm.space,
             &small(),
             Vec::new(),
+            &|_, _| {},
         )
         .expect("builds");
         assert_eq!(roadmap.node_count(), 40);
@@ -411,6 +490,7 @@ mod tests {
             &arm.space,
             &small(),
             Vec::new(),
+            &|_, _| {},
         )
         .expect_err("no free sample");
         let Error::EmptyRoadmap {
@@ -445,11 +525,62 @@ mod tests {
                 count: 1410,
             }),
             static_contacts: vec![("torso".into(), "l_shoulder".into())],
+            cache_warning: None,
         };
         assert_eq!(
             report.to_string(),
             "roadmap 3120 of 5000 nodes built; most rejected samples: r_forearm_link ~ \
              r_upper_arm_link (1410); static contact: torso ~ l_shoulder"
         );
+    }
+
+    #[test]
+    fn a_cached_roadmap_equals_the_built_one_and_a_file_of_another_key_is_rebuilt() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let arm = setup.arm(crate::Arm::Right);
+        let world = CollisionWorld::new(
+            &setup.model,
+            AllowedCollisionMatrix::from_srdf(setup.semantics.srdf()),
+        )
+        .expect("valid shapes");
+        let dir = std::env::temp_dir().join(format!("pickplace-roadmap-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let path = dir.join("arm.roadmap");
+        let run = |key: u64| {
+            load_or_build(
+                &setup.model,
+                &world,
+                &arm.group,
+                &arm.variables,
+                &setup.start,
+                &arm.space,
+                Some(RoadmapEntry {
+                    path: &path,
+                    key,
+                    writable: true,
+                }),
+                &|_, _| {},
+            )
+            .expect("roadmap")
+        };
+        let (built, report) = run(7);
+        assert_eq!(report.source, RoadmapSource::Built);
+        assert_eq!(report.cache_warning, None);
+        let (loaded, report) = run(7);
+        assert_eq!(report.source, RoadmapSource::Loaded);
+        assert!(loaded == built);
+        // The key is checked in the file, not only in its name.
+        let (_, report) = run(8);
+        assert_eq!(report.source, RoadmapSource::Built);
+        std::fs::remove_dir_all(&dir).expect("cleanup");
+    }
+
+    #[test]
+    fn entries_carry_their_key() {
+        let bytes = entry_bytes(0x1234, b"roadmap");
+        assert_eq!(entry_roadmap(&bytes, 0x1234), Some(&b"roadmap"[..]));
+        assert_eq!(entry_roadmap(&bytes, 0x1235), None);
+        assert_eq!(entry_roadmap(b"PPRMKEY1", 0), None);
+        assert_eq!(entry_roadmap(b"", 0), None);
     }
 }

@@ -372,7 +372,10 @@ impl RobotSetup {
             let tcp_link = model
                 .link_index(&name)
                 .ok_or_else(|| crate::error::internal("tool link")("missing"))?;
-            let gripper_params = grasp_model(&gripper, &overrides)
+            // A bad value names the overrides file when there is one, else the URDF it was
+            // measured on.
+            let source = gripper_file.as_deref().unwrap_or(&first_urdf);
+            let gripper_params = grasp_model(&gripper, &overrides, source)
                 .map_err(|e| invalid(f, format!("arm {group:?}: gripper: {e}")))?;
             arms.push(RobotArm {
                 arm,
@@ -414,6 +417,7 @@ impl RobotSetup {
 fn grasp_model(
     gripper: &Gripper,
     o: &GripperOverrides,
+    source: &Path,
 ) -> std::result::Result<GripperParams, pickplace_grasp::Error> {
     let (lo, hi) = gripper.opening_range();
     let (pad_width, pad_depth) = gripper.pad_size();
@@ -433,7 +437,7 @@ fn grasp_model(
             max: Point3::from(pmax.coords),
         }),
     };
-    params.validate()?;
+    params.validate_for(source)?;
     Ok(params)
 }
 

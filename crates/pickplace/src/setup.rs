@@ -4,16 +4,21 @@
 //!
 //! Cluster databases and roadmaps are read from a cache folder when one is given and valid,
 //! and built (then written there) otherwise, so the first plan of a scene is slower than the
-//! next ones.
+//! next ones. The cache is an accelerator, never a requirement ([`crate::cache`]): a folder
+//! that cannot be written gives one warning in [`Setup::warnings`] and the same setup, made in
+//! memory. Long work (clustering a mesh, building a roadmap) is reported to
+//! [`SetupOptions::progress`].
 
+use crate::cache::{Cache, CacheWarning};
 use crate::error::{Error, Result};
 use crate::reach::ReachMap;
-use crate::roadmaps::{self, RoadmapReport};
+use crate::roadmaps::{self, RoadmapEntry, RoadmapReport};
 use crate::robot_setup::{RobotArm, RobotSetup};
 use crate::scene::Scene;
 use crate::strategy::Arm;
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
 use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
+use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_geometry::mesh::{MassProperties, MeshOptions, TriMesh};
 use pickplace_grasp::GripperParams;
@@ -24,17 +29,56 @@ use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, Collisi
 use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{IkSolver, RobotModel, Semantics};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
+/// How far one stage of long setup work got, for a progress bar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SetupProgress<'a> {
+    /// What is done, e.g. `clustering object.mesh (finger)` or `roadmap right_arm`.
+    pub stage: &'a str,
+    /// Units done, from 0 to `total`.
+    pub done: usize,
+    /// Units in all; every stage ends with a report where `done == total`.
+    pub total: usize,
+}
+
+/// Receives [`SetupProgress`] reports, possibly from several threads at once (a roadmap is
+/// built on rayon's pool); within a stage, `done` may arrive out of order.
+pub type ProgressFn = Arc<dyn Fn(SetupProgress<'_>) + Send + Sync>;
+
 /// Options of [`Setup::load`].
-#[derive(Debug, Clone, Default)]
+#[derive(Clone, Default)]
 pub struct SetupOptions {
     /// Folder of cluster databases and roadmaps (default: none, everything is built in
-    /// memory). The CLI passes `$PICKPLACE_CACHE`, else `target/pickplace-cache`.
+    /// memory). The CLI passes `$PICKPLACE_CACHE`, else `$XDG_CACHE_HOME/pickplace`, else
+    /// `~/.cache/pickplace` ([`crate::cache::default_dir`]).
     pub cache_dir: Option<PathBuf>,
     /// Folders searched for `package://` mesh paths after the scene's own (the CLI's
     /// `--package-dir`); `ROS_PACKAGE_PATH` comes last.
     pub package_dirs: Vec<PathBuf>,
+    /// Told how far clustering a mesh and building a roadmap got (default: none). Only work
+    /// done now is reported, not what comes from the cache.
+    pub progress: Option<ProgressFn>,
+}
+
+impl std::fmt::Debug for SetupOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SetupOptions")
+            .field("cache_dir", &self.cache_dir)
+            .field("package_dirs", &self.package_dirs)
+            .field("progress", &self.progress.as_ref().map(|_| "Fn"))
+            .finish()
+    }
+}
+
+impl SetupOptions {
+    /// Tells [`SetupOptions::progress`] that `stage` did `done` of `total`.
+    fn report(&self, stage: &str, done: usize, total: usize) {
+        if let Some(progress) = &self.progress {
+            progress(SetupProgress { stage, done, total });
+        }
+    }
 }
 
 /// One arm of the robot as the planner uses it.
@@ -131,6 +175,9 @@ pub struct Setup {
     pub world: CollisionWorld,
     /// What loading did (cache hits, builds, times), one line each.
     pub log: Vec<String>,
+    /// Why the cache could not be used, or only in part (at most one warning: the setup went
+    /// on in memory, with the same result). For the caller to show; the library prints nothing.
+    pub warnings: Vec<CacheWarning>,
 }
 
 fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
@@ -155,7 +202,8 @@ impl Setup {
     /// # Errors
     /// [`Error::Robot`], [`Error::Gripper`], [`Error::Mesh`] naming the file at fault;
     /// [`Error::Invalid`] for a start state or arm group that does not fit the robot, or an
-    /// object start pose in collision; [`Error::Cache`] when the cache cannot be written.
+    /// object start pose in collision. A cache that cannot be used is not an error
+    /// ([`Setup::warnings`]).
     pub fn new(scene: Scene, scene_path: &Path, options: &SetupOptions) -> Result<Self> {
         let mut log = Vec::new();
         let invalid = |field: &str, reason: String| Error::Invalid {
@@ -293,12 +341,20 @@ impl Setup {
             h_max: scene.planner.h_max_finger,
             ..ClusterParams::finger()
         };
-        let cache = options.cache_dir.as_deref();
+        let mut cache = Cache::open(options.cache_dir.as_deref());
         let mut environment = Vec::new();
         for (i, env) in scene.environment.iter().enumerate() {
             let what = format!("environment[{i}] {:?}", env.name);
             let mesh = load_mesh(&env.mesh, env.scale, &what)?;
-            let clustering = clusters(&mesh, &env.mesh, &env_params, cache, &what, &mut log)?;
+            let clustering = clusters(
+                &mesh,
+                &env.mesh,
+                &env_params,
+                &mut cache,
+                &what,
+                options,
+                &mut log,
+            )?;
             let world_from_mesh = env
                 .pose
                 .to_isometry()
@@ -326,16 +382,18 @@ impl Setup {
             &object_mesh,
             &scene.object.mesh,
             &env_params,
-            cache,
+            &mut cache,
             "object.mesh",
+            options,
             &mut log,
         )?;
         let object_finger = clusters(
             &object_mesh,
             &scene.object.mesh,
             &finger_params,
-            cache,
+            &mut cache,
             "object.mesh",
+            options,
             &mut log,
         )?;
         let cog = scene
@@ -364,21 +422,28 @@ impl Setup {
         let mut arms = Vec::with_capacity(robot.arms.len());
         for robot_arm in &robot.arms {
             let t = Instant::now();
+            let key = roadmaps::roadmap_key(&robot.key_text, "", &robot_arm.group);
+            let path = cache
+                .dir()
+                .map(|dir| roadmaps::roadmap_path(dir, model.name(), &robot_arm.group, key));
+            let entry = path.as_deref().map(|path| RoadmapEntry {
+                path,
+                key,
+                writable: cache.writable(),
+            });
+            let stage = format!("roadmap {}", robot_arm.group);
             let arm_setup = arm_setup(
                 &model,
                 &self_world,
                 &start,
                 &world_from_root,
                 robot_arm,
-                cache.map(|dir| {
-                    roadmaps::roadmap_path(
-                        dir,
-                        model.name(),
-                        &robot_arm.group,
-                        roadmaps::roadmap_key(&robot.key_text, "", &robot_arm.group),
-                    )
-                }),
+                entry,
+                &|done, total| options.report(&stage, done, total),
             )?;
+            if let Some(warning) = &arm_setup.roadmap_report.cache_warning {
+                cache.report(warning.clone());
+            }
             log.push(format!(
                 "{} arm ({}): {} in {:.1} ms",
                 robot_arm.arm,
@@ -408,6 +473,7 @@ impl Setup {
             object_shape,
             world,
             log,
+            warnings: cache.into_warnings(),
         })
     }
 
@@ -459,12 +525,15 @@ fn load_mesh(path: &Path, scale: Real, what: &str) -> Result<TriMesh> {
     })
 }
 
+/// The clusters of a mesh: read from the cache when valid there, built otherwise (and
+/// written there when the cache is still in use).
 fn clusters(
     mesh: &TriMesh,
     mesh_path: &Path,
     params: &ClusterParams,
-    cache: Option<&Path>,
+    cache: &mut Cache,
     what: &str,
+    options: &SetupOptions,
     log: &mut Vec<String>,
 ) -> Result<Clustering> {
     let t = Instant::now();
@@ -472,19 +541,33 @@ fn clusters(
         what: what.to_owned(),
         source: Box::new(source),
     };
-    let (db, status) = match cache {
-        Some(dir) => {
-            std::fs::create_dir_all(dir).map_err(|source| Error::Cache {
-                path: dir.to_path_buf(),
-                source,
-            })?;
-            ClusterDatabase::load_or_build(&cache_path(dir, mesh_path, params), mesh, params)
-                .map_err(mesh_err)?
+    params.validate().map_err(mesh_err)?;
+    let path = cache.dir().map(|dir| cache_path(dir, mesh_path, params));
+    let mut loaded = None;
+    if let Some(path) = &path {
+        match ClusterDatabase::load(path, mesh_hash(mesh), params) {
+            Ok(db) => loaded = Some(db),
+            Err(e) => {
+                // Missing or damaged: rebuilt; unreadable: built in memory, with a warning.
+                if let Err(e) = ClusterDatabase::rebuild_reason(e) {
+                    cache.unreadable(path, crate::cache::io_reason(&e));
+                }
+            }
         }
-        None => (
-            ClusterDatabase::build(mesh, params).map_err(mesh_err)?,
-            CacheStatus::Built { reason: None },
-        ),
+    }
+    let (db, status) = match loaded {
+        Some(db) => (db, CacheStatus::Loaded),
+        None => {
+            let stage = format!("clustering {what} ({})", params.mode.name());
+            let db = ClusterDatabase::build_with_progress(mesh, params, &|done, total| {
+                options.report(&stage, done, total);
+            })
+            .map_err(mesh_err)?;
+            if let Some(path) = &path {
+                cache.write(path, &db.to_bytes());
+            }
+            (db, CacheStatus::Built { reason: None })
+        }
     };
     log.push(format!(
         "{what} {} clusters ({}): {} in {:.1} ms",
@@ -505,7 +588,8 @@ fn arm_setup(
     start: &[Real],
     world_from_root: &Isometry3,
     robot_arm: &RobotArm,
-    cache: Option<PathBuf>,
+    cache: Option<RoadmapEntry<'_>>,
+    progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<ArmSetup> {
     let arm = robot_arm.arm;
     let group = robot_arm.group.as_str();
@@ -522,13 +606,7 @@ fn arm_setup(
         .collect();
     let space = roadmaps::arm_space(model, &variables)?;
     let (roadmap, roadmap_report) = roadmaps::load_or_build(
-        model,
-        self_world,
-        group,
-        &variables,
-        start,
-        &space,
-        cache.as_deref(),
+        model, self_world, group, &variables, start, &space, cache, progress,
     )?;
     // The shoulder: the first joint's origin at the start configuration.
     let poses = model.link_poses(start).map_err(robot_err(model.source()))?;
@@ -650,4 +728,81 @@ fn complete_acm(
         }
     }
     Ok(acm)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    /// An unusable cache (its folder under a regular file, so that even root cannot write
+    /// it) gives one warning, reports the long work, and sets up the same clusters and
+    /// roadmaps as a working cache.
+    #[test]
+    fn an_unusable_cache_gives_one_warning_progress_and_the_same_setup() {
+        let cached = crate::testing::setup("fig9-near.toml");
+        let base =
+            std::env::temp_dir().join(format!("pickplace-setup-nocache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&base);
+        std::fs::create_dir_all(&base).expect("base");
+        let file = base.join("a-file");
+        std::fs::write(&file, "x").expect("file");
+        let calls: Arc<Mutex<Vec<(String, usize, usize)>>> = Arc::default();
+        let sink = Arc::clone(&calls);
+        let options = SetupOptions {
+            cache_dir: Some(file.join("cache")),
+            progress: Some(Arc::new(move |p: SetupProgress<'_>| {
+                sink.lock()
+                    .expect("calls")
+                    .push((p.stage.to_owned(), p.done, p.total));
+            })),
+            ..SetupOptions::default()
+        };
+        let fresh = Setup::load(&cached.scene_path, &options).expect("sets up in memory");
+        assert_eq!(fresh.warnings.len(), 1, "{:?}", fresh.warnings);
+        assert!(
+            matches!(&fresh.warnings[0], CacheWarning::NotWritable { folder, .. } if *folder == file.join("cache")),
+            "{:?}",
+            fresh.warnings
+        );
+        assert!(cached.warnings.is_empty(), "{:?}", cached.warnings);
+
+        // Freshly computed equals what the cache gave.
+        assert_eq!(fresh.object_env, cached.object_env);
+        assert_eq!(fresh.object_finger, cached.object_finger);
+        for (a, b) in fresh.environment.iter().zip(&cached.environment) {
+            assert_eq!(a.clustering, b.clustering);
+        }
+        for (a, b) in fresh.arms.iter().zip(&cached.arms) {
+            assert!(a.roadmap == b.roadmap, "{} roadmap differs", a.group);
+            assert_eq!(a.roadmap_report.source, roadmaps::RoadmapSource::Built);
+        }
+
+        // Every stage is named and ends with done == total.
+        let calls = calls.lock().expect("calls");
+        let mut stages: Vec<&str> = calls.iter().map(|c| c.0.as_str()).collect();
+        stages.dedup();
+        stages.sort_unstable();
+        stages.dedup();
+        let mut expected = vec![
+            "clustering object.mesh (env)".to_owned(),
+            "clustering object.mesh (finger)".to_owned(),
+        ];
+        for (i, e) in fresh.scene.environment.iter().enumerate() {
+            expected.push(format!("clustering environment[{i}] {:?} (env)", e.name));
+        }
+        for a in &fresh.arms {
+            expected.push(format!("roadmap {}", a.group));
+        }
+        expected.sort_unstable();
+        assert_eq!(stages, expected);
+        for stage in &expected {
+            let ends = calls
+                .iter()
+                .filter(|c| c.0 == *stage && c.1 == c.2 && c.2 > 0)
+                .count();
+            assert_eq!(ends, 1, "{stage} ends once: {calls:?}");
+        }
+        std::fs::remove_dir_all(&base).expect("cleanup");
+    }
 }

@@ -611,3 +611,29 @@ fn fifos_in_the_cache_folder_are_rebuilt_over_not_waited_on() {
         assert!(meta.is_file(), "{} is still not a file", entry.display());
     }
 }
+
+#[test]
+fn a_bad_value_in_the_gripper_file_names_that_file() {
+    // Found by `cargo xtask torture`: the message said `<memory>` instead of the file.
+    let dir = Scratch::new("hardening-gripper-nan");
+    let scene = scratch_scene(&dir);
+    let gripper = std::fs::read_to_string(root().join("robots/nx-hiro/gripper.toml"))
+        .expect("gripper")
+        .replace("opening_min = 0.0", "opening_min = nan");
+    let bad_gripper = dir.file("my-gripper.toml", gripper.as_bytes());
+    let text = std::fs::read_to_string(&scene).expect("scene");
+    let shipped = root().join("robots/nx-hiro/gripper.toml");
+    let text = text.replace(&*shipped.to_string_lossy(), &bad_gripper.to_string_lossy());
+    let bad = dir.file("bad.toml", text.as_bytes());
+    let o = command(crate::args!["plan", bad, "--out", dir.join("plan.json")])
+        .output()
+        .expect("runs");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("my-gripper.toml") && err.contains("opening_min"),
+        "{err}"
+    );
+    assert!(!err.contains("<memory>"), "{err}");
+    assert!(!dir.join("plan.json").exists());
+}

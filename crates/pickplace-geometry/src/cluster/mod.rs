@@ -58,6 +58,15 @@ use crate::mesh::TriMesh;
 use crate::polygon::{Polygon, Rect2};
 use grow::{Engine, Limits};
 
+/// Version of what [`cluster_surface`] computes. Bump it whenever the clusters or pairs of
+/// some mesh change (a new rule in the growth, the merge pass, the pairing, the plane fit):
+/// it is part of every cluster database's name ([`crate::db::cache_path`]) and header, so a
+/// newer build never reuses the clusters an older algorithm computed.
+pub const ALGORITHM_VERSION: u32 = 1;
+
+/// Units of work [`cluster_surface_with_progress`] reports: `done` runs from 0 to this total.
+pub const PROGRESS_TOTAL: usize = 1000;
+
 /// Which contact the clusters are made for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -294,7 +303,32 @@ pub fn fit_plane(mesh: &TriMesh, triangles: &[u32]) -> Option<(Vector3, Point3)>
 /// per pass. Finger mode adds one ray cast (linear in the triangle count) per seed and per
 /// final cluster.
 pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Clustering> {
+    cluster_surface_with_progress(mesh, params, &|_, _| {})
+}
+
+/// [`cluster_surface`], telling `progress(done, total)` how far it got: `total` is
+/// [`PROGRESS_TOTAL`], `done` grows with the seeds grown (most of the work) and reaches
+/// `total` once, at the end. Called at most about a hundred times; the clusters are the same
+/// as [`cluster_surface`]'s.
+///
+/// # Errors
+/// As [`cluster_surface`].
+pub fn cluster_surface_with_progress(
+    mesh: &TriMesh,
+    params: &ClusterParams,
+    progress: &dyn Fn(usize, usize),
+) -> Result<Clustering> {
     params.validate()?;
+    // Step 1 up to 10 %, the growth from the seeds up to 80 %, the merge pass up to 90 %,
+    // pairs and the clusters' geometry up to 100 %.
+    let mut last = usize::MAX;
+    let mut report = |done: usize| {
+        if done / 10 != last / 10 || done == PROGRESS_TOTAL {
+            last = done;
+            progress(done, PROGRESS_TOTAL);
+        }
+    };
+    report(0);
     let mut engine = Engine::new(
         mesh,
         Limits {
@@ -303,17 +337,25 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
         },
     );
     engine.step1();
+    report(100);
+    let mut seed_done = |seed: usize, seeds: usize| report(100 + 700 * seed / seeds.max(1));
     match params.mode {
         ContactMode::Environment => {
-            for x in engine.seed_order() {
+            let seeds = engine.seed_order();
+            for (i, &x) in seeds.iter().enumerate() {
                 if engine.clusters[x as usize].alive && !engine.clusters[x as usize].closed {
                     engine.grow(x, None);
                 }
+                seed_done(i + 1, seeds.len());
             }
         }
-        ContactMode::Finger => pairs::grow_finger(&mut engine, params.opposite_dot),
+        ContactMode::Finger => {
+            pairs::grow_finger(&mut engine, params.opposite_dot, &mut seed_done);
+        }
     }
+    report(800);
     engine.merge_adjacent();
+    report(900);
     let raw_pairs = match params.mode {
         ContactMode::Environment => Vec::new(),
         ContactMode::Finger => pairs::find_pairs(&engine, params.opposite_dot),
@@ -359,6 +401,7 @@ pub fn cluster_surface(mesh: &TriMesh, params: &ClusterParams) -> Result<Cluster
         .into_iter()
         .filter_map(|(a, b)| pairs::pair_geometry(&clusters[a as usize], &clusters[b as usize]))
         .collect();
+    report(PROGRESS_TOTAL);
     Ok(Clustering {
         params: *params,
         clusters,

@@ -16,9 +16,15 @@ pub const MIN_WALL_THICKNESS: Real = 0.002;
 /// ray leaves the object. If that triangle's cluster is still open and faces opposite
 /// (`n·n_x ≤ opposite_dot`), grow it towards `-n_x` keeping its normal opposite; otherwise
 /// grow it as an ordinary cluster. The pairs are found afterwards by [`find_pairs`], once the
-/// clusters are final.
-pub(super) fn grow_finger(engine: &mut Engine<'_>, opposite_dot: Real) {
-    for x in engine.seed_order() {
+/// clusters are final. `seed_done(seeds done, seeds)` is told after each seed.
+pub(super) fn grow_finger(
+    engine: &mut Engine<'_>,
+    opposite_dot: Real,
+    seed_done: &mut dyn FnMut(usize, usize),
+) {
+    let seeds = engine.seed_order();
+    for (i, &x) in seeds.iter().enumerate() {
+        seed_done(i, seeds.len());
         let cx = &engine.clusters[x as usize];
         if !cx.alive || cx.closed {
             continue;

@@ -64,7 +64,7 @@ fn round_trip_and_keys() {
     let mut bytes = std::fs::read(&path).expect("read");
     bytes[8..12].copy_from_slice(&(codec::FORMAT_VERSION + 1).to_le_bytes());
     match codec::decode(&bytes, mesh_hash(&can), &params).expect_err("version") {
-        DatabaseErrorKind::Version { found, expected } => assert_eq!((found, expected), (3, 2)),
+        DatabaseErrorKind::Version { found, expected } => assert_eq!((found, expected), (4, 3)),
         k => panic!("{k}"),
     }
     // A flipped payload byte is caught by the checksum.
