@@ -40,14 +40,27 @@ pub struct ViewArgs {
 /// Default size of the key-pose pictures written by [`write_view`] (pixels).
 pub const DEFAULT_SIZE: (u32, u32) = (800, 600);
 
-/// Parses `WIDTHxHEIGHT` (each 1 to 16384 pixels).
+/// Parses `WIDTHxHEIGHT` (each 1 to [`MAX_IMAGE_SIDE`](pickplace_view::MAX_IMAGE_SIDE)
+/// pixels, at most [`MAX_IMAGE_PIXELS`](pickplace_view::MAX_IMAGE_PIXELS) in all), before
+/// anything is read or allocated.
 pub fn parse_size(text: &str) -> Result<(u32, u32)> {
-    let parse =
-        |s: &str| -> Option<u32> { s.trim().parse().ok().filter(|v| (1..=16_384).contains(v)) };
+    let parse = |s: &str| -> Option<u32> {
+        s.trim()
+            .parse()
+            .ok()
+            .filter(|v| (1..=pickplace_view::MAX_IMAGE_SIDE).contains(v))
+    };
     match text.split_once(['x', 'X']) {
         Some((w, h)) => match (parse(w), parse(h)) {
-            (Some(w), Some(h)) => Ok((w, h)),
-            _ => bail!("--size `{text}`: width and height must be whole numbers from 1 to 16384"),
+            (Some(w), Some(h)) => {
+                pickplace_view::check_image_size(w, h)
+                    .with_context(|| format!("--size `{text}`"))?;
+                Ok((w, h))
+            }
+            _ => bail!(
+                "--size `{text}`: width and height must be whole numbers from 1 to {}",
+                pickplace_view::MAX_IMAGE_SIDE
+            ),
         },
         None => bail!("--size `{text}`: expected WIDTHxHEIGHT, for example 800x600"),
     }

@@ -200,8 +200,16 @@ pub fn decode(
     if used != payload.len() {
         return Err(corrupt("trailing bytes after the payload"));
     }
-    let triangle_count =
-        usize::try_from(p.triangle_count).map_err(|_| corrupt("triangle count overflows"))?;
+    let triangle_count = usize::try_from(p.triangle_count)
+        .ok()
+        .filter(|&n| n <= crate::mesh::MAX_MESH_TRIANGLES)
+        .ok_or_else(|| {
+            corrupt(format!(
+                "triangle count {} is over the mesh limit of {}",
+                p.triangle_count,
+                crate::mesh::MAX_MESH_TRIANGLES
+            ))
+        })?;
     for (i, c) in p.clusters.iter().enumerate() {
         if c.id as usize != i {
             return Err(corrupt(format!("cluster {i} carries id {}", c.id)));
@@ -254,6 +262,46 @@ mod tests {
                 }
             ),
             "{e:?}"
+        );
+    }
+
+    /// A database file around `payload`, with a valid header for mesh hash 7.
+    fn file(payload: &[u8], params: ClusterParams) -> Vec<u8> {
+        let header = Header {
+            mesh_hash: 7,
+            params,
+            algorithm_version: crate::cluster::ALGORITHM_VERSION,
+            payload_len: payload.len() as u64,
+            payload_hash: hash_bytes(payload),
+        };
+        let header = bincode::serde::encode_to_vec(&header, config()).expect("encode");
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+        bytes.extend_from_slice(&(header.len() as u32).to_le_bytes());
+        bytes.extend_from_slice(&header);
+        bytes.extend_from_slice(payload);
+        bytes
+    }
+
+    #[test]
+    fn counts_a_payload_cannot_hold_are_errors_not_allocations() {
+        // Regression (issue 18): a vector length of 2^62 clusters with a valid checksum is a
+        // decoding error at once (bincode's serde path reserves at most a bounded amount).
+        let params = ClusterParams::environment();
+        let mut payload = vec![0u8];
+        payload.push(0xFD);
+        payload.extend_from_slice(&(1u64 << 62).to_le_bytes());
+        let e = decode(&file(&payload, params), 7, &params).expect_err("refused");
+        assert!(matches!(e, DatabaseErrorKind::Corrupt { .. }), "{e}");
+        // A triangle count over the mesh limit, with no clusters.
+        let mut payload = vec![0xFC];
+        payload.extend_from_slice(&3_000_000u32.to_le_bytes());
+        payload.extend_from_slice(&[0, 0]);
+        let e = decode(&file(&payload, params), 7, &params).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("triangle count 3000000 is over the mesh limit of 2000000"),
+            "{e}"
         );
     }
 }

@@ -24,7 +24,7 @@ pub enum Error {
         kind: MeshErrorKind,
     },
     /// A parameter is outside its valid range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", crate::io::fmt_real(*.value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
@@ -89,13 +89,30 @@ pub enum MeshErrorKind {
         triangles: usize,
     },
     /// The scale factor is not a positive finite number.
-    #[error("scale {scale} must be positive and finite")]
+    #[error("scale {} must be positive and finite", crate::io::fmt_real(*.scale))]
     InvalidScale {
         /// The scale given.
         scale: f64,
     },
+    /// The file holds (or its header declares) more of something than a mesh may have
+    /// ([`crate::mesh::MAX_MESH_TRIANGLES`], [`crate::mesh::MAX_MESH_VERTICES`]); refused
+    /// before the memory for it is allocated.
+    #[error("{count} {what}, over the limit of {limit}")]
+    OverLimit {
+        /// What was counted: "triangles", "vertices", "triangles declared in the header", ….
+        what: &'static str,
+        /// How many the file holds or declares.
+        count: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// A per-axis scale has a zero or non-finite component (negative ones mirror).
-    #[error("scale {scale:?} has a zero or non-finite component")]
+    #[error(
+        "scale [{}, {}, {}] has a zero or non-finite component",
+        crate::io::fmt_real(.scale[0]),
+        crate::io::fmt_real(.scale[1]),
+        crate::io::fmt_real(.scale[2])
+    )]
     InvalidScaleVector {
         /// The scale given, per axis.
         scale: [f64; 3],

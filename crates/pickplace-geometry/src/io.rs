@@ -38,6 +38,102 @@ pub const MAX_MESH_BYTES: u64 = 1024 * MIB;
 /// Default limit of a cache entry (cluster database, roadmap): 1 GiB.
 pub const MAX_CACHE_ENTRY_BYTES: u64 = 1024 * MIB;
 
+/// The longest name accepted in any input file (bytes): scene objects, environment meshes,
+/// strategies, URDF robots, links, joints and materials, SRDF groups, states and end
+/// effectors, start-state joints. A longer name is refused with the file and the limit
+/// before it is copied further (a 100 MB name took 3 GB).
+pub const MAX_NAME_BYTES: usize = 1024;
+
+/// The longest path accepted in an input file (bytes): mesh, URDF, SRDF and gripper file
+/// names and package folders (Linux's `PATH_MAX`).
+pub const MAX_PATH_BYTES: usize = 4096;
+
+/// Refuses a name longer than [`MAX_NAME_BYTES`]: `Err` holds the message
+/// "WHAT is N bytes, over the limit of 1024" (without the name itself, which may be huge).
+///
+/// # Errors
+/// The message when `name` is too long.
+pub fn check_name(what: &str, name: &str) -> Result<(), String> {
+    check_length(what, name, MAX_NAME_BYTES)
+}
+
+/// Refuses a path longer than [`MAX_PATH_BYTES`], as [`check_name`].
+///
+/// # Errors
+/// The message when `path` is too long.
+pub fn check_path_text(what: &str, path: &str) -> Result<(), String> {
+    check_length(what, path, MAX_PATH_BYTES)
+}
+
+fn check_length(what: &str, text: &str, limit: usize) -> Result<(), String> {
+    if text.len() > limit {
+        return Err(format!(
+            "{what} is {} bytes, over the limit of {limit}",
+            text.len()
+        ));
+    }
+    Ok(())
+}
+
+/// A number as messages show it: Rust's shortest form between 1e-4 and 1e6 (`0.25`, `-3`),
+/// scientific notation outside (`1e300`, `-2.5e-9`), so a value from a file never prints in
+/// hundreds of digits (`{}` prints 1e300 in 301). `NaN`, `inf` and `-inf` as Rust writes them.
+pub fn fmt_real(value: f64) -> String {
+    let magnitude = value.abs();
+    if !value.is_finite() || value == 0.0 || (1e-4..1e6).contains(&magnitude) {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
+/// As [`fmt_real`] with `decimals` digits after the point (after the mantissa's point in
+/// scientific notation).
+pub fn fmt_real_fixed(value: f64, decimals: usize) -> String {
+    let magnitude = value.abs();
+    if !value.is_finite() || value == 0.0 || (1e-4..1e6).contains(&magnitude) {
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.decimals$e}")
+    }
+}
+
+/// Longest parser message kept in an error (bytes); longer ones are cut at a character
+/// boundary and end with `…`.
+pub const MAX_PARSER_MESSAGE_BYTES: usize = 200;
+
+/// A parse error as "line L, column C: MESSAGE" (or "MESSAGE" without a position): the
+/// position of byte `offset` of `text` (1-based, columns in characters) and the first line of
+/// the parser's message, at most [`MAX_PARSER_MESSAGE_BYTES`]. Never a quoted line of the
+/// file: given a foreign file (`gripper = "/etc/passwd"`), the error must not print it
+/// (issue 18).
+pub fn parse_error(text: &str, offset: Option<usize>, message: &str) -> String {
+    let message = short_message(message);
+    match offset {
+        Some(offset) => {
+            let offset = offset.min(text.len());
+            let before = text.get(..offset).unwrap_or(text);
+            let line = 1 + before.matches('\n').count();
+            let column = 1 + before.rsplit('\n').next().map_or(0, |l| l.chars().count());
+            format!("line {line}, column {column}: {message}")
+        }
+        None => message,
+    }
+}
+
+/// The first line of `message`, trimmed, at most [`MAX_PARSER_MESSAGE_BYTES`].
+pub fn short_message(message: &str) -> String {
+    let first = message.trim().lines().next().unwrap_or("").trim_end();
+    if first.len() <= MAX_PARSER_MESSAGE_BYTES {
+        return first.to_string();
+    }
+    let mut end = MAX_PARSER_MESSAGE_BYTES;
+    while !first.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!("{}…", &first[..end])
+}
+
 /// The kinds of input file, each with its own size limit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -246,6 +342,50 @@ pub fn read_text(path: &Path, kind: FileKind) -> std::io::Result<String> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn numbers_print_compactly() {
+        // Regression (issue 18): 1e300 printed in 301 digits.
+        assert_eq!(super::fmt_real(1e300), "1e300");
+        assert_eq!(super::fmt_real(-2.5e-9), "-2.5e-9");
+        assert_eq!(super::fmt_real(0.25), "0.25");
+        assert_eq!(super::fmt_real(-3.0), "-3");
+        assert_eq!(super::fmt_real(0.0), "0");
+        assert_eq!(super::fmt_real(f64::NAN), "NaN");
+        assert_eq!(super::fmt_real(f64::NEG_INFINITY), "-inf");
+        assert_eq!(super::fmt_real_fixed(1e300, 3), "1.000e300");
+        assert_eq!(super::fmt_real_fixed(1.23456, 3), "1.235");
+        assert_eq!(
+            super::fmt_real(f64::MAX).len(),
+            "1.7976931348623157e308".len()
+        );
+    }
+
+    #[test]
+    fn parse_errors_give_the_position_not_the_line() {
+        let text = "a = 1\nroot:x:0:0:root:/root:/bin/bash\n";
+        let m = super::parse_error(text, Some(10), "expected `.`, `=`\n  |\n2 | root:x");
+        assert_eq!(m, "line 2, column 5: expected `.`, `=`");
+        assert_eq!(super::parse_error(text, None, "  bad  "), "bad");
+        let long = "é".repeat(300);
+        let m = super::short_message(&long);
+        assert!(
+            m.len() <= super::MAX_PARSER_MESSAGE_BYTES + '…'.len_utf8(),
+            "{m}"
+        );
+        assert!(m.ends_with('…'));
+    }
+
+    #[test]
+    fn long_names_and_paths_are_refused_with_their_length() {
+        assert!(super::check_name("object name", &"n".repeat(1024)).is_ok());
+        assert_eq!(
+            super::check_name("object name", &"n".repeat(1025)),
+            Err("object name is 1025 bytes, over the limit of 1024".to_string())
+        );
+        assert!(super::check_path_text("mesh", &"p".repeat(4096)).is_ok());
+        assert!(super::check_path_text("mesh", &"p".repeat(4097)).is_err());
+    }
+
     use super::*;
 
     fn dir() -> tempfile::TempDir {

@@ -17,13 +17,13 @@ pub enum Error {
         source: std::io::Error,
     },
     /// A gripper configuration is not valid TOML or does not have the expected fields.
-    #[error("{}: invalid gripper configuration", path.display())]
+    #[error("{}: invalid gripper configuration: {message}", path.display())]
     GripperSyntax {
         /// The file, or `<memory>`.
         path: PathBuf,
-        /// What the TOML reader reported (with line and column).
-        #[source]
-        source: toml::de::Error,
+        /// What the TOML reader reported, with line and column, without quoting the file
+        /// (`pickplace_geometry::io::parse_error`).
+        message: String,
     },
     /// A gripper parameter is outside its valid range.
     #[error("{}: gripper parameter `{field}` {reason}", path.display())]

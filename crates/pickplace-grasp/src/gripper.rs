@@ -87,9 +87,13 @@ impl GripperParams {
     /// [`Error::GripperSyntax`] for malformed TOML, missing or unknown keys;
     /// [`Error::InvalidGripper`] for values out of range (see [`GripperParams::validate`]).
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
-        let params: Self = toml::from_str(text).map_err(|source| Error::GripperSyntax {
+        let params: Self = toml::from_str(text).map_err(|e| Error::GripperSyntax {
             path: path.to_path_buf(),
-            source,
+            message: pickplace_geometry::io::parse_error(
+                text,
+                e.span().map(|s| s.start),
+                e.message(),
+            ),
         })?;
         params.validate_for(path)?;
         Ok(params)

@@ -230,6 +230,18 @@ pub fn decode(bytes: &[u8], space: &JointSpace) -> Result<Roadmap> {
             index: offset,
         });
     }
+    // The counts of the header, bounded by the bytes that are there before anything is
+    // decoded: a state value is 8 bytes, an edge at least 2 (two varints).
+    let state_values = header
+        .node_count
+        .checked_mul(u64::from(header.dimension))
+        .filter(|&n| n.saturating_mul(8) <= header.body_len);
+    if state_values.is_none() || header.edge_count.saturating_mul(2) > header.body_len {
+        return Err(Error::CorruptRoadmap {
+            what: "node or edge count larger than the body can hold",
+            index: offset,
+        });
+    }
     let (body, used): (Body, usize) = bincode::serde::decode_from_slice(body, config())
         .map_err(|source| Error::Decode { source })?;
     if used != header.body_len as usize {
@@ -281,6 +293,37 @@ mod tests {
             ..RoadmapOptions::default()
         };
         Roadmap::build_lazy(&space(), &options).expect("roadmap")
+    }
+
+    /// `bytes` with its body replaced by `body` and the header's length and checksum fixed.
+    fn with_body(bytes: &[u8], body: &[u8], node_count: u64) -> Vec<u8> {
+        let mut header = read_header(bytes).expect("header");
+        header.body_len = body.len() as u64;
+        header.body_checksum = checksum(body);
+        header.node_count = node_count;
+        header.edge_count = 0;
+        let header = bincode::serde::encode_to_vec(&header, config()).expect("encode");
+        let mut out = bytes[..8 + 4].to_vec();
+        out.extend_from_slice(&(header.len() as u32).to_le_bytes());
+        out.extend_from_slice(&header);
+        out.extend_from_slice(body);
+        out
+    }
+
+    #[test]
+    fn counts_beyond_the_body_are_refused_before_allocating() {
+        // Regression (issue 18): a body whose vector length claims 2^62 states, with the
+        // checksum right, is an error (no allocation of the claimed size, no abort).
+        let bytes = encode(&roadmap()).expect("encode");
+        let mut body = vec![0xFD];
+        body.extend_from_slice(&(1u64 << 62).to_le_bytes());
+        body.push(0);
+        let e = decode(&with_body(&bytes, &body, 1u64 << 60), &space()).expect_err("refused");
+        assert!(e.to_string().contains("larger than the body"), "{e}");
+        // The header's counts agree with the body's size but the vector length lies.
+        body.resize(8 * 3 + 10, 0);
+        let e = decode(&with_body(&bytes, &body, 1), &space()).expect_err("refused");
+        assert!(matches!(e, Error::Decode { .. }), "{e}");
     }
 
     #[test]

@@ -95,7 +95,12 @@ pub enum Error {
         found: usize,
     },
     /// A joint value is outside its limits.
-    #[error("joint {joint:?} = {value} is outside its limits [{lower}, {upper}]")]
+    #[error(
+        "joint {joint:?} = {} is outside its limits [{}, {}]",
+        pickplace_geometry::io::fmt_real(*.value),
+        pickplace_geometry::io::fmt_real(*.lower),
+        pickplace_geometry::io::fmt_real(*.upper)
+    )]
     OutOfLimits {
         /// The joint.
         joint: String,
@@ -107,7 +112,7 @@ pub enum Error {
         upper: f64,
     },
     /// A parameter is outside its valid range, or a value is not finite.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", pickplace_geometry::io::fmt_real(*.value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
@@ -176,7 +181,11 @@ pub enum ModelErrorKind {
         link: String,
     },
     /// A joint's lower limit is above its upper limit.
-    #[error("joint {joint:?}: lower limit {lower} is above upper limit {upper}")]
+    #[error(
+        "joint {joint:?}: lower limit {} is above upper limit {}",
+        pickplace_geometry::io::fmt_real(*.lower),
+        pickplace_geometry::io::fmt_real(*.upper)
+    )]
     LimitsInverted {
         /// The joint.
         joint: String,
@@ -196,7 +205,7 @@ pub enum ModelErrorKind {
         field: &'static str,
     },
     /// A joint's velocity limit is negative.
-    #[error("joint {joint:?}: negative velocity limit {velocity}")]
+    #[error("joint {joint:?}: negative velocity limit {}", pickplace_geometry::io::fmt_real(*.velocity))]
     NegativeVelocity {
         /// The joint.
         joint: String,
@@ -239,7 +248,7 @@ pub enum ModelErrorKind {
         scale: [f64; 3],
     },
     /// A geometry has a non-positive or non-finite size.
-    #[error("link {link:?}: {shape} has invalid size {value}")]
+    #[error("link {link:?}: {shape} has invalid size {}", pickplace_geometry::io::fmt_real(*.value))]
     BadGeometry {
         /// The link.
         link: String,
@@ -323,6 +332,20 @@ pub enum SrdfErrorKind {
         position: u64,
         /// What the parser reported.
         detail: String,
+    },
+    /// An attribute value is over its limit: a name over
+    /// [`MAX_NAME_BYTES`](pickplace_geometry::io::MAX_NAME_BYTES), a `value` or `reason` over
+    /// [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES).
+    #[error("<{element}> attribute {attribute:?} is {bytes} bytes, over the limit of {limit}")]
+    TooLong {
+        /// The element.
+        element: &'static str,
+        /// The attribute.
+        attribute: &'static str,
+        /// Its length (bytes, as written in the file).
+        bytes: usize,
+        /// The limit (bytes).
+        limit: usize,
     },
     /// The text has no `<robot>` element: not an SRDF.
     #[error("no <robot> element: not an SRDF file")]

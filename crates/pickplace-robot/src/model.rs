@@ -373,7 +373,8 @@ impl RobotModel {
     /// Reads a URDF file. Relative mesh paths resolve against the file's directory.
     ///
     /// # Errors
-    /// [`Error::Io`], [`Error::UrdfSyntax`] (also for elements nested more than 256 deep,
+    /// [`Error::Io`], [`Error::UrdfSyntax`] (also for elements nested more than 256 deep, more
+    /// than 10 000 links or joints, a name over 1024 bytes or another attribute over 4096,
     /// refused before parsing), [`Error::InvalidModel`] (cycle, missing link, inverted limits,
     /// non-finite numbers, ...) or [`Error::Mesh`].
     pub fn from_urdf_file(path: &Path, options: &LoadOptions) -> Result<Self> {
@@ -400,18 +401,15 @@ impl RobotModel {
         base_dir: &Path,
         options: &LoadOptions,
     ) -> Result<Self> {
-        if let Some(line) = crate::urdf::too_deep(text, crate::urdf::MAX_XML_DEPTH) {
+        if let Some(detail) = crate::urdf::check_text(text) {
             return Err(Error::UrdfSyntax {
                 path: path.to_path_buf(),
-                detail: format!(
-                    "elements nested more than {} deep at line {line} (MAX_XML_DEPTH): refused before parsing",
-                    crate::urdf::MAX_XML_DEPTH
-                ),
+                detail,
             });
         }
         let robot = urdf_rs::read_from_string(text).map_err(|e| Error::UrdfSyntax {
             path: path.to_path_buf(),
-            detail: e.to_string(),
+            detail: pickplace_geometry::io::short_message(&e.to_string()),
         })?;
         crate::urdf::build(&robot, path, base_dir, options)
     }

@@ -176,13 +176,27 @@ fn attribute(
     name: &'static str,
 ) -> std::result::Result<Option<String>, SrdfErrorKind> {
     match e.try_get_attribute(name) {
-        Ok(Some(a)) => a
-            .unescape_value()
-            .map(|v| Some(v.into_owned()))
-            .map_err(|err| SrdfErrorKind::Xml {
-                position: 0,
-                detail: format!("<{element}> {name}: {err}"),
-            }),
+        Ok(Some(a)) => {
+            // Checked before the value is unescaped and copied.
+            let limit = match name {
+                "value" | "reason" => pickplace_geometry::io::MAX_PATH_BYTES,
+                _ => pickplace_geometry::io::MAX_NAME_BYTES,
+            };
+            if a.value.len() > limit {
+                return Err(SrdfErrorKind::TooLong {
+                    element,
+                    attribute: name,
+                    bytes: a.value.len(),
+                    limit,
+                });
+            }
+            a.unescape_value()
+                .map(|v| Some(v.into_owned()))
+                .map_err(|err| SrdfErrorKind::Xml {
+                    position: 0,
+                    detail: format!("<{element}> {name}: {err}"),
+                })
+        }
         Ok(None) => Ok(None),
         Err(err) => Err(SrdfErrorKind::Xml {
             position: 0,
@@ -273,7 +287,7 @@ impl Srdf {
             let xml_error =
                 |reader: &quick_xml::Reader<&[u8]>, err: quick_xml::Error| SrdfErrorKind::Xml {
                     position: reader.error_position(),
-                    detail: err.to_string(),
+                    detail: pickplace_geometry::io::short_message(&err.to_string()),
                 };
             let event = reader.read_event().map_err(|err| xml_error(&reader, err))?;
             let (e, is_empty) = match event {
@@ -1337,4 +1351,26 @@ fn collect_group_joints<'a>(
     }
     visiting.pop();
     Ok(())
+}
+
+#[cfg(test)]
+mod limit_tests {
+    use super::*;
+
+    #[test]
+    fn a_name_over_the_limit_is_refused_before_it_is_copied() {
+        // Regression (issue 18): names had no limit but the file's size (16 MiB).
+        let text = format!(
+            "<robot name=\"r\"><group name=\"{}\"><joint name=\"j\"/></group></robot>",
+            "g".repeat(5000)
+        );
+        let e = Srdf::from_xml_str(&text).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("<group> attribute \"name\" is 5000 bytes, over the limit of 1024"),
+            "{e}"
+        );
+        let ok = "<robot name=\"r\"><group name=\"arm\"><joint name=\"j\"/></group></robot>";
+        assert!(Srdf::from_xml_str(ok).is_ok());
+    }
 }

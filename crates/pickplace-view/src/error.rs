@@ -24,7 +24,7 @@ pub enum Error {
         source: png::EncodingError,
     },
     /// A parameter is outside its valid range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", pickplace_geometry::io::fmt_real(*.value))]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,
@@ -32,6 +32,21 @@ pub enum Error {
         value: f64,
         /// Why it is invalid.
         reason: &'static str,
+    },
+    /// An image (or a picture to render) has more pixels than
+    /// [`MAX_IMAGE_PIXELS`](crate::MAX_IMAGE_PIXELS); refused before its buffers are allocated.
+    #[error(
+        "an image of {width}x{height} pixels is {pixels} pixels, over the limit of {limit} (8192x8192)"
+    )]
+    ImageTooLarge {
+        /// Width asked for (pixels).
+        width: u64,
+        /// Height asked for (pixels).
+        height: u64,
+        /// `width * height`.
+        pixels: u64,
+        /// [`MAX_IMAGE_PIXELS`](crate::MAX_IMAGE_PIXELS).
+        limit: u64,
     },
     /// Geometry handed to the scene or the glTF writer is malformed.
     #[error("invalid geometry: {kind}")]

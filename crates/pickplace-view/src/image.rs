@@ -119,17 +119,42 @@ pub struct Image {
     rgba: Vec<u8>,
 }
 
-/// Largest width or height accepted (pixels): keeps buffers far below memory limits.
+/// Largest width or height accepted (pixels).
 pub const MAX_IMAGE_SIDE: u32 = 16_384;
+/// Largest number of pixels of an image (64 Mpx, 8192x8192): an image takes 4 bytes a pixel,
+/// and [`render`](crate::render) with supersampling 36 bytes more (a 16384x16384 picture
+/// needed 9.5 GB; one at this limit about 2.7 GB).
+pub const MAX_IMAGE_PIXELS: u64 = 8192 * 8192;
+
+/// Checks an image size against [`MAX_IMAGE_SIDE`] and [`MAX_IMAGE_PIXELS`], before any
+/// buffer of that size is allocated.
+///
+/// # Errors
+/// [`Error::InvalidParameter`] when a side is 0 or above [`MAX_IMAGE_SIDE`];
+/// [`Error::ImageTooLarge`] when `width * height` is above [`MAX_IMAGE_PIXELS`].
+pub fn check_image_size(width: u32, height: u32) -> Result<()> {
+    check_side("width", width)?;
+    check_side("height", height)?;
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels > MAX_IMAGE_PIXELS {
+        return Err(Error::ImageTooLarge {
+            width: u64::from(width),
+            height: u64::from(height),
+            pixels,
+            limit: MAX_IMAGE_PIXELS,
+        });
+    }
+    Ok(())
+}
 
 impl Image {
     /// An image filled with one opaque colour.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] when a side is 0 or above [`MAX_IMAGE_SIDE`].
+    /// [`Error::InvalidParameter`] when a side is 0 or above [`MAX_IMAGE_SIDE`];
+    /// [`Error::ImageTooLarge`] above [`MAX_IMAGE_PIXELS`].
     pub fn new(width: u32, height: u32, fill: Colour) -> Result<Self> {
-        check_side("width", width)?;
-        check_side("height", height)?;
+        check_image_size(width, height)?;
         let pixel = [fill.r, fill.g, fill.b, 255];
         let rgba = pixel.repeat(width as usize * height as usize);
         Ok(Self {
@@ -143,10 +168,9 @@ impl Image {
     ///
     /// # Errors
     /// [`Error::InvalidParameter`] for a bad side, or when `rgba` is not `4 * width * height`
-    /// bytes long.
+    /// bytes long; [`Error::ImageTooLarge`] above [`MAX_IMAGE_PIXELS`].
     pub fn from_rgba(width: u32, height: u32, rgba: Vec<u8>) -> Result<Self> {
-        check_side("width", width)?;
-        check_side("height", height)?;
+        check_image_size(width, height)?;
         if rgba.len() != 4 * width as usize * height as usize {
             return Err(Error::InvalidParameter {
                 name: "rgba.len()",
@@ -320,6 +344,36 @@ pub fn montage(images: &[Image], options: &MontageOptions) -> Result<Image> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sizes_over_the_pixel_limit_are_refused_before_allocating() {
+        // Regression (issue 18): 16384x16384 needed 9.5 GB to render.
+        let e = Image::new(16_384, 16_384, Colour::WHITE).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("16384x16384 pixels is 268435456 pixels, over the limit of 67108864"),
+            "{e}"
+        );
+        assert!(check_image_size(8192, 8192).is_ok());
+        assert!(check_image_size(8193, 8192).is_err());
+        assert!(check_image_size(16_384, 4096).is_ok());
+        assert!(check_image_size(0, 1).is_err());
+        // A montage within the side limit but over the pixel limit: 840 rows of 16000x1.
+        let strips = vec![Image::new(16_000, 1, Colour::WHITE).expect("image"); 840];
+        let options = MontageOptions {
+            columns: 1,
+            ..MontageOptions::default()
+        };
+        assert!(matches!(
+            montage(&strips, &options),
+            Err(Error::ImageTooLarge {
+                width: 16_008,
+                height: 4204,
+                ..
+            })
+        ));
+        assert!(montage(&strips[..800], &options).is_ok());
+    }
 
     #[test]
     fn srgb_round_trips_through_linear() {

@@ -76,7 +76,9 @@ pub mod scene;
 
 pub use camera::{Camera, DEFAULT_FOV_Y, OBLIQUE_VIEW, Projection};
 pub use error::{Error, GeometryErrorKind, GlbErrorKind, GltfErrorKind, MotionErrorKind, Result};
-pub use image::{Colour, Image, MontageOptions, montage};
+pub use image::{
+    Colour, Image, MAX_IMAGE_PIXELS, MAX_IMAGE_SIDE, MontageOptions, check_image_size, montage,
+};
 pub use pictures::{PictureOptions, cluster_colours, render_clusters, render_placements};
 pub use plan::{Grip, Motion, PlanView, Prop};
 pub use raster::{AntiAliasing, RenderOptions, render, render_to_png};

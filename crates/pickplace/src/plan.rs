@@ -9,9 +9,41 @@
 
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
+use pickplace_geometry::io::fmt_real;
 use pickplace_geometry::math::{Isometry3, Real};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+/// The names a key pose may have (`docs/plan-format.md`, `key_poses[]`).
+pub const KEY_POSE_NAMES: [&str; 19] = [
+    "pre-grasp",
+    "grasp",
+    "lift",
+    "handover",
+    "pre-regrasp",
+    "regrasp",
+    "release-first",
+    "retreat-first",
+    "home-first",
+    "pre-rest",
+    "rest",
+    "release-rest",
+    "retreat-rest",
+    "lift-again",
+    "pre-place",
+    "place",
+    "release",
+    "retreat",
+    "home",
+];
+
+/// At most 64 characters of a string from a plan, for messages.
+fn clip(text: &str) -> String {
+    match text.char_indices().nth(64) {
+        Some((end, _)) => format!("{}…", &text[..end]),
+        None => text.to_string(),
+    }
+}
 
 /// The plan format written in [`Plan::format`].
 pub const PLAN_FORMAT: &str = "pickplace.plan/1";
@@ -346,14 +378,189 @@ impl Plan {
         Ok(())
     }
 
+    /// Checks the rules of `docs/plan-format.md` that need no robot ("Form of a plan"): the
+    /// trajectory starts at time 0; events are in time order, from time 0 on, each
+    /// release after a grasp by the same link and no grasp by a link already holding, by the
+    /// strategy's arms (the first grasp by the picking arm, the last release by the placing
+    /// arm); one grasp, or two with a handover or a regrasp by placing, the first by the
+    /// picking arm and the last by the placing arm; `rests` exactly in a regrasp by placing;
+    /// key poses with the documented names, in time order from time 0 on, by the
+    /// strategy's arms; contacts `face-face` or `edge-face`; finite numbers everywhere.
+    ///
+    /// # Errors
+    /// The first rule broken, by its field (`events[2]: …`).
+    pub fn check_form(&self) -> Result<(), String> {
+        let Some(first) = self.trajectory.first() else {
+            return Err("trajectory: empty (it starts at the scene's start state)".into());
+        };
+        if first.time_from_start != 0.0 {
+            return Err(format!(
+                "trajectory[0]: time_from_start {} s, the trajectory starts at time 0",
+                fmt_real(first.time_from_start)
+            ));
+        }
+        // An event or key pose after the end of the trajectory is a problem `validate`
+        // reports (exit 1), not a matter of form.
+        let within = |field: String, t: Real| -> Result<(), String> {
+            if !t.is_finite() || t < 0.0 {
+                return Err(format!(
+                    "{field}: time {} s is not a finite time from 0 on",
+                    fmt_real(t)
+                ));
+            }
+            Ok(())
+        };
+        let arms = self.strategy.arms();
+        let by_strategy = |field: String, arm: Arm| -> Result<(), String> {
+            if !arms.contains(&arm) {
+                return Err(format!(
+                    "{field}: arm {arm} is not an arm of the strategy {}",
+                    self.strategy
+                ));
+            }
+            Ok(())
+        };
+        let mut holding: Vec<&str> = Vec::new();
+        let mut previous = 0.0;
+        for (i, e) in self.events.iter().enumerate() {
+            let field = format!("events[{i}]");
+            within(field.clone(), e.time)?;
+            if e.time < previous {
+                return Err(format!(
+                    "{field}: before the event above it (events are in time order)"
+                ));
+            }
+            previous = e.time;
+            by_strategy(field.clone(), e.arm)?;
+            match e.kind {
+                EventKind::Grasp => {
+                    if holding.contains(&e.link.as_str()) {
+                        return Err(format!(
+                            "{field}: grasp by {:?}, which already holds the object",
+                            e.link
+                        ));
+                    }
+                    holding.push(&e.link);
+                }
+                EventKind::Release => {
+                    let Some(k) = holding.iter().position(|l| *l == e.link) else {
+                        return Err(format!(
+                            "{field}: release by {:?} without a grasp before it",
+                            e.link
+                        ));
+                    };
+                    holding.remove(k);
+                }
+            }
+        }
+        let first_grasp = self.events.iter().find(|e| e.kind == EventKind::Grasp);
+        let last_release = self
+            .events
+            .iter()
+            .rev()
+            .find(|e| e.kind == EventKind::Release);
+        if let Some(g) = first_grasp
+            && g.arm != self.strategy.pick_arm()
+        {
+            return Err(format!(
+                "events: the first grasp is by the {} arm, the strategy {} picks with the {} arm",
+                g.arm,
+                self.strategy,
+                self.strategy.pick_arm()
+            ));
+        }
+        if let Some(r) = last_release
+            && r.arm != self.strategy.place_arm()
+        {
+            return Err(format!(
+                "events: the last release is by the {} arm, the strategy {} places with the {} arm",
+                r.arm,
+                self.strategy,
+                self.strategy.place_arm()
+            ));
+        }
+        let two = self.strategy.has_handover() || self.strategy.has_regrasp();
+        let expected = if two { 2 } else { 1 };
+        if self.grasps.len() != expected {
+            return Err(format!(
+                "grasps: {} given, the strategy {} uses {expected}",
+                self.grasps.len(),
+                self.strategy
+            ));
+        }
+        for (i, g) in self.grasps.iter().enumerate() {
+            if !(g.width.is_finite() && g.score.is_finite()) {
+                return Err(format!("grasps[{i}]: a non-finite width or score"));
+            }
+        }
+        let arm_of = |i: usize| self.grasps[i].arm;
+        if arm_of(0) != self.strategy.pick_arm()
+            || arm_of(expected - 1) != self.strategy.place_arm()
+        {
+            return Err(format!(
+                "grasps: by the {} then the {} arm, the strategy {} picks with the {} and places with the {}",
+                arm_of(0),
+                arm_of(expected - 1),
+                self.strategy,
+                self.strategy.pick_arm(),
+                self.strategy.place_arm()
+            ));
+        }
+        if self.strategy.has_regrasp() == self.rests.is_empty() {
+            return Err(format!(
+                "rests: {} given; there is at least one exactly in a regrasp by placing (strategy {})",
+                self.rests.len(),
+                self.strategy
+            ));
+        }
+        let contact = |field: String, p: &PlacementInfo| -> Result<(), String> {
+            if !matches!(p.contact.as_str(), "face-face" | "edge-face") {
+                return Err(format!(
+                    "{field}.contact: {:?} is neither \"face-face\" nor \"edge-face\"",
+                    clip(&p.contact)
+                ));
+            }
+            if !p.stability_margin.is_finite() {
+                return Err(format!("{field}.stability_margin: not a finite number"));
+            }
+            Ok(())
+        };
+        contact("placement".into(), &self.placement)?;
+        for (i, r) in self.rests.iter().enumerate() {
+            contact(format!("rests[{i}].placement"), &r.placement)?;
+        }
+        let mut previous = 0.0;
+        for (i, k) in self.key_poses.iter().enumerate() {
+            let field = format!("key_poses[{i}]");
+            if !KEY_POSE_NAMES.contains(&k.name.as_str()) {
+                return Err(format!(
+                    "{field}: {:?} is not a key pose name (docs/plan-format.md)",
+                    clip(&k.name)
+                ));
+            }
+            within(field.clone(), k.time)?;
+            if k.time < previous {
+                return Err(format!(
+                    "{field}: before the key pose above it (key poses are in time order)"
+                ));
+            }
+            previous = k.time;
+            by_strategy(field, k.arm)?;
+        }
+        Ok(())
+    }
+
     /// Reads a plan from JSON and checks its form: one position per joint name, finite
     /// numbers, times from 0 on that never decrease, valid poses ([`Plan::check_poses`]).
+    /// The other rules of the form ([`Plan::check_form`]) are `validate`'s: `view` plays any
+    /// trajectory with events.
     ///
     /// # Errors
     /// The parser's message (line and column) when the text is not a plan of this format, or
     /// the first sample or pose whose form is wrong.
     pub fn from_json(text: &str) -> Result<Self, String> {
-        let plan: Plan = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let plan: Plan = serde_json::from_str(text)
+            .map_err(|e| pickplace_geometry::io::short_message(&e.to_string()))?;
         if plan.format != PLAN_FORMAT {
             return Err(format!("format {:?} is not {PLAN_FORMAT:?}", plan.format));
         }
@@ -371,7 +578,7 @@ impl Plan {
             if p.time_from_start < 0.0 {
                 return Err(format!(
                     "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
-                    p.time_from_start
+                    fmt_real(p.time_from_start)
                 ));
             }
             if i > 0 && p.time_from_start < plan.trajectory[i - 1].time_from_start {
@@ -386,6 +593,7 @@ impl Plan {
 #[cfg(test)]
 mod tests {
     use super::*;
+
     use crate::strategy::Strategy;
 
     fn event(time: Real, kind: EventKind, link: &str) -> Event {
@@ -444,6 +652,157 @@ mod tests {
         assert_eq!(
             bad.holds().unwrap_err(),
             "event 0: release by \"R\" without a grasp before it"
+        );
+    }
+
+    /// A direct right-hand plan of the documented form.
+    fn direct() -> Plan {
+        let pose = PoseSpec::from_isometry(&Isometry3::identity());
+        let mut p = plan(vec![
+            event(1.0, EventKind::Grasp, "R"),
+            event(2.0, EventKind::Release, "R"),
+        ]);
+        p.strategy = Strategy::RightRight;
+        p.trajectory = (0..4)
+            .map(|k| TrajectoryPoint {
+                time_from_start: f64::from(k),
+                positions: vec![0.0, 0.0],
+            })
+            .collect();
+        p.grasps = vec![GraspInfo {
+            arm: Arm::Right,
+            object_from_tcp: pose,
+            width: 0.05,
+            score: 1.0,
+            rank: 0,
+        }];
+        p.key_poses = [
+            "pre-grasp",
+            "grasp",
+            "lift",
+            "pre-place",
+            "place",
+            "release",
+            "retreat",
+        ]
+        .iter()
+        .enumerate()
+        .map(|(k, name)| KeyPose {
+            name: (*name).into(),
+            arm: Arm::Right,
+            time: 0.5 * k as f64,
+            world_from_tcp: pose,
+            world_from_object: pose,
+        })
+        .collect();
+        p
+    }
+
+    /// `direct()` with `fault` applied breaks exactly the rule whose message holds `expected`.
+    fn check(fault: impl Fn(&mut Plan), expected: &str) {
+        let mut p = direct();
+        fault(&mut p);
+        let e = p.check_form().expect_err(expected);
+        assert!(e.contains(expected), "`{expected}` not in: {e}");
+    }
+
+    #[test]
+    fn every_rule_of_the_plan_form_is_checked() {
+        assert_eq!(direct().check_form(), Ok(()));
+        check(|p| p.trajectory.clear(), "trajectory: empty");
+        check(
+            |p| {
+                p.trajectory.remove(0);
+            },
+            "trajectory[0]: time_from_start 1 s, the trajectory starts at time 0",
+        );
+        check(
+            |p| p.events[0].time = -1.0,
+            "events[0]: time -1 s is not a finite time",
+        );
+        check(
+            |p| p.events[1].time = f64::INFINITY,
+            "events[1]: time inf s is not a finite time",
+        );
+        check(
+            |p| p.events[1].time = 0.5,
+            "events[1]: before the event above it",
+        );
+        check(
+            |p| p.events[0].arm = Arm::Left,
+            "events[0]: arm left is not an arm of the strategy right-right",
+        );
+        check(
+            |p| p.events.insert(1, event(1.5, EventKind::Grasp, "R")),
+            "events[1]: grasp by \"R\", which already holds the object",
+        );
+        check(
+            |p| p.events.insert(0, event(0.5, EventKind::Release, "R")),
+            "events[0]: release by \"R\" without a grasp before it",
+        );
+        check(
+            |p| {
+                p.strategy = Strategy::LeftRight;
+                p.grasps.insert(0, p.grasps[0].clone());
+                p.grasps[0].arm = Arm::Left;
+            },
+            "events: the first grasp is by the right arm, the strategy left-right picks with the left arm",
+        );
+        check(
+            |p| {
+                p.strategy = Strategy::RightLeft;
+                p.grasps.push(p.grasps[0].clone());
+                p.grasps[1].arm = Arm::Left;
+            },
+            "events: the last release is by the right arm, the strategy right-left places with the left arm",
+        );
+        check(
+            |p| p.grasps.clear(),
+            "grasps: 0 given, the strategy right-right uses 1",
+        );
+        check(
+            |p| p.grasps[0].width = f64::NAN,
+            "grasps[0]: a non-finite width or score",
+        );
+        check(
+            |p| {
+                p.strategy = Strategy::RightPlaceRight;
+                p.grasps.push(p.grasps[0].clone());
+            },
+            "rests: 0 given",
+        );
+        check(
+            |p| {
+                p.rests.push(RestInfo {
+                    world_from_object: p.object.start_pose,
+                    placement: p.placement.clone(),
+                })
+            },
+            "rests: 1 given",
+        );
+        check(
+            |p| p.placement.contact = "x".repeat(1000),
+            "placement.contact: \"xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx…\" is neither",
+        );
+        check(
+            |p| p.placement.stability_margin = f64::INFINITY,
+            "placement.stability_margin: not a finite number",
+        );
+        check(
+            |p| p.key_poses[2].name = "jump".into(),
+            "key_poses[2]: \"jump\" is not a key pose name",
+        );
+        check(
+            |p| p.key_poses.swap(2, 3),
+            "key_poses[3]: before the key pose above it",
+        );
+        check(
+            |p| p.key_poses[0].time = f64::NAN,
+            "key_poses[0]: time NaN s",
+        );
+        check(
+            |p| p.key_poses[6].arm = Arm::Left,
+            "key_poses[6]: arm left is not an arm",
         );
     }
 

@@ -70,10 +70,22 @@ pub struct GripperOverrides {
     /// Finger thickness for the grasp planner's model (m).
     pub finger_thickness: Option<Real>,
     /// The tool point's offset in the measured tool frame (m).
+    #[serde(
+        default,
+        deserialize_with = "crate::scene::exact::optional_tool_offset"
+    )]
     pub tool_offset: Option<[Real; 3]>,
     /// Must be `[0, 0, 1]` when given: the tool frame's z is the approach direction.
+    #[serde(
+        default,
+        deserialize_with = "crate::scene::exact::optional_approach_axis"
+    )]
     pub approach_axis: Option<[Real; 3]>,
     /// Must be `[0, 1, 0]` when given: the tool frame's y is the closing direction.
+    #[serde(
+        default,
+        deserialize_with = "crate::scene::exact::optional_closing_axis"
+    )]
     pub closing_axis: Option<[Real; 3]>,
     /// The palm box for the grasp planner, in the tool frame.
     pub palm: Option<PalmBox>,
@@ -92,8 +104,12 @@ impl GripperOverrides {
         };
         let text = pickplace_geometry::io::read_text(path, FileKind::Gripper)
             .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
-        let o: Self = toml::from_str(&text)
-            .map_err(|e| invalid("(syntax)", e.to_string().trim_end().to_owned()))?;
+        let o: Self = toml::from_str(&text).map_err(|e| {
+            invalid(
+                "(syntax)",
+                pickplace_geometry::io::parse_error(&text, e.span().map(|s| s.start), e.message()),
+            )
+        })?;
         // Scaled by the largest component before normalising, so a huge axis keeps its
         // direction; a zero or non-finite axis gives NaN, which is along nothing.
         let along = |a: [Real; 3], want: [Real; 3]| {

@@ -30,9 +30,8 @@ pub struct PoseSpec {
 /// Fixed-length arrays read exactly: serde's `[T; N]` takes the first N values of a longer
 /// array and drops the rest, so a 4-value position or a 6-value quaternion would be read as
 /// something the user did not write.
-mod exact {
+pub(crate) mod exact {
     use super::Real;
-    use serde::Deserialize as _;
     use serde::de::{Deserializer, Error as _, IgnoredAny, SeqAccess, Visitor};
     use std::fmt;
 
@@ -53,15 +52,60 @@ mod exact {
 
     /// `object.center_of_gravity = [x, y, z]`, optional.
     pub fn optional_xyz<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "center_of_gravity")
+    }
+
+    /// The gripper overrides' `tool_offset = [x, y, z]`, optional.
+    pub(crate) fn optional_tool_offset<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "tool_offset")
+    }
+
+    /// The gripper overrides' `approach_axis = [x, y, z]`, optional.
+    pub(crate) fn optional_approach_axis<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "approach_axis")
+    }
+
+    /// The gripper overrides' `closing_axis = [x, y, z]`, optional.
+    pub(crate) fn optional_closing_axis<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
+        optional_exact3(d, "closing_axis")
+    }
+
+    /// An optional `[x, y, z]` named `field` in errors.
+    fn optional_exact3<'de, D: Deserializer<'de>>(
+        d: D,
+        field: &'static str,
+    ) -> Result<Option<[Real; 3]>, D::Error> {
         /// The array, for `Option`'s own handling of an absent value.
         struct Xyz([Real; 3]);
-        impl<'de> serde::Deserialize<'de> for Xyz {
-            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-                d.deserialize_seq(Exact::<3>("center_of_gravity", "[x, y, z]"))
-                    .map(Xyz)
+        /// The field's name, carried into the array's deserializer.
+        struct Named(&'static str);
+        impl<'de> serde::de::DeserializeSeed<'de> for Named {
+            type Value = Xyz;
+            fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Xyz, D::Error> {
+                d.deserialize_seq(Exact::<3>(self.0, "[x, y, z]")).map(Xyz)
             }
         }
-        Ok(Option::<Xyz>::deserialize(d)?.map(|x| x.0))
+        /// `Option` handling with a seed: `None` for a unit or absent value.
+        struct OptionOf(&'static str);
+        impl<'de> Visitor<'de> for OptionOf {
+            type Value = Option<Xyz>;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "{}: exactly 3 numbers [x, y, z]", self.0)
+            }
+            fn visit_none<E: serde::de::Error>(self) -> Result<Self::Value, E> {
+                Ok(None)
+            }
+            fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Self::Value, D::Error> {
+                serde::de::DeserializeSeed::deserialize(Named(self.0), d).map(Some)
+            }
+        }
+        Ok(d.deserialize_option(OptionOf(field))?.map(|x| x.0))
     }
 
     /// Reads exactly N numbers; the field's name and the numbers' meaning are in the error.
@@ -422,7 +466,11 @@ impl Scene {
     pub fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, SceneError> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| SceneError::Syntax {
             path: path.to_path_buf(),
-            message: e.to_string().trim_end().to_string(),
+            message: pickplace_geometry::io::parse_error(
+                text,
+                e.span().map(|s| s.start),
+                e.message(),
+            ),
         })?;
         let invalid = |field: &str, reason: String| SceneError::Invalid {
             path: path.to_path_buf(),
@@ -459,6 +507,7 @@ impl Scene {
             }
             (None, false) => {}
         }
+        check_lengths(&scene).map_err(|(field, reason)| invalid(&field, reason))?;
         let several = scene.robots.len() > 1;
         let mut prefixes = std::collections::BTreeSet::new();
         for (i, robot) in scene.robots.iter().enumerate() {
@@ -562,6 +611,69 @@ impl Scene {
     pub fn target_point(&self) -> Point3 {
         Point3::from(self.target.point)
     }
+}
+
+/// Refuses names over [`MAX_NAME_BYTES`](pickplace_geometry::io::MAX_NAME_BYTES) and paths
+/// over [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES): `Err((field, reason))`.
+fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
+    use pickplace_geometry::io::{check_name, check_path_text};
+    let name = |field: String, text: &str| check_name("the name", text).map_err(|r| (field, r));
+    let path = |field: String, p: &Path| {
+        check_path_text("the path", &p.to_string_lossy()).map_err(|r| (field, r))
+    };
+    let several = scene.robots.len() > 1;
+    for (i, robot) in scene.robots.iter().enumerate() {
+        let field = |f: &str| {
+            if several {
+                format!("robots[{i}].{f}")
+            } else {
+                format!("robot.{f}")
+            }
+        };
+        path(field("urdf"), &robot.urdf)?;
+        if let Some(p) = &robot.srdf {
+            path(field("srdf"), p)?;
+        }
+        if let Some(p) = &robot.gripper {
+            path(field("gripper"), p)?;
+        }
+        for (k, p) in robot.package_dirs.iter().enumerate() {
+            path(field(&format!("package_dirs[{k}]")), p)?;
+        }
+        if let Some(n) = &robot.named_state {
+            name(field("named_state"), n)?;
+        }
+        name(field("prefix"), &robot.prefix)?;
+        // Keys first: a long key would otherwise end up in the field name of the error.
+        for key in robot.start_state.keys() {
+            name(field("start_state"), key)?;
+        }
+        for (key, g) in &robot.groups {
+            name(field("groups"), key)?;
+            for (f, n) in [("base_link", &g.base_link), ("tip_link", &g.tip_link)] {
+                if let Some(n) = n {
+                    name(field(&format!("groups.{key}.{f}")), n)?;
+                }
+            }
+            for (k, n) in g.joints.iter().enumerate() {
+                name(field(&format!("groups.{key}.joints[{k}]")), n)?;
+            }
+        }
+    }
+    path("object.mesh".into(), &scene.object.mesh)?;
+    for (i, env) in scene.environment.iter().enumerate() {
+        name(format!("environment[{i}].name"), &env.name)?;
+        path(format!("environment[{i}].mesh"), &env.mesh)?;
+    }
+    for (f, n) in [
+        ("planner.right_arm", &scene.planner.right_arm),
+        ("planner.left_arm", &scene.planner.left_arm),
+    ] {
+        if let Some(n) = n {
+            name(f.into(), n)?;
+        }
+    }
+    Ok(())
 }
 
 fn positive(value: Real) -> Result<(), String> {
@@ -679,5 +791,47 @@ point = [0.45, 0.1, 0.02]
         assert!(err.to_string().contains("planner.h_max_finger"), "{err}");
         let err = parse("[robot").unwrap_err();
         assert!(err.to_string().starts_with("scene.toml: "), "{err}");
+    }
+
+    #[test]
+    fn names_and_paths_over_their_limits_are_refused() {
+        let long = "n".repeat(1025);
+        let err = parse(&MINIMAL.replace("name = \"pallet\"", &format!("name = \"{long}\"")))
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "scene.toml: environment[0].name: the name is 1025 bytes, over the limit of 1024"
+        );
+        let err = parse(&MINIMAL.replace(
+            "[object]",
+            &format!("start_state = {{ {long} = 1.0 }}\n[object]"),
+        ))
+        .unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("robot.start_state: the name is 1025 bytes"),
+            "{err}"
+        );
+        let err = parse(&MINIMAL.replace("can.stl", &"p".repeat(5000))).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("object.mesh: the path is 5000 bytes, over the limit of 4096"),
+            "{err}"
+        );
+        assert!(parse(&MINIMAL.replace("pallet\"", &format!("{}\"", "n".repeat(1018)))).is_ok());
+    }
+
+    #[test]
+    fn syntax_errors_give_line_and_column_without_quoting_the_file() {
+        // Regression (issue 18): `gripper = "/etc/passwd"` printed the file's first line.
+        let err = parse("root:x:0:0:root:/root:/bin/bash\n").unwrap_err();
+        let message = err.to_string();
+        assert!(message.starts_with("scene.toml: "), "{message}");
+        assert!(
+            message.contains("line 1, column 32: key with no value"),
+            "{message}"
+        );
+        assert!(!message.contains("/bin/bash"), "{message}");
+        assert!(!message.contains('|'), "{message}");
     }
 }

@@ -29,6 +29,7 @@ use crate::error::{Error, Result, internal};
 use crate::plan::{EventKind, Plan, TrajectoryPoint};
 use crate::setup::Setup;
 use crate::strategy::Arm;
+use pickplace_geometry::io::fmt_real_fixed;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
 use pickplace_placement::collide::CollisionMesh;
 use pickplace_placement::stability::SupportHull;
@@ -69,11 +70,12 @@ pub const REST_CONTACT_REACH: Real = 1.5e-3;
 
 /// `value` with 4 decimals, or in scientific notation from 1e6 on (1e300 is not 301 digits).
 fn short_number(value: Real) -> String {
-    if value.abs() < 1e6 {
-        format!("{value:.4}")
-    } else {
-        format!("{value:.4e}")
-    }
+    fmt_real_fixed(value, 4)
+}
+
+/// A time (s) from a plan with 3 decimals, compact when huge (`fmt_real_fixed`).
+fn short_time(t: Real) -> String {
+    fmt_real_fixed(t, 3)
 }
 
 /// What `validate` found.
@@ -159,7 +161,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         if p.time_from_start < 0.0 {
             return Err(bad(format!(
                 "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
-                p.time_from_start
+                pickplace_geometry::io::fmt_real(p.time_from_start)
             )));
         }
     }
@@ -177,12 +179,12 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     duration: end,
                     stability_margin: None,
                     problems: vec![format!(
-                        "t = {:.3} s: {} = {} is outside its limits [{:.4}, {:.4}] (trajectory[{i}]; nothing else checked)",
-                        p.time_from_start,
+                        "t = {} s: {} = {} is outside its limits [{}, {}] (trajectory[{i}]; nothing else checked)",
+                        short_time(p.time_from_start),
                         names[j],
                         short_number(q),
-                        l.lower,
-                        l.upper
+                        short_number(l.lower),
+                        short_number(l.upper)
                     )],
                 });
             }
@@ -205,14 +207,17 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         }
         let arm = arm_of_link(&e.link).ok_or_else(|| {
             bad(format!(
-                "event at {:.3} s: {:?} is not the tool link of an arm",
-                e.time, e.link
+                "event at {} s: {:?} is not the tool link of an arm",
+                short_time(e.time),
+                e.link
             ))
         })?;
-        let link_from_object = e
-            .link_from_object
-            .to_isometry()
-            .map_err(|r| bad(format!("event at {:.3} s: invalid pose: {r}", e.time)))?;
+        let link_from_object = e.link_from_object.to_isometry().map_err(|r| {
+            bad(format!(
+                "event at {} s: invalid pose: {r}",
+                short_time(e.time)
+            ))
+        })?;
         events.push((
             Ev {
                 time: e.time,
@@ -223,6 +228,9 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             e.arm,
         ));
     }
+    // The rest of the plan's form (docs/plan-format.md): start at time 0, events in time
+    // order and consistent with the strategy, grasps, rests and key poses.
+    plan.check_form().map_err(bad)?;
     // Stable: a release and a grasp at one instant keep their order in the file.
     events.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
     let placed = plan
@@ -409,8 +417,8 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             v.problem(
                 t,
                 format!(
-                    "time goes backwards (the next sample is {:.3} s earlier)",
-                    -dt
+                    "time goes backwards (the next sample is {} s earlier)",
+                    short_time(-dt)
                 ),
             );
         } else {
@@ -421,9 +429,10 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     v.problem(
                         t,
                         format!(
-                            "{} moves at {:.3} (limit {vmax:.3})",
+                            "{} moves at {} (limit {})",
                             names[j],
-                            if dt > 0.0 { dq / dt } else { Real::INFINITY }
+                            short_time(if dt > 0.0 { dq / dt } else { Real::INFINITY }),
+                            short_time(vmax)
                         ),
                     );
                 }
@@ -471,8 +480,10 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         v.problem(
             e.time,
             format!(
-                "the {:?} of the {} hand is after the end of the trajectory ({end:.3} s)",
-                e.kind, e.arm
+                "the {:?} of the {} hand is after the end of the trajectory ({} s)",
+                e.kind,
+                e.arm,
+                short_time(end)
             ),
         );
     }
@@ -619,7 +630,8 @@ impl<'a> Validator<'a> {
     }
 
     fn problem(&mut self, t: Real, what: String) {
-        self.problems.push(format!("t = {t:.3} s: {what}"));
+        self.problems
+            .push(format!("t = {} s: {what}", short_time(t)));
     }
 
     /// Environment parts within [`SUPPORT_DISTANCE`] of the object at `world_from_object`,
@@ -902,7 +914,7 @@ impl<'a> Validator<'a> {
         }
         for (key, p) in &now {
             if !self.ongoing.contains(key) {
-                self.problems.push(format!("t = {t:.3} s: {p}"));
+                self.problems.push(format!("t = {} s: {p}", short_time(t)));
             }
         }
         self.ongoing = now.into_iter().map(|(key, _)| key).collect();

@@ -5,6 +5,7 @@ mod cache;
 mod clusters;
 mod demo;
 mod hardening;
+mod limits;
 mod placements;
 mod plan;
 mod precompute;

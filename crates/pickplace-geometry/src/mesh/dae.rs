@@ -12,7 +12,7 @@
 //! mesh-loader the file with `meter="1"`, and scale every coordinate afterwards: positions
 //! come out in metres, translations included.
 
-use super::Soup;
+use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, check_limit};
 use crate::error::MeshErrorKind;
 use crate::math::Point3;
 
@@ -74,8 +74,119 @@ fn bad_unit(tag: &[u8]) -> MeshErrorKind {
     }
 }
 
+/// Elements whose `count` attribute is a number of primitives: mesh-loader reserves
+/// `count × corners × inputs` indices for them.
+const PRIMITIVE_ELEMENTS: [&str; 7] = [
+    "triangles",
+    "polylist",
+    "polygons",
+    "lines",
+    "linestrips",
+    "tristrips",
+    "trifans",
+];
+
+/// The largest `offset` of an `<input>` accepted (the number of inputs of a primitive is the
+/// largest offset plus one; files use a handful).
+pub(crate) const MAX_INPUT_OFFSET: u64 = 15;
+
+/// The value of attribute `name` in the tag body `tag` (`name="123"`), saturated to
+/// `u64::MAX` when it has too many digits; `None` when absent or not a number.
+fn attribute_u64(tag: &[u8], name: &[u8]) -> Option<u64> {
+    let mut from = 0;
+    while let Some(at) = tag[from..].windows(name.len()).position(|w| w == name) {
+        let start = from + at;
+        from = start + name.len();
+        let preceded = start > 0 && tag[start - 1].is_ascii_whitespace();
+        let rest = &tag[from..];
+        let rest = &rest[rest.iter().take_while(|b| b.is_ascii_whitespace()).count()..];
+        if !preceded || rest.first() != Some(&b'=') {
+            continue;
+        }
+        let rest = &rest[1..];
+        let rest = &rest[rest.iter().take_while(|b| b.is_ascii_whitespace()).count()..];
+        let rest = rest
+            .strip_prefix(b"\"")
+            .or_else(|| rest.strip_prefix(b"'"))?;
+        let digits: Vec<u8> = rest
+            .iter()
+            .copied()
+            .skip_while(u8::is_ascii_whitespace)
+            .take_while(u8::is_ascii_digit)
+            .collect();
+        if digits.is_empty() {
+            return None;
+        }
+        return Some(digits.iter().fold(0u64, |n, d| {
+            n.saturating_mul(10).saturating_add(u64::from(d - b'0'))
+        }));
+    }
+    None
+}
+
+/// Refuses, before mesh-loader reads the file, the counts it would allocate from: mesh-loader
+/// 0.1.13 calls `Vec::with_capacity(count)` for `<float_array count>` (and the other arrays)
+/// and reserves `count × corners × inputs` indices for a primitive element, so a count of
+/// billions aborts the process. Every counted item takes at least a byte of the file, a
+/// primitive element's count is at most [`MAX_MESH_TRIANGLES`], any other count at most three
+/// per vertex of [`MAX_MESH_VERTICES`], and an input's offset at most [`MAX_INPUT_OFFSET`].
+/// A tag inside a comment is checked too (being strict there costs nothing).
+fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind> {
+    let mut at = 0;
+    while let Some(lt) = bytes[at..].iter().position(|&b| b == b'<') {
+        let start = at + lt + 1;
+        let end = bytes[start..]
+            .iter()
+            .position(|&b| b == b'>')
+            .map_or(bytes.len(), |e| start + e);
+        let tag = &bytes[start..end];
+        at = end;
+        let name_len = tag
+            .iter()
+            .take_while(|b| !b.is_ascii_whitespace() && **b != b'/')
+            .count();
+        let name = String::from_utf8_lossy(&tag[..name_len]);
+        if let Some(count) = attribute_u64(tag, b"count") {
+            if count > bytes.len() as u64 {
+                return Err(MeshErrorKind::Malformed {
+                    format: "COLLADA",
+                    detail: format!(
+                        "<{name} count=\"{count}\">: more items than the file has bytes ({})",
+                        bytes.len()
+                    ),
+                });
+            }
+            if PRIMITIVE_ELEMENTS.contains(&name.as_ref()) {
+                check_limit(
+                    "primitives declared by a COLLADA count",
+                    count,
+                    MAX_MESH_TRIANGLES,
+                )?;
+            } else {
+                check_limit(
+                    "values declared by a COLLADA count",
+                    count,
+                    3 * MAX_MESH_VERTICES,
+                )?;
+            }
+        }
+        if let Some(offset) = attribute_u64(tag, b"offset")
+            && offset > MAX_INPUT_OFFSET
+        {
+            return Err(MeshErrorKind::Malformed {
+                format: "COLLADA",
+                detail: format!(
+                    "<{name} offset=\"{offset}\">: an input offset over {MAX_INPUT_OFFSET}"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Parses COLLADA bytes into one soup (all meshes of the file), in metres.
 pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
+    check_declared_counts(bytes)?;
     let unit = unit_meter(bytes)?;
     let (scene, meter) = {
         let rewritten;
@@ -114,6 +225,8 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
     };
     let vertices: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
     let triangles: usize = scene.meshes.iter().map(|m| m.faces.len()).sum();
+    check_limit("triangles", triangles as u64, MAX_MESH_TRIANGLES)?;
+    check_limit("vertices", vertices as u64, MAX_MESH_VERTICES)?;
     let mut soup = Soup::with_capacity(vertices, triangles);
     for mesh in &scene.meshes {
         let offset = u32::try_from(soup.positions.len()).map_err(|_| too_large(vertices))?;
@@ -213,6 +326,33 @@ mod tests {
             parse(long.as_bytes()),
             Err(MeshErrorKind::Malformed { .. })
         ));
+    }
+
+    #[test]
+    fn counts_that_would_allocate_gigabytes_are_refused_before_mesh_loader() {
+        // Regression (issue 18): mesh-loader calls `Vec::with_capacity(count)`.
+        let huge = TRIANGLE_CM.replace(r#"count="9">"#, r#"count="4000000000">"#);
+        let e = parse(huge.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string().contains("more items than the file has bytes"),
+            "{e}"
+        );
+        let mut padded =
+            TRIANGLE_CM.replace(r#"<triangles count="1">"#, r#"<triangles count="2000001">"#);
+        padded.push_str(&" ".repeat(2_000_100));
+        let e = parse(padded.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string().contains(
+                "2000001 primitives declared by a COLLADA count, over the limit of 2000000"
+            ),
+            "{e}"
+        );
+        let offset = TRIANGLE_CM.replace(r#"offset="0""#, r#"offset = '99999999999999999999999'"#);
+        let e = parse(offset.as_bytes()).expect_err("refused");
+        assert!(e.to_string().contains("input offset over 15"), "{e}");
+        // `account="…"` is not `count`.
+        assert_eq!(attribute_u64(b"x account=\"5\"", b"count"), None);
+        assert_eq!(attribute_u64(b"x count = '5'", b"count"), Some(5));
     }
 
     #[test]

@@ -38,6 +38,31 @@ use crate::math::{Point3, Real, Vector3};
 use std::collections::HashMap;
 use std::path::Path;
 
+/// The most triangles a mesh file may hold (after fan triangulation of its polygons). A file
+/// with more, or whose header declares more (binary STL, PLY), is refused with
+/// [`MeshErrorKind::OverLimit`] before its triangles are allocated: 2 000 000 triangles take
+/// about 0.5 GB while the planner works on them.
+pub const MAX_MESH_TRIANGLES: usize = 2_000_000;
+/// The most vertices a mesh file may hold: three per triangle of [`MAX_MESH_TRIANGLES`] (an
+/// unwelded soup).
+pub const MAX_MESH_VERTICES: usize = 3 * MAX_MESH_TRIANGLES;
+
+/// Refuses `count` of `what` when over `limit`.
+pub(crate) fn check_limit(
+    what: &'static str,
+    count: u64,
+    limit: usize,
+) -> std::result::Result<(), MeshErrorKind> {
+    if count > limit as u64 {
+        return Err(MeshErrorKind::OverLimit {
+            what,
+            count,
+            limit: limit as u64,
+        });
+    }
+    Ok(())
+}
+
 /// Options for building a mesh from a file or a triangle soup.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshOptions {
@@ -511,7 +536,8 @@ impl MeshFormat {
 /// [`crate::io::MAX_MESH_BYTES`] (see [`crate::io`]); [`Error::Mesh`] naming the file when the
 /// extension is unknown, the file is empty, malformed (truncated binary STL, a bad number or
 /// keyword, with its line), has a non-finite coordinate, an out-of-range face index, or only
-/// zero-area triangles, or when `options.scale` is not positive.
+/// zero-area triangles, has or declares more than [`MAX_MESH_TRIANGLES`] triangles or
+/// [`MAX_MESH_VERTICES`] vertices, or when `options.scale` is not positive.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<TriMesh> {
     let format = MeshFormat::from_path(path)?;
     let bytes =
@@ -577,11 +603,16 @@ fn read_format(
         MeshFormat::Ply => ply::parse(bytes),
         MeshFormat::Collada => dae::parse(bytes),
     };
-    soup.and_then(|s| TriMesh::from_soup_inner(&s.positions, &s.triangles, options))
-        .map_err(|kind| Error::Mesh {
-            path: path.to_path_buf(),
-            kind,
-        })
+    soup.and_then(|s| {
+        // Every reader checks as it goes; this is the one check that holds for all of them.
+        check_limit("triangles", s.triangles.len() as u64, MAX_MESH_TRIANGLES)?;
+        check_limit("vertices", s.positions.len() as u64, MAX_MESH_VERTICES)?;
+        TriMesh::from_soup_inner(&s.positions, &s.triangles, options)
+    })
+    .map_err(|kind| Error::Mesh {
+        path: path.to_path_buf(),
+        kind,
+    })
 }
 
 #[cfg(test)]

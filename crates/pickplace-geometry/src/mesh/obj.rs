@@ -9,7 +9,7 @@
 //! corners is fan-triangulated (`a b c`, `a c d`, …), so "the file's triangle order" is the
 //! order of faces with each polygon replaced by its fan.
 
-use super::{Soup, fan_triangulate};
+use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, check_limit, fan_triangulate};
 use crate::error::MeshErrorKind;
 use crate::math::{Point3, Real};
 
@@ -35,6 +35,7 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
     // positive index may refer to a vertex defined later (as most readers allow).
     let mut corners: Vec<Corner> = Vec::new();
     let mut faces: Vec<(usize, usize)> = Vec::new();
+    let mut triangles: u64 = 0;
     for (line_index, line) in text.lines().enumerate() {
         let line_no = line_index + 1;
         let line = line.split('#').next().unwrap_or("");
@@ -50,14 +51,24 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
                         malformed(format!("line {line_no}: `{word}` is not a number"))
                     })?;
                 }
-                if soup.positions.len() >= u32::MAX as usize {
-                    return Err(malformed(format!("line {line_no}: too many vertices")));
-                }
+                check_limit(
+                    "vertices",
+                    soup.positions.len() as u64 + 1,
+                    MAX_MESH_VERTICES,
+                )
+                .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
                 soup.positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
             }
             Some("f") => {
                 let start = corners.len();
                 for word in words {
+                    // Bounds the corners of one huge face too (n corners, n - 2 triangles).
+                    if corners.len() - start >= MAX_MESH_TRIANGLES + 2 {
+                        return Err(malformed(format!(
+                            "line {line_no}: a face has more than {} corners",
+                            MAX_MESH_TRIANGLES + 2
+                        )));
+                    }
                     let first = word.split('/').next().unwrap_or("");
                     let index = first.parse::<i64>().map_err(|_| {
                         malformed(format!("line {line_no}: `{word}` is not a face corner"))
@@ -78,6 +89,10 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
                         "line {line_no}: a face has {n} corners, at least 3 are needed"
                     )));
                 }
+                // A face of n corners is n - 2 fan triangles.
+                triangles += (n - 2) as u64;
+                check_limit("triangles", triangles, MAX_MESH_TRIANGLES)
+                    .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
                 faces.push((start, corners.len()));
             }
             _ => {}
@@ -132,6 +147,32 @@ mod tests {
         let text = "# square and a triangle\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1/1 2/2/2 3//3 4\nv 0 0 1\nf -5 -4 -1\n";
         let soup = parse(text.as_bytes()).expect("valid OBJ");
         assert_eq!(soup.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 1, 4]]);
+    }
+
+    #[test]
+    fn faces_over_the_triangle_limit_are_refused_with_their_line() {
+        // One face of MAX + 3 corners is MAX + 1 fan triangles.
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+        for _ in 0..MAX_MESH_TRIANGLES + 3 {
+            text.push_str(" 1");
+        }
+        text.push('\n');
+        let err = parse(text.as_bytes()).unwrap_err();
+        assert!(
+            err.to_string().contains("line 4: a face has more than"),
+            "{err}"
+        );
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nf");
+        for _ in 0..MAX_MESH_TRIANGLES + 2 {
+            text.push_str(" 1");
+        }
+        text.push_str("\nf 1 2 3\n");
+        let err = parse(text.as_bytes()).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("line 5: 2000001 triangles, over the limit of 2000000"),
+            "{err}"
+        );
     }
 
     #[test]

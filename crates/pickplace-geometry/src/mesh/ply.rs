@@ -5,7 +5,7 @@
 //! are skipped. A face with more than three corners is fan-triangulated (`a b c`, `a c d`, …),
 //! so "the file's triangle order" is the order of faces with each polygon replaced by its fan.
 
-use super::{Soup, fan_triangulate};
+use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, check_limit, fan_triangulate};
 use crate::error::MeshErrorKind;
 use crate::math::{Point3, Real};
 use ply_rs_bw::parser::Parser;
@@ -45,7 +45,9 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
     })
 }
 
-/// Refuses a header that declares more elements than bytes follow it.
+/// Refuses a header that declares more vertices than [`MAX_MESH_VERTICES`], more faces than
+/// [`MAX_MESH_TRIANGLES`], more elements than both together, or more elements than bytes
+/// follow it.
 ///
 /// Every element takes at least one byte of the body (binary: its first property; ASCII: its
 /// line), so a larger count can only be a damaged or hostile file. `ply-rs-bw` would otherwise
@@ -56,6 +58,8 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind> {
     let mut offset = 0;
     let mut declared: u128 = 0;
+    // The first count over a limit; reported after the comparison with the body's size.
+    let mut over: std::result::Result<(), MeshErrorKind> = Ok(());
     for line in bytes.split_inclusive(|&b| b == b'\n') {
         offset += line.len();
         let text = String::from_utf8_lossy(line);
@@ -68,17 +72,40 @@ fn check_declared_counts(bytes: &[u8]) -> std::result::Result<(), MeshErrorKind>
                         "the header declares {declared} elements but only {body} bytes follow it"
                     )));
                 }
-                return Ok(());
+                return over;
             }
             Some("element") => {
-                if let Some(count) = words.nth(1).and_then(|c| c.parse::<u64>().ok()) {
+                let name = words.next().unwrap_or("");
+                if let Some(count) = words.next().and_then(|c| c.parse::<u64>().ok()) {
                     declared += u128::from(count);
+                    // Limits from the header, before ply-rs-bw allocates the elements.
+                    let check = match name {
+                        "vertex" => check_limit(
+                            "vertices declared in the PLY header",
+                            count,
+                            MAX_MESH_VERTICES,
+                        ),
+                        "face" => check_limit(
+                            "faces declared in the PLY header",
+                            count,
+                            MAX_MESH_TRIANGLES,
+                        ),
+                        _ => Ok(()),
+                    }
+                    .and_then(|()| {
+                        check_limit(
+                            "elements declared in the PLY header",
+                            u64::try_from(declared).unwrap_or(u64::MAX),
+                            MAX_MESH_VERTICES + MAX_MESH_TRIANGLES,
+                        )
+                    });
+                    over = over.and(check);
                 }
             }
             _ => {}
         }
     }
-    Ok(())
+    over
 }
 
 pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
@@ -150,6 +177,7 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
             polygon.push(index as u32);
         }
         fan_triangulate(&polygon, &mut soup.triangles);
+        check_limit("triangles", soup.triangles.len() as u64, MAX_MESH_TRIANGLES)?;
     }
     Ok(soup)
 }
@@ -164,11 +192,11 @@ mod tests {
     fn element_counts_beyond_the_body_are_refused() {
         // An element without properties reads no bytes: without the check, ply-rs-bw would
         // build a billion empty elements.
-        let hostile = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float z\nelement face 1211111111\nend_header\n\0\0\0\0";
+        let hostile = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float z\nelement face 1211\nend_header\n\0\0\0\0";
         let e = parse(hostile).expect_err("refused");
         assert!(
             e.to_string()
-                .contains("declares 1211111112 elements but only 4 bytes"),
+                .contains("declares 1212 elements but only 4 bytes"),
             "{e}"
         );
         // Exactly one byte per element is still accepted by the check (the parser decides).
@@ -179,6 +207,47 @@ mod tests {
         assert!(check_declared_counts(b"ply\nelement vertex 99\n").is_ok());
         // The shipped square passes.
         assert!(check_declared_counts(SQUARE.as_bytes()).is_ok());
+    }
+
+    #[test]
+    fn header_counts_over_the_limits_are_refused() {
+        // Regression (issue 18): a header claiming 1e12 vertices, refused from the header:
+        // first by the file's size, then by the limits when the bytes are there.
+        let hostile = b"ply\nformat ascii 1.0\nelement vertex 1000000000000\nproperty float x\nend_header\n0\n";
+        let e = parse(hostile).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("declares 1000000000000 elements but only 2 bytes"),
+            "{e}"
+        );
+        let mut padded = b"ply\nformat binary_little_endian 1.0\nelement vertex 6000001\nproperty uchar x\nend_header\n".to_vec();
+        padded.resize(padded.len() + 6_000_001, 0);
+        assert_eq!(
+            parse(&padded).expect_err("refused"),
+            MeshErrorKind::OverLimit {
+                what: "vertices declared in the PLY header",
+                count: 6_000_001,
+                limit: MAX_MESH_VERTICES as u64
+            }
+        );
+        let pad = |text: String| text + &" ".repeat(8_000_010);
+        let faces = pad(SQUARE.replace("element face 1", "element face 2000001"));
+        let e = parse(faces.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("2000001 faces declared in the PLY header, over the limit of 2000000"),
+            "{e}"
+        );
+        let other = pad(SQUARE.replace(
+            "element face 1",
+            "element face 1\nelement edge 8000000\nproperty uchar a",
+        ));
+        let e = parse(other.as_bytes()).expect_err("refused");
+        assert!(
+            e.to_string()
+                .contains("elements declared in the PLY header"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -11,7 +11,9 @@
 //! z … endloop endfacet … endsolid`). The stored normals are ignored: the winding defines the
 //! outside.
 
-use super::{Soup, TriangleSource, fan_triangulate};
+use super::{
+    MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, TriangleSource, check_limit, fan_triangulate,
+};
 use crate::error::{Error, MeshErrorKind, Result};
 use crate::math::{Point3, Real};
 use std::path::Path;
@@ -70,6 +72,12 @@ fn parse_binary(bytes: &[u8], declared: Option<usize>) -> std::result::Result<So
             bytes.len()
         )));
     };
+    // From the header, before anything is allocated for the triangles.
+    check_limit(
+        "triangles declared in the binary STL header",
+        count as u64,
+        MAX_MESH_TRIANGLES,
+    )?;
     let needed = (count as u128) * FACET_LEN as u128 + (HEADER_LEN + 4) as u128;
     if (bytes.len() as u128) < needed {
         let complete = (bytes.len() - HEADER_LEN - 4) / FACET_LEN;
@@ -153,9 +161,12 @@ fn parse_ascii(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
                         malformed(format!("line {line_no}: `{word}` is not a number"))
                     })?;
                 }
-                if soup.positions.len() >= u32::MAX as usize {
-                    return Err(malformed(format!("line {line_no}: too many vertices")));
-                }
+                check_limit(
+                    "vertices",
+                    soup.positions.len() as u64 + 1,
+                    MAX_MESH_VERTICES,
+                )
+                .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
                 loop_vertices.push(soup.positions.len() as u32);
                 soup.positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
             }
@@ -172,6 +183,8 @@ fn parse_ascii(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
                     )));
                 }
                 fan_triangulate(&loop_vertices, &mut soup.triangles);
+                check_limit("triangles", soup.triangles.len() as u64, MAX_MESH_TRIANGLES)
+                    .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
                 in_loop = false;
             }
             "endfacet" => {
@@ -349,6 +362,37 @@ endsolid t
         assert!(err.to_string().contains("truncated binary STL"), "{err}");
         let err = parse(&bytes[..40]).unwrap_err();
         assert!(err.to_string().contains("truncated binary STL"), "{err}");
+    }
+
+    #[test]
+    fn a_header_over_the_triangle_limit_is_refused_before_allocating() {
+        // Regression (issue 18): a header claiming 4e9 triangles; the file is 84 bytes.
+        let mut bytes = vec![b' '; 80];
+        bytes.extend_from_slice(&4_000_000_000u32.to_le_bytes());
+        let err = parse(&bytes).unwrap_err();
+        assert_eq!(
+            err,
+            MeshErrorKind::OverLimit {
+                what: "triangles declared in the binary STL header",
+                count: 4_000_000_000,
+                limit: MAX_MESH_TRIANGLES as u64
+            }
+        );
+        // Just over the limit, with the bytes really there: still refused.
+        let count = MAX_MESH_TRIANGLES as u32 + 1;
+        let mut big = vec![b' '; 80];
+        big.extend_from_slice(&count.to_le_bytes());
+        big.resize(84 + 50 * count as usize, 0);
+        let err = parse(&big).unwrap_err();
+        assert!(
+            err.to_string().contains("over the limit of 2000000"),
+            "{err}"
+        );
+        // At the limit the size check decides (here: truncated).
+        let mut at = vec![b' '; 80];
+        at.extend_from_slice(&(MAX_MESH_TRIANGLES as u32).to_le_bytes());
+        let err = parse(&at).unwrap_err();
+        assert!(err.to_string().contains("truncated"), "{err}");
     }
 
     #[test]
