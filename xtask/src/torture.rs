@@ -93,6 +93,8 @@ struct Torture {
     cache: PathBuf,
     /// `scenes/fig9-near.toml` planned with a fresh cache: the bytes every run must give.
     reference_plan: Vec<u8>,
+    /// The cache entries the reference plan wrote (other cases add entries of their own).
+    entries: Vec<PathBuf>,
     cases: usize,
     failures: Vec<String>,
     groups: Vec<(String, usize, usize)>,
@@ -110,6 +112,7 @@ impl Torture {
             bin,
             cache: scratch.join("cache"),
             reference_plan: Vec::new(),
+            entries: Vec::new(),
             cases: 0,
             failures: Vec::new(),
             groups: Vec::new(),
@@ -269,6 +272,11 @@ impl Torture {
             bail!("the reference plan could not be made; every other case needs it");
         }
         self.reference_plan = std::fs::read(&out)?;
+        self.entries = std::fs::read_dir(&self.cache)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.is_file() && !is_hidden(p))
+            .collect();
+        self.entries.sort();
         let again = self.path("again.json");
         args[3] = again.clone().into();
         self.expect("plan with the warm cache", self.cmd(&args), 0, &[])?;
@@ -558,14 +566,10 @@ impl Torture {
     /// Every cache entry damaged in every way: the plan is still made, with the same bytes.
     fn damaged_cache(&mut self) -> anyhow::Result<()> {
         self.begin_group("damaged cache entries");
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&self.cache)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_file() && !is_hidden(p))
-            .collect();
-        entries.sort();
+        let entries = self.entries.clone();
         if entries.is_empty() {
             let shown = self.cache.display().to_string();
-            self.check("the warm cache has entries", false, || {
+            self.check("the reference plan wrote cache entries", false, || {
                 format!("{shown} is empty")
             });
         }
@@ -610,10 +614,35 @@ impl Torture {
                     "--no-timings".into(),
                 ]);
                 let case = format!("{kind} {name}");
-                self.expect(&case, c, 0, &[])?;
+                let o = self.expect(&case, c, 0, &[])?;
                 let same = std::fs::read(&out).ok().as_ref() == Some(&self.reference_plan);
                 self.check(&format!("{case}: same plan"), same, || {
                     "the plan differs from the reference".into()
+                });
+                // On disk: a folder cannot be replaced, so the plan is made in memory with one
+                // warning; anything else is rebuilt in place, byte for byte, silently.
+                let warnings = o
+                    .as_ref()
+                    .map_or(0, |o| o.stderr.matches("warning").count());
+                let meta = std::fs::symlink_metadata(&entry);
+                let left_ok = if kind == "folder" {
+                    meta.as_ref().is_ok_and(|m| m.is_dir()) && warnings == 1
+                } else {
+                    meta.as_ref().is_ok_and(|m| m.is_file())
+                        && std::fs::read(&entry).ok().as_ref() == Some(&good)
+                        && warnings == 0
+                };
+                self.check(&format!("{case}: what is left"), left_ok, || {
+                    format!(
+                        "{} warnings; the entry is now {}",
+                        warnings,
+                        match &meta {
+                            Ok(m) if m.is_dir() => "a folder",
+                            Ok(m) if m.is_file() => "a file (other bytes)",
+                            Ok(_) => "neither file nor folder",
+                            Err(_) => "gone",
+                        }
+                    )
                 });
                 // Put the good entry back, whatever the run left there.
                 let meta = std::fs::symlink_metadata(&entry);

@@ -322,6 +322,22 @@ pub(crate) fn build(
             }
         }
         let mut visuals = Vec::new();
+        // Visuals not loaded are still checked for numbers that are not finite: a careless
+        // file is refused whatever command reads it.
+        if ul
+            .visual
+            .iter()
+            .any(|v| !finite3(&v.origin.xyz.0) || !finite3(&v.origin.rpy.0))
+        {
+            return Err(Error::InvalidModel {
+                path: path.to_path_buf(),
+                kind: ModelErrorKind::NonFinite {
+                    element: "link",
+                    name: ul.name.clone(),
+                    field: "visual origin",
+                },
+            });
+        }
         if options.visual_geometry == VisualGeometry::Load {
             for v in &ul.visual {
                 if let Some(g) = convert_geometry(

@@ -256,3 +256,19 @@ fn package_mesh_resolves_through_package_dirs_with_scale() {
         );
     }
 }
+
+#[test]
+fn a_visual_origin_that_is_not_finite_is_refused_even_when_visuals_are_not_loaded() {
+    // Found by `cargo xtask torture`: NaN in a visual origin loaded with exit 0.
+    let body = format!(
+        r#"<link name="a"><visual><origin xyz="nan 0 0"/><geometry><box size="1 1 1"/></geometry></visual></link><link name="b"/>{JOINT}"#
+    );
+    assert_eq!(
+        kind(&body),
+        ModelErrorKind::NonFinite {
+            element: "link",
+            name: "a".into(),
+            field: "visual origin",
+        }
+    );
+}
