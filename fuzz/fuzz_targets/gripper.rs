@@ -12,10 +12,10 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use pickplace::grasp::{GripperParams, PalmBox};
-use pickplace::robot_setup::GripperOverrides;
-use pickplace_geometry::math::{Point3, Vector3};
-use pickplace_robot::gripper::{Gripper, GripperOptions};
+use pickplace::grasp::GripperParams;
+use pickplace::robot_setup::{GripperOverrides, grasp_model};
+use pickplace_geometry::math::Vector3;
+use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{LoadOptions, RobotModel, Semantics, Srdf};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -102,49 +102,23 @@ fuzz_target!(|data: &[u8]| {
             );
         }
     }
-    // As `GripperOverrides::options` and `robot_setup::grasp_model` (both private).
-    let defaults = GripperOptions::default();
-    let options = GripperOptions {
-        squeeze: o.squeeze.unwrap_or(defaults.squeeze),
-        pad_depth: o.pad_depth,
-        pad_width: o.pad_width,
-        opening_max: o.opening_max,
-        tool_offset: o.tool_offset.map_or(defaults.tool_offset, Vector3::from),
-    };
     let (model, arm) = nx_hiro();
-    let Ok(gripper) = Gripper::derive(model, arm, &options) else {
+    let Ok(gripper) = Gripper::derive(model, arm, &o.options()) else {
         return;
     };
-    let (lo, hi) = gripper.opening_range();
-    let (pad_width, pad_depth) = gripper.pad_size();
-    let (finger_length, finger_thickness) = gripper.finger_size();
-    let (pmin, pmax) = gripper.palm_box();
-    let params = GripperParams {
-        opening_min: o.opening_min.unwrap_or(lo),
-        opening_max: o.opening_max.map_or(hi, |m| m.min(hi)),
-        pad_width: o.pad_width.unwrap_or(pad_width),
-        pad_depth: o.pad_depth.unwrap_or(pad_depth),
-        finger_length: o.finger_length.unwrap_or(finger_length),
-        finger_thickness: o.finger_thickness.unwrap_or(finger_thickness),
-        approach_axis: Vector3::z(),
-        closing_axis: Vector3::y(),
-        palm: o.palm.unwrap_or(PalmBox {
-            min: Point3::from(pmin.coords),
-            max: Point3::from(pmax.coords),
-        }),
+    let Ok(params) = grasp_model(&gripper, &o, Path::new("fuzz-overrides.toml")) else {
+        return;
     };
-    if params.validate().is_ok() {
-        check_params(&params);
-        // The closing command of every width the grasp planner may ask for stays a finite
-        // parameter in [0, 1].
-        let mut q = vec![0.0; model.variable_count()];
-        for width in [params.opening_min, params.opening_max] {
-            gripper.set_grasp(&mut q, width);
-            let s = gripper.parameter_of(&q);
-            assert!(
-                s.is_finite() && (-1e-9..=1.0 + 1e-9).contains(&s),
-                "s = {s} for {width}"
-            );
-        }
+    check_params(&params);
+    // The closing command of every width the grasp planner may ask for stays a finite
+    // parameter in [0, 1].
+    let mut q = vec![0.0; model.variable_count()];
+    for width in [params.opening_min, params.opening_max] {
+        gripper.set_grasp(&mut q, width);
+        let s = gripper.parameter_of(&q);
+        assert!(
+            s.is_finite() && (-1e-9..=1.0 + 1e-9).contains(&s),
+            "s = {s} for {width}"
+        );
     }
 });

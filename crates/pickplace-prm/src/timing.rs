@@ -132,33 +132,7 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
     if path.is_empty() {
         return Err(Error::EmptyPath);
     }
-    for (what, limits, name) in [
-        ("max_velocities", &options.max_velocities, "velocity"),
-        (
-            "max_accelerations",
-            &options.max_accelerations,
-            "acceleration",
-        ),
-    ] {
-        if limits.len() != d {
-            return Err(Error::JointCount {
-                what,
-                expected: d,
-                found: limits.len(),
-            });
-        }
-        if let Some((joint, &value)) = limits
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
-        {
-            return Err(Error::InvalidLimit {
-                joint,
-                limit: name,
-                value,
-            });
-        }
-    }
+    check_limits(d, &options.max_velocities, &options.max_accelerations)?;
     if !(options.sample_period > 0.0 && options.sample_period.is_finite()) {
         return Err(Error::InvalidOption {
             name: "sample_period",
@@ -260,6 +234,38 @@ pub fn time_parameterize(path: &Path, options: &TimingOptions) -> Result<Traject
         points.push(waypoint);
     }
     Ok(Trajectory { points })
+}
+
+/// Checks one positive, finite velocity and acceleration limit per joint of `d`.
+///
+/// # Errors
+/// [`Error::JointCount`] when a list has the wrong length; [`Error::InvalidLimit`] for a
+/// non-positive or non-finite limit.
+pub(crate) fn check_limits(d: usize, velocities: &[f64], accelerations: &[f64]) -> Result<()> {
+    for (what, limits, name) in [
+        ("max_velocities", velocities, "velocity"),
+        ("max_accelerations", accelerations, "acceleration"),
+    ] {
+        if limits.len() != d {
+            return Err(Error::JointCount {
+                what,
+                expected: d,
+                found: limits.len(),
+            });
+        }
+        if let Some((joint, &value)) = limits
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return Err(Error::InvalidLimit {
+                joint,
+                limit: name,
+                value,
+            });
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -330,7 +330,7 @@ impl Parameterization {
 /// points.
 pub fn parameterize(path: &BlendedPath, options: &ToppraOptions) -> Result<Parameterization> {
     let dof = path.dof();
-    check_limits(dof, options)?;
+    crate::timing::check_limits(dof, &options.max_velocities, &options.max_accelerations)?;
     if !(options.grid_step.is_finite() && options.grid_step > 0.0) {
         return Err(Error::InvalidOption {
             name: "grid_step",
@@ -435,33 +435,6 @@ pub fn sample(
         }
     }
     Ok(Trajectory { points })
-}
-
-fn check_limits(dof: usize, options: &ToppraOptions) -> Result<()> {
-    for (what, limits) in [
-        ("velocity", &options.max_velocities),
-        ("acceleration", &options.max_accelerations),
-    ] {
-        if limits.len() != dof {
-            return Err(Error::JointCount {
-                what,
-                expected: dof,
-                found: limits.len(),
-            });
-        }
-        if let Some((joint, &value)) = limits
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
-        {
-            return Err(Error::InvalidLimit {
-                joint,
-                limit: what,
-                value,
-            });
-        }
-    }
-    Ok(())
 }
 
 /// The grid: every junction of pieces, and points between them at most `step` apart.

@@ -132,7 +132,9 @@ impl GripperOverrides {
         Ok(o)
     }
 
-    fn options(&self) -> GripperOptions {
+    /// The measuring options these overrides give [`Gripper::derive`] (squeeze, pads, largest
+    /// opening, tool offset; the rest from [`GripperOptions::default`]).
+    pub fn options(&self) -> GripperOptions {
         let d = GripperOptions::default();
         GripperOptions {
             squeeze: self.squeeze.unwrap_or(d.squeeze),
@@ -417,8 +419,12 @@ impl RobotSetup {
     }
 }
 
-/// The grasp planner's gripper model: measured, then overridden.
-fn grasp_model(
+/// The grasp planner's gripper model: measured on the URDF (`gripper`), then overridden by
+/// `o`; a bad value names `source` (the overrides file, else the URDF).
+///
+/// # Errors
+/// [`pickplace_grasp::Error::InvalidGripper`] naming the first bad parameter.
+pub fn grasp_model(
     gripper: &Gripper,
     o: &GripperOverrides,
     source: &Path,
