@@ -562,7 +562,15 @@ impl Srdf {
     /// Writes the SRDF (groups, states, end effectors, disabled pairs) as XML text.
     pub fn to_xml(&self) -> String {
         use std::fmt::Write as _;
-        let esc = |s: &str| quick_xml::escape::escape(s).into_owned();
+        // Attribute values: XML's five entities, and tab, newline and carriage return as
+        // character references, which every XML reader keeps (attribute-value normalisation
+        // turns the raw characters into spaces).
+        let esc = |s: &str| {
+            quick_xml::escape::escape(s)
+                .replace('\t', "&#9;")
+                .replace('\n', "&#10;")
+                .replace('\r', "&#13;")
+        };
         let mut out = String::new();
         let _ = writeln!(out, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
         let _ = writeln!(out, "<robot name=\"{}\">", esc(&self.robot_name));

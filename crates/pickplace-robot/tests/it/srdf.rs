@@ -320,3 +320,20 @@ fn a_common_prefix_is_stripped_and_unknown_elements_are_ignored() {
     .expect_err("still unknown");
     assert!(error.to_string().contains("bot/"), "{error}");
 }
+
+#[test]
+fn written_names_keep_tabs_and_newlines_for_every_xml_reader() {
+    // Found by the srdf_writer fuzz target: raw tab/newline in attribute values came back as
+    // spaces from standard XML readers (attribute-value normalisation).
+    let text =
+        "<robot name=\"r&#9;x\"><group name=\"a&#10;b&#13;c\"><joint name=\"j\"/></group></robot>";
+    let srdf = Srdf::from_xml_str(text).expect("valid");
+    assert_eq!(srdf.robot_name, "r\tx");
+    assert_eq!(srdf.groups[0].name, "a\nb\rc");
+    let xml = srdf.to_xml();
+    assert!(
+        xml.contains("a&#10;b&#13;c") && xml.contains("r&#9;x"),
+        "{xml}"
+    );
+    assert_eq!(Srdf::from_xml_str(&xml).expect("again"), srdf);
+}
