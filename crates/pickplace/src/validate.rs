@@ -73,6 +73,60 @@ fn short_number(value: Real) -> String {
     fmt_real_fixed(value, 4)
 }
 
+/// The acceleration bound of the at-rest rule: the planner's joint acceleration limit
+/// ([`crate::PlanOptions::max_acceleration`]'s default; plans carry positions only).
+pub const KEY_POSE_ACCELERATION: Real = 3.0;
+
+/// The robot is at rest at every key pose (docs/plan-format.md): a key pose is at a
+/// trajectory sample, and from rest a joint whose acceleration is at most
+/// [`KEY_POSE_ACCELERATION`] moves at most `a h² / 2` in the time `h` to the sample before or
+/// after it (5 % and 1e-9 of slack for rounding).
+fn at_rest_at_key_poses(v: &mut Validator<'_>, plan: &Plan, names: &[&str]) {
+    let samples = &plan.trajectory;
+    for k in &plan.key_poses {
+        let Some(i) = samples
+            .iter()
+            .position(|p| (p.time_from_start - k.time).abs() <= 1e-6)
+        else {
+            v.problem(
+                k.time,
+                format!("key pose {:?} is at no trajectory sample", k.name),
+            );
+            continue;
+        };
+        let neighbours = [i.checked_sub(1), Some(i + 1)];
+        'sides: for n in neighbours.into_iter().flatten() {
+            let Some(other) = samples.get(n) else {
+                continue;
+            };
+            let h = (other.time_from_start - samples[i].time_from_start).abs();
+            let bound = 0.5 * KEY_POSE_ACCELERATION * h * h * 1.05 + 1e-9;
+            for (j, (a, b)) in samples[i]
+                .positions
+                .iter()
+                .zip(&other.positions)
+                .enumerate()
+            {
+                if (a - b).abs() > bound {
+                    v.problem(
+                        k.time,
+                        format!(
+                            "the robot is not at rest at key pose {:?}: {} moves {} in the {} s to trajectory[{n}] (at most {} from rest at {} rad/s²)",
+                            k.name,
+                            names.get(j).copied().unwrap_or("?"),
+                            short_number((a - b).abs()),
+                            short_time(h),
+                            short_number(bound),
+                            KEY_POSE_ACCELERATION
+                        ),
+                    );
+                    break 'sides;
+                }
+            }
+        }
+    }
+}
+
 /// A time (s) from a plan with 3 decimals, compact when huge (`fmt_real_fixed`).
 fn short_time(t: Real) -> String {
     fmt_real_fixed(t, 3)
@@ -265,6 +319,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         }
     }
     let events: Vec<Ev> = events.into_iter().map(|(e, _)| e).collect();
+    at_rest_at_key_poses(&mut v, plan, &names);
     v.rests = v.rest_poses(plan, &events)?;
 
     let start = &plan.trajectory[0];

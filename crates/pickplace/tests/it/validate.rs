@@ -118,6 +118,9 @@ fn with_path(setup: &Setup, plan: &Plan, path: &[Vec<Real>], speed: Real) -> Pla
     for e in &mut out.events {
         e.time += shift;
     }
+    for k in &mut out.key_poses {
+        k.time += shift;
+    }
     out.trajectory.splice(0..0, points);
     out
 }
@@ -310,6 +313,8 @@ fn a_plan_ending_with_the_object_held_is_refused() {
     let last = sample_at(plan, faulty.events[release].time);
     faulty.events.remove(release);
     faulty.trajectory.truncate(last + 1);
+    let end = faulty.trajectory[last].time_from_start;
+    faulty.key_poses.retain(|k| k.time <= end + 1e-9);
     let report = check(setup, &faulty);
     only(&report, "the object is still held at the end");
 }
@@ -631,4 +636,29 @@ fn a_plan_that_does_not_fit_is_an_error_not_a_list_of_problems() {
         ..PoseSpec::IDENTITY
     };
     assert!(validate(setup, &faulty, Path::new("plan.json")).is_err());
+}
+
+#[test]
+fn a_robot_still_moving_at_a_key_pose_is_refused() {
+    // The sample after the grasp key pose is moved 1 cm (rad) along: the hand would pass the
+    // grasp without stopping there.
+    let (setup, plan) = near();
+    let grasp = plan
+        .key_poses
+        .iter()
+        .find(|k| k.name == "grasp")
+        .expect("a grasp key pose");
+    let i = sample_at(plan, grasp.time);
+    let mut faulty = plan.clone();
+    let j = setup.arm(pickplace::strategy::Arm::Right).variables[0];
+    faulty.trajectory[i + 1].positions[j] += 0.01;
+    let report = check(setup, &faulty);
+    assert!(
+        report
+            .problems
+            .iter()
+            .any(|p| p.contains("the robot is not at rest at key pose \"grasp\"")),
+        "{:#?}",
+        report.problems
+    );
 }
