@@ -237,6 +237,24 @@ impl BlendedPath {
         self.length
     }
 
+    /// The index of the straight piece that contains arc length `s` (its ends included),
+    /// `None` on a blend arc. Two points on the same straight piece are joined by the
+    /// straight segment between the path's waypoints; anything else left the waypoints'
+    /// polyline and is checked again by the caller (the blends cut corners).
+    pub fn line_at(&self, s: f64) -> Option<usize> {
+        let s = s.clamp(0.0, self.length);
+        let k = self.starts.partition_point(|&t| t <= s).saturating_sub(1);
+        // A point at a junction belongs to both pieces: prefer the straight one.
+        let candidates = [Some(k), k.checked_sub(1), Some(k + 1)];
+        candidates.into_iter().flatten().find(|&i| match self.pieces.get(i) {
+            Some(Piece::Line { length, .. }) => {
+                let (a, b) = (self.starts[i], self.starts[i] + length);
+                s >= a - 1e-9 && s <= b + 1e-9
+            }
+            _ => false,
+        })
+    }
+
     /// Position, tangent and curvature vector at arc length `s` (clamped into the path).
     pub fn eval(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64]) {
         let s = s.clamp(0.0, self.length);
