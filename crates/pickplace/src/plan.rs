@@ -1,5 +1,5 @@
-//! The plan: what `pickplace plan` returns (JSON format `pickplace.plan/1`, documented in
-//! `docs/plan-format.md`).
+//! The plan: what `pickplace plan` returns (JSON format `pickplace.plan/2`, documented in
+//! `docs/plan-format.md`; plans of format `pickplace.plan/1`, positions only, are still read).
 //!
 //! A plan is self-contained for playback: the robot's actuated joints in model order, a
 //! time-stamped trajectory of all of them, grasp/release events that say which link holds the
@@ -46,7 +46,10 @@ fn clip(text: &str) -> String {
 }
 
 /// The plan format written in [`Plan::format`].
-pub const PLAN_FORMAT: &str = "pickplace.plan/1";
+pub const PLAN_FORMAT: &str = "pickplace.plan/2";
+
+/// The earlier format still read: its samples have positions only and it has no `arms`.
+pub const PLAN_FORMAT_1: &str = "pickplace.plan/1";
 
 /// A complete pick-and-place plan.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,6 +64,11 @@ pub struct Plan {
     /// Every actuated joint of the robot (grippers included), in model order: the columns of
     /// [`TrajectoryPoint::positions`].
     pub joint_names: Vec<String>,
+    /// Each arm's joints and its gripper's (names from [`Plan::joint_names`]): the joints of
+    /// the trajectories [`Plan::motions`] gives per arm, as a controller of that arm expects
+    /// them (absent in format `pickplace.plan/1`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub arms: Vec<ArmJoints>,
     /// The time-stamped joint trajectory, starting at the scene's start state.
     pub trajectory: Vec<TrajectoryPoint>,
     /// Grasps and releases, in time order.
@@ -89,6 +97,39 @@ pub struct TrajectoryPoint {
     pub time_from_start: Real,
     /// Joint values, one per [`Plan::joint_names`] (rad or m).
     pub positions: Vec<Real>,
+    /// Joint velocities, one per joint (rad/s or m/s; absent in format `pickplace.plan/1`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub velocities: Vec<Real>,
+    /// Joint accelerations, one per joint (rad/s² or m/s²; absent in format
+    /// `pickplace.plan/1`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub accelerations: Vec<Real>,
+}
+
+impl TrajectoryPoint {
+    /// A sample with positions only (the form of format `pickplace.plan/1`).
+    pub fn positions_only(time_from_start: Real, positions: Vec<Real>) -> Self {
+        Self {
+            time_from_start,
+            positions,
+            velocities: Vec::new(),
+            accelerations: Vec::new(),
+        }
+    }
+}
+
+/// One arm's joints in a plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArmJoints {
+    /// Which arm.
+    pub arm: Arm,
+    /// Its SRDF group.
+    pub group: String,
+    /// The arm's joints, in model order.
+    pub joints: Vec<String>,
+    /// Its gripper's actuated joints (the closing command), in model order.
+    pub gripper_joints: Vec<String>,
 }
 
 /// What happens to the object at an instant.
@@ -561,8 +602,12 @@ impl Plan {
     pub fn from_json(text: &str) -> Result<Self, String> {
         let plan: Plan = serde_json::from_str(text)
             .map_err(|e| pickplace_geometry::io::short_message(&e.to_string()))?;
-        if plan.format != PLAN_FORMAT {
-            return Err(format!("format {:?} is not {PLAN_FORMAT:?}", plan.format));
+        let current = plan.format == PLAN_FORMAT;
+        if !current && plan.format != PLAN_FORMAT_1 {
+            return Err(format!(
+                "format {:?} is not {PLAN_FORMAT:?} (or the earlier {PLAN_FORMAT_1:?})",
+                plan.format
+            ));
         }
         let n = plan.joint_names.len();
         for (i, p) in plan.trajectory.iter().enumerate() {
@@ -572,7 +617,29 @@ impl Plan {
                     p.positions.len()
                 ));
             }
-            if !p.time_from_start.is_finite() || p.positions.iter().any(|v| !v.is_finite()) {
+            for (what, values) in [
+                ("velocities", &p.velocities),
+                ("accelerations", &p.accelerations),
+            ] {
+                if current && values.len() != n {
+                    return Err(format!(
+                        "trajectory[{i}] has {} {what} for {n} joints",
+                        values.len()
+                    ));
+                }
+                if !current && !values.is_empty() {
+                    return Err(format!(
+                        "trajectory[{i}] has {what}, which format {PLAN_FORMAT_1:?} does not have (write format {PLAN_FORMAT:?})"
+                    ));
+                }
+            }
+            if !p.time_from_start.is_finite()
+                || p.positions
+                    .iter()
+                    .chain(&p.velocities)
+                    .chain(&p.accelerations)
+                    .any(|v| !v.is_finite())
+            {
                 return Err(format!("trajectory[{i}] has a non-finite number"));
             }
             if p.time_from_start < 0.0 {
@@ -585,9 +652,111 @@ impl Plan {
                 return Err(format!("trajectory[{i}] goes back in time"));
             }
         }
+        for (i, a) in plan.arms.iter().enumerate() {
+            if !current {
+                return Err(format!(
+                    "arms: format {PLAN_FORMAT_1:?} has no arms (write format {PLAN_FORMAT:?})"
+                ));
+            }
+            if plan.arms[..i].iter().any(|b| b.arm == a.arm) {
+                return Err(format!("arms[{i}]: arm {} is listed twice", a.arm));
+            }
+            if let Some(j) = a
+                .joints
+                .iter()
+                .chain(&a.gripper_joints)
+                .find(|j| !plan.joint_names.contains(j))
+            {
+                return Err(format!(
+                    "arms[{i}]: joint {:?} is not in joint_names",
+                    clip(j)
+                ));
+            }
+        }
         plan.check_poses()?;
         Ok(plan)
     }
+
+    /// The plan cut into its motions: from one stop of the robot to the next. The robot
+    /// stops at the start, at every key pose and every grasp and release, and at the end;
+    /// a motion is the samples from one such instant to the next, both included, when
+    /// something moves between them. Times that fall between samples (a malformed plan)
+    /// cut at the sample before.
+    pub fn motions(&self) -> Vec<Motion> {
+        let Some(last) = self.trajectory.len().checked_sub(1) else {
+            return Vec::new();
+        };
+        let index_at = |t: Real| {
+            self.trajectory
+                .partition_point(|p| p.time_from_start <= t + 1e-9)
+                .saturating_sub(1)
+        };
+        // Each cut with what happens there (the latest name wins at one instant).
+        let mut cuts: BTreeMap<usize, String> = BTreeMap::new();
+        for k in &self.key_poses {
+            cuts.insert(index_at(k.time), k.name.clone());
+        }
+        for e in &self.events {
+            let name = match e.kind {
+                EventKind::Grasp => "grasp",
+                EventKind::Release => "release",
+            };
+            cuts.entry(index_at(e.time))
+                .or_insert_with(|| format!("{name} ({})", e.arm));
+        }
+        cuts.entry(last).or_insert_with(|| "end".into());
+        let mut motions = Vec::new();
+        let mut from = 0;
+        for (to, name) in cuts {
+            if to <= from {
+                continue;
+            }
+            let moved = |columns: &[usize]| {
+                columns.iter().any(|&c| {
+                    let first = self.trajectory[from].positions.get(c);
+                    self.trajectory[from..=to]
+                        .iter()
+                        .any(|p| p.positions.get(c) != first)
+                })
+            };
+            let column = |name: &String| self.joint_names.iter().position(|n| n == name);
+            let arms = self
+                .arms
+                .iter()
+                .filter(|a| {
+                    let columns: Vec<usize> = a
+                        .joints
+                        .iter()
+                        .chain(&a.gripper_joints)
+                        .filter_map(column)
+                        .collect();
+                    moved(&columns)
+                })
+                .map(|a| a.arm)
+                .collect();
+            motions.push(Motion {
+                first: from,
+                last: to,
+                to: name,
+                arms,
+            });
+            from = to;
+        }
+        motions
+    }
+}
+
+/// A motion of a plan ([`Plan::motions`]): samples `first..=last` of the trajectory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Motion {
+    /// Index of its first sample (the robot at rest).
+    pub first: usize,
+    /// Index of its last sample (the robot at rest).
+    pub last: usize,
+    /// What it reaches: the key pose's name, `grasp (right)`, `release (left)` or `end`.
+    pub to: String,
+    /// The arms (from [`Plan::arms`]) whose joints or gripper move in it.
+    pub arms: Vec<Arm>,
 }
 
 #[cfg(test)]
@@ -613,6 +782,7 @@ mod tests {
             seed: 1,
             strategy: Strategy::RightLeft,
             joint_names: vec!["a".into(), "b".into()],
+            arms: vec![],
             trajectory: vec![],
             events,
             object: ObjectMotion {
@@ -664,10 +834,7 @@ mod tests {
         ]);
         p.strategy = Strategy::RightRight;
         p.trajectory = (0..4)
-            .map(|k| TrajectoryPoint {
-                time_from_start: f64::from(k),
-                positions: vec![0.0, 0.0],
-            })
+            .map(|k| TrajectoryPoint::positions_only(f64::from(k), vec![0.0, 0.0]))
             .collect();
         p.grasps = vec![GraspInfo {
             arm: Arm::Right,

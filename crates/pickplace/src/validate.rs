@@ -1260,10 +1260,7 @@ mod tests {
                 q[l] += ql;
                 q[rf] += fr;
                 q[lf] += fl;
-                TrajectoryPoint {
-                    time_from_start: i as Real,
-                    positions: q,
-                }
+                TrajectoryPoint::positions_only(i as Real, q)
             })
             .collect();
         let ev = |time: Real, kind: EventKind, arm: Arm| Ev {
@@ -1318,7 +1315,7 @@ mod tests {
                     }
                     let mut q = setup.start.clone();
                     q[v] += value;
-                    TrajectoryPoint { time_from_start: i as Real * 0.5, positions: q }
+                    TrajectoryPoint::positions_only(i as Real * 0.5, q)
                 })
                 .collect();
             let k = at % traj.len();

@@ -5,7 +5,7 @@
 use crate::args;
 use crate::support::{Scratch, fails_with, mesh, ok, run_in};
 use pickplace::plan::{
-    Event, EventKind, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, Stats,
+    Event, EventKind, KeyPose, ObjectMotion, PlacementInfo, Plan, Stats,
     TrajectoryPoint,
 };
 use pickplace::scene::PoseSpec;
@@ -92,10 +92,7 @@ fn plan(points: usize) -> Plan {
             let mut q = vec![0.0; JOINTS.len()];
             q[elbow] = -1.745 + 0.8 * s;
             q[shoulder] = -0.6 * s;
-            TrajectoryPoint {
-                time_from_start: 3.0 * s,
-                positions: q,
-            }
+            TrajectoryPoint::positions_only(3.0 * s, q)
         })
         .collect();
     let event = |time: f64, kind: EventKind| Event {
@@ -112,8 +109,10 @@ fn plan(points: usize) -> Plan {
         world_from_tcp: pose(0.35, -0.2, 0.8),
         world_from_object: pose(0.35, -0.2, 0.72),
     };
+    // Positions only: the earlier format, still read.
     Plan {
-        format: PLAN_FORMAT.into(),
+        format: pickplace::plan::PLAN_FORMAT_1.into(),
+        arms: vec![],
         seed: 1,
         strategy: Strategy::RightRight,
         joint_names: JOINTS.iter().map(|s| s.to_string()).collect(),

@@ -6,15 +6,51 @@
 use super::Ctx;
 use crate::error::Result;
 use crate::plan::{
-    Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, RestInfo,
+    ArmJoints, Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, RestInfo,
     Stats, TrajectoryPoint,
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::{Isometry3, Real};
 use pickplace_placement::{ContactKind, Placement};
-use pickplace_prm::{Path as PrmPath, TimingOptions, time_parameterize};
+use pickplace_prm::toppra::{self, BlendedPath, ToppraOptions};
+use pickplace_robot::collision::CollisionWorld;
+use std::sync::Arc;
 use std::time::Instant;
+
+/// How far (rad) a straight tool motion's blends may cut its corners (the IK waypoints every
+/// [`super::PlanOptions::cartesian_step`]): they turn by little, so the blends are short.
+pub(super) const STRAIGHT_BLEND_TOLERANCE: Real = 0.005;
+
+/// How far (m) the tool point of a straight motion may leave the straight line between its
+/// ends once timed.
+pub(super) const STRAIGHT_DEVIATION: Real = 0.001;
+
+/// Times a blend is tightened (the tolerance divided by 4) when what it changed collides or
+/// leaves the line, before the segment is timed without blends (a stop at every waypoint).
+const BLEND_ATTEMPTS: usize = 3;
+
+/// Fewest grid stages of a timed part of a path.
+const MIN_STAGES: Real = 32.0;
+
+/// A segment's samples (times from its start) and, for each, the part of the path and the
+/// arc length it is at.
+struct Timed {
+    points: Vec<pickplace_prm::TrajectoryPoint>,
+    at: Vec<(usize, Real)>,
+}
+
+/// How a segment may be smoothed before it is timed.
+#[derive(Debug, Clone)]
+pub(super) enum Shape {
+    /// A straight tool motion (approach, lift, lowering, retreat) or the fingers moving: its
+    /// corners are blended only within [`STRAIGHT_BLEND_TOLERANCE`] and its tool point stays
+    /// within [`STRAIGHT_DEVIATION`] of the straight line.
+    Straight,
+    /// A motion through free space (the PRM's): its corners are blended within the plan's
+    /// tolerance, and what the blends change is checked again in this world.
+    Free(Arc<CollisionWorld>),
+}
 
 /// One motion of the plan: full configurations, from rest to rest.
 #[derive(Debug, Clone)]
@@ -25,15 +61,33 @@ pub(super) struct Segment {
     pub key: Option<(&'static str, Arm)>,
     /// Event at the end of the segment: grasp or release by an arm, `link_from_object`.
     pub event: Option<(EventKind, Arm, Isometry3)>,
+    /// How it may be smoothed.
+    pub shape: Shape,
 }
 
 impl Segment {
-    /// A motion that ends at the key pose `name` of `arm`.
+    /// A straight motion that ends at the key pose `name` of `arm`.
     pub fn reach(name: &'static str, arm: Arm, path: Vec<Vec<Real>>) -> Self {
         Self {
             path,
             key: Some((name, arm)),
             event: None,
+            shape: Shape::Straight,
+        }
+    }
+
+    /// A motion through free space, checked in `world`, that ends at the key pose `name`.
+    pub fn free(
+        name: &'static str,
+        arm: Arm,
+        path: Vec<Vec<Real>>,
+        world: &Arc<CollisionWorld>,
+    ) -> Self {
+        Self {
+            path,
+            key: Some((name, arm)),
+            event: None,
+            shape: Shape::Free(Arc::clone(world)),
         }
     }
 
@@ -43,6 +97,7 @@ impl Segment {
             path,
             key: None,
             event: None,
+            shape: Shape::Straight,
         }
     }
 
@@ -56,6 +111,7 @@ impl Segment {
             path,
             key,
             event: Some(event),
+            shape: Shape::Straight,
         }
     }
 }
@@ -68,6 +124,19 @@ pub(super) struct Found {
     pub grasps: Vec<(Arm, usize)>,
     pub placement: usize,
     pub rests: Vec<usize>,
+}
+
+/// The timing's refusal as the façade's error: a trajectory too long to sample is the
+/// input's fault ([`crate::Error::TrajectoryLimit`]); anything else is a defect.
+fn timing_error(e: pickplace_prm::Error) -> crate::Error {
+    match e {
+        pickplace_prm::Error::TooManySamples { .. } | pickplace_prm::Error::TooManyPoints { .. } => {
+            crate::Error::TrajectoryLimit {
+                reason: e.to_string(),
+            }
+        }
+        other => crate::error::internal("timing")(other),
+    }
 }
 
 /// Times are rounded to the microsecond so that the JSON is short and stable.
@@ -87,18 +156,12 @@ impl Ctx<'_> {
         let t = Instant::now();
         let model = &self.setup.model;
         let n = model.variable_count();
-        let velocities: Vec<Real> = model
-            .variable_limits()
-            .map(|l| if l.velocity > 0.0 { l.velocity } else { 1.0 })
-            .collect();
-        let timing = TimingOptions {
-            max_velocities: velocities,
-            max_accelerations: vec![self.options.max_acceleration; n],
-            sample_period: self.options.sample_period,
-        };
+        let limits = self.timing_limits();
         let mut trajectory: Vec<TrajectoryPoint> = vec![TrajectoryPoint {
             time_from_start: 0.0,
             positions: self.setup.start.clone(),
+            velocities: vec![0.0; n],
+            accelerations: vec![0.0; n],
         }];
         let mut events = Vec::new();
         let mut key_poses = Vec::new();
@@ -107,21 +170,18 @@ impl Ctx<'_> {
         let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
         let placed = self.placements[found.placement].world_from_object;
         for seg in &found.segments {
-            let path = PrmPath::from_waypoints(n, seg.path.iter().map(|q| q.as_slice()))
-                .map_err(crate::error::internal("trajectory"))?;
             let offset = trajectory.last().map_or(0.0, |p| p.time_from_start);
-            if path.len() >= 2 {
-                let timed = time_parameterize(&path, &timing).map_err(|e| match e {
-                    pickplace_prm::Error::TooManySamples { .. } => crate::Error::TrajectoryLimit {
-                        reason: e.to_string(),
-                    },
-                    other => crate::error::internal("timing")(other),
-                })?;
-                for p in timed.points.iter().skip(1) {
-                    trajectory.push(TrajectoryPoint {
-                        time_from_start: round_time(offset + p.time_from_start),
-                        positions: p.positions.clone(),
-                    });
+            for p in self.time_segment(seg, &limits)?.into_iter().skip(1) {
+                let point = TrajectoryPoint {
+                    time_from_start: round_time(offset + p.time_from_start),
+                    positions: p.positions,
+                    velocities: p.velocities,
+                    accelerations: p.accelerations,
+                };
+                // A last sample within half a microsecond of the one before replaces it.
+                match trajectory.last_mut() {
+                    Some(last) if last.time_from_start >= point.time_from_start => *last = point,
+                    _ => trajectory.push(point),
                 }
             }
             // The trajectory starts with the start state and only grows.
@@ -194,6 +254,24 @@ impl Ctx<'_> {
             seed: self.options.seed,
             strategy,
             joint_names: model.variable_names().map(str::to_owned).collect(),
+            arms: self
+                .setup
+                .arms
+                .iter()
+                .map(|a| {
+                    let names = |vars: &[usize]| -> Vec<String> {
+                        vars.iter()
+                            .filter_map(|&v| model.variable_names().nth(v).map(str::to_owned))
+                            .collect()
+                    };
+                    ArmJoints {
+                        arm: a.arm,
+                        group: a.group.clone(),
+                        joints: names(&a.variables),
+                        gripper_joints: names(&a.finger_variables),
+                    }
+                })
+                .collect(),
             trajectory,
             events,
             object: ObjectMotion {
@@ -206,6 +284,202 @@ impl Ctx<'_> {
             key_poses,
             stats,
         })
+    }
+
+    /// The joints' limits the trajectory keeps: each joint's velocity limit from the URDF
+    /// (1 rad/s or m/s where it gives none) and the plan's acceleration limit, scaled by the
+    /// options' factors (paper §III-C leaves timing open; issue 19).
+    fn timing_limits(&self) -> ToppraOptions {
+        let model = &self.setup.model;
+        let vs = self.options.velocity_scaling;
+        let acc = self.options.max_acceleration * self.options.acceleration_scaling;
+        ToppraOptions {
+            max_velocities: model
+                .variable_limits()
+                .map(|l| if l.velocity > 0.0 { l.velocity } else { 1.0 } * vs)
+                .collect(),
+            max_accelerations: vec![acc; model.variable_count()],
+            sample_period: self.options.sample_period,
+            ..ToppraOptions::default()
+        }
+    }
+
+    /// The segment's time-optimal trajectory (TOPP-RA on its blended path, see
+    /// [`pickplace_prm::toppra`]), from rest at its first waypoint to rest at its last, times
+    /// from 0. A blend that collides (free motions) or takes the tool point off its line
+    /// (straight motions) is tightened; after [`BLEND_ATTEMPTS`] the robot stops at every
+    /// waypoint, on the path exactly as it was checked.
+    ///
+    /// # Errors
+    /// [`crate::Error::TrajectoryLimit`] when the trajectory would be too long to sample;
+    /// [`crate::Error::Internal`] when the timing refuses the path or the limits.
+    fn time_segment(
+        &self,
+        seg: &Segment,
+        limits: &ToppraOptions,
+    ) -> Result<Vec<pickplace_prm::TrajectoryPoint>> {
+        let mut tolerance = match seg.shape {
+            Shape::Straight => STRAIGHT_BLEND_TOLERANCE,
+            Shape::Free(_) => self.options.blend_tolerance,
+        };
+        for attempt in 0..=BLEND_ATTEMPTS {
+            let exact = attempt == BLEND_ATTEMPTS || !(tolerance > 0.0);
+            let parts = if exact {
+                // Each straight piece alone: the robot stops at every waypoint.
+                let mut parts = Vec::new();
+                for w in seg.path.windows(2) {
+                    parts.extend(BlendedPath::split(w, 1.0).map_err(timing_error)?);
+                }
+                parts
+            } else {
+                BlendedPath::split(&seg.path, tolerance).map_err(timing_error)?
+            };
+            let mut timed = self.time_parts(&parts, limits, seg.path.first())?;
+            if exact || self.blends_hold(seg, &parts, &timed)? {
+                // The motion ends at rest exactly at its last waypoint (a grasp, a key pose),
+                // not where the arc length's rounding puts it.
+                if let (Some(p), Some(q)) = (timed.points.last_mut(), seg.path.last()) {
+                    p.positions.clone_from(q);
+                    p.velocities.iter_mut().for_each(|v| *v = 0.0);
+                }
+                return Ok(timed.points);
+            }
+            tolerance /= 4.0;
+        }
+        // The last attempt is exact and always returns.
+        Err(crate::Error::Internal {
+            stage: "timing",
+            reason: "no attempt returned".into(),
+        })
+    }
+
+    /// The parts timed one after the other, the robot at rest between them.
+    fn time_parts(
+        &self,
+        parts: &[BlendedPath],
+        limits: &ToppraOptions,
+        first: Option<&Vec<Real>>,
+    ) -> Result<Timed> {
+        let n = self.setup.model.variable_count();
+        let mut timed = Timed {
+            points: Vec::new(),
+            at: Vec::new(),
+        };
+        if let Some(q) = first {
+            timed.points.push(pickplace_prm::TrajectoryPoint {
+                time_from_start: 0.0,
+                positions: q.clone(),
+                velocities: vec![0.0; n],
+                accelerations: vec![0.0; n],
+            });
+            timed.at.push((0, 0.0));
+        }
+        let mut offset = 0.0;
+        for (k, part) in parts.iter().enumerate() {
+            // At least MIN_STAGES stages on every part, however short (a gripper closing
+            // by millimetres): TOPP-RA's speed lives between the grid points.
+            let options = ToppraOptions {
+                grid_step: limits.grid_step.min(part.length() / MIN_STAGES),
+                ..limits.clone()
+            };
+            let timing = toppra::parameterize(part, &options).map_err(timing_error)?;
+            let samples =
+                toppra::sample(part, &timing, limits.sample_period).map_err(timing_error)?;
+            // Each part's first sample is where the one before ended, at rest.
+            for p in samples.points.into_iter().skip(1) {
+                timed.at.push((k, timing.state(p.time_from_start).0));
+                timed.points.push(pickplace_prm::TrajectoryPoint {
+                    time_from_start: offset + p.time_from_start,
+                    ..p
+                });
+            }
+            offset += timing.duration();
+        }
+        Ok(timed)
+    }
+
+    /// Whether what the blends changed still holds: for a free motion, every state between
+    /// two samples that are not on one straight piece of the path (checked as densely as
+    /// `validate` checks: 1° of joint motion, 1 cm of tool motion) is free of collisions and
+    /// keeps the hands apart; for a straight motion, every sample's tool point is within
+    /// [`STRAIGHT_DEVIATION`] of the line between the motion's ends.
+    fn blends_hold(&self, seg: &Segment, parts: &[BlendedPath], timed: &Timed) -> Result<bool> {
+        match &seg.shape {
+            Shape::Straight => {
+                let (Some(first), Some(last)) = (seg.path.first(), seg.path.last()) else {
+                    return Ok(true);
+                };
+                for a in &self.setup.arms {
+                    let p0 = self.tcp(a.arm, first).translation.vector;
+                    let p1 = self.tcp(a.arm, last).translation.vector;
+                    let line = p1 - p0;
+                    let len2 = line.norm_squared();
+                    for p in &timed.points {
+                        let x = self.tcp(a.arm, &p.positions).translation.vector - p0;
+                        let f = if len2 > 0.0 {
+                            (x.dot(&line) / len2).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        };
+                        if (x - line * f).norm() > STRAIGHT_DEVIATION {
+                            return Ok(false);
+                        }
+                    }
+                }
+                Ok(true)
+            }
+            Shape::Free(world) => {
+                for (i, w) in timed.points.windows(2).enumerate() {
+                    let ((k0, s0), (k1, s1)) = (timed.at[i], timed.at[i + 1]);
+                    if k0 == k1
+                        && let Some(part) = parts.get(k0)
+                        && let (Some(l0), Some(l1)) = (part.line_at(s0), part.line_at(s1))
+                        && l0 == l1
+                    {
+                        continue;
+                    }
+                    if !self.states_free(world, &w[0].positions, &w[1].positions)? {
+                        return Ok(false);
+                    }
+                }
+                Ok(true)
+            }
+        }
+    }
+
+    /// Whether the states from `a` (excluded) to `b` (included), as densely as `validate`
+    /// checks them, are free of collisions in `world` with the hands apart.
+    fn states_free(&self, world: &CollisionWorld, a: &[Real], b: &[Real]) -> Result<bool> {
+        use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
+        let dq = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (y - x).abs())
+            .fold(0.0, Real::max);
+        let tool = self
+            .setup
+            .arms
+            .iter()
+            .map(|arm| {
+                (self.tcp(arm.arm, b).translation.vector - self.tcp(arm.arm, a).translation.vector)
+                    .norm()
+            })
+            .fold(0.0, Real::max);
+        let steps = (dq / MAX_JOINT_STEP)
+            .max(tool / MAX_CARTESIAN_STEP)
+            .ceil()
+            .clamp(1.0, 1e6) as usize;
+        let mut q = a.to_vec();
+        for i in 1..=steps {
+            let f = i as Real / steps as Real;
+            for (k, x) in q.iter_mut().enumerate() {
+                *x = a[k] + f * (b[k] - a[k]);
+            }
+            if self.collision(world, &q, 0.0)?.is_some() || self.hands_too_close(&q)? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 
     /// What the plan says of placement `p`, the `rank`-th of its list.

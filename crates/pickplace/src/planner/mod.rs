@@ -86,6 +86,18 @@ pub struct PlanOptions {
     pub max_acceleration: Real,
     /// Trajectory sampling period (s) (default: 0.04).
     pub sample_period: Real,
+    /// How far (rad, joint space) a motion through free space may cut a corner of its path
+    /// (a roadmap vertex, a shortcut's waypoint) on a circular blend, so that the robot does
+    /// not stop there; what the blends change is checked again for collisions, and a blend
+    /// that collides is tightened (default: 0.1). Straight tool motions blend at most
+    /// 0.005 rad and stay within 1 mm of their line.
+    pub blend_tolerance: Real,
+    /// Fraction of every joint's velocity limit the trajectory uses, in (0, 1] (MoveIt's
+    /// velocity scaling factor; default: the scene's `trajectory.velocity_scaling`, else 1).
+    pub velocity_scaling: Real,
+    /// Fraction of every joint's acceleration limit the trajectory uses, in (0, 1] (default:
+    /// the scene's `trajectory.acceleration_scaling`, else 1).
+    pub acceleration_scaling: Real,
 }
 
 impl PlanOptions {
@@ -118,6 +130,9 @@ impl Default for PlanOptions {
             time_budget: 10.0,
             max_acceleration: 3.0,
             sample_period: 0.04,
+            blend_tolerance: 0.1,
+            velocity_scaling: 1.0,
+            acceleration_scaling: 1.0,
         }
     }
 }

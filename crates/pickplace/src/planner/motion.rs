@@ -15,6 +15,7 @@ use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::Real;
 use pickplace_prm::{PrmPlanner, QueryOptions, RrtOptions, ShortcutOptions, rrt_connect, shortcut};
 use pickplace_robot::collision::CollisionWorld;
+use std::sync::Arc;
 
 /// Within this joint distance (rad, every joint) of a motion's ends the PRM applies no
 /// clearance margin: the ends are grasp and release poses that may be close to the object.
@@ -157,7 +158,7 @@ impl Ctx<'_> {
     fn back_to_start(
         &self,
         arm: Arm,
-        world: &CollisionWorld,
+        world: &Arc<CollisionWorld>,
         from: &[Real],
         start: &[Real],
         salt: u64,
@@ -169,7 +170,7 @@ impl Ctx<'_> {
         let back = self
             .motion(arm, world, from, &home, salt)
             .map_err(|f| f.at(Step::Home))?;
-        Ok(Some(Segment::reach("home", arm, back)))
+        Ok(Some(Segment::free("home", arm, back, world)))
     }
 
     /// The segments of a single-arm plan with `arm`, placement `pi` and grasp `gi`: open the
@@ -205,7 +206,7 @@ impl Ctx<'_> {
             },
             &open_start,
         )?;
-        let left = self.world_with_object_at(&p.world_from_object);
+        let left = Arc::new(self.world_with_object_at(&p.world_from_object));
         if let Some(back) = self.back_to_start(arm, &left, &retreated, start, salt ^ 3)? {
             segments.push(back);
         }
@@ -240,23 +241,23 @@ impl Ctx<'_> {
         let opened = self.opened(arm, &q_place);
         let away: Vec<Vec<Real>> = t.place.retreat.iter().map(|q| graft(q, &opened)).collect();
         self.check_place(arm, t.gi, t.to, &lower, &away)?;
-        let free = self.world_with_object_at(t.from.0);
+        let free = Arc::new(self.world_with_object_at(t.from.0));
         let to_pre = self
             .motion(arm, &free, current, &approach[0], t.salts.0)
             .map_err(|f| f.at(t.keys.to_pick))?;
-        segments.push(Segment::reach(pre_grasp, arm, to_pre));
+        segments.push(Segment::free(pre_grasp, arm, to_pre, &free));
         segments.push(Segment::reach(grasp, arm, approach));
         segments.push(Segment::event(
             vec![q_grasp, closed],
             None,
             (EventKind::Grasp, arm, g.object_from_tcp.inverse()),
         ));
-        let holding = self.world_holding(arm, &g.object_from_tcp, &[])?;
+        let holding = Arc::new(self.world_holding(arm, &g.object_from_tcp, &[])?);
         let carry = self
             .motion(arm, &holding, &here(&lifted)?, &lower[0], t.salts.1)
             .map_err(|f| f.at(t.keys.to_place))?;
         segments.push(Segment::reach(lift, arm, lifted));
-        segments.push(Segment::reach(pre_place, arm, carry));
+        segments.push(Segment::free(pre_place, arm, carry, &holding));
         segments.push(Segment::reach(place, arm, lower));
         segments.push(Segment::event(
             vec![q_place, opened],
@@ -290,7 +291,7 @@ impl Ctx<'_> {
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
-        let free = self.world_with_object_at(&self.setup.object_start);
+        let free = Arc::new(self.world_with_object_at(&self.setup.object_start));
         let to_pre = self
             .motion(
                 a,
@@ -301,7 +302,7 @@ impl Ctx<'_> {
             )
             .map_err(|f| f.at(Step::ToPreGrasp))?;
         let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
-        segments.push(Segment::reach("pre-grasp", a, to_pre));
+        segments.push(Segment::free("pre-grasp", a, to_pre, &free));
         let approach: Vec<Vec<Real>> = pick
             .approach
             .iter()
@@ -324,24 +325,24 @@ impl Ctx<'_> {
         let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
         self.check_pick(a, h.g1, start_rest, &approach, &lift)?;
         // A carries the object to the handover pose.
-        let holding_a = self.world_holding(a, &g1.object_from_tcp, &[])?;
+        let holding_a = Arc::new(self.world_holding(a, &g1.object_from_tcp, &[])?);
         let q_handover = self.arm_from(a, &here(&lift)?, &h.q_a);
         let carry = self
             .motion(a, &holding_a, &here(&lift)?, &q_handover, salt ^ 2)
             .map_err(|f| f.at(Step::ToHandover))?;
-        segments.push(Segment::reach("handover", a, carry));
+        segments.push(Segment::free("handover", a, carry, &holding_a));
         // B comes to the pre-regrasp pose, then approaches.
         let q_pre_b = self.arm_from(b, &q_handover, &h.approach[0]);
         let to_b = self
             .motion(b, &holding_a, &q_handover, &q_pre_b, salt ^ 3)
             .map_err(|f| f.at(Step::ToPreRegrasp))?;
-        segments.push(Segment::reach("pre-regrasp", b, to_b));
+        segments.push(Segment::free("pre-regrasp", b, to_b, &holding_a));
         let b_approach: Vec<Vec<Real>> = h
             .approach
             .iter()
             .map(|qb| self.arm_from(b, &q_pre_b, qb))
             .collect();
-        self.check_straight(b, &b_approach, &|_, _| &holding_a, true)
+        self.check_straight(b, &b_approach, &|_, _| &*holding_a, true)
             .map_err(|f| f.at(Step::RegraspApproach))?;
         segments.push(Segment::reach("regrasp", b, b_approach.clone()));
         let q = here(&b_approach)?;
@@ -362,8 +363,8 @@ impl Ctx<'_> {
             .iter()
             .map(|qa| self.arm_from(a, &a_open, qa))
             .collect();
-        let holding_b = self.world_holding(b, &g2.object_from_tcp, &[])?;
-        self.check_straight(a, &a_retreat, &|_, _| &holding_b, false)
+        let holding_b = Arc::new(self.world_holding(b, &g2.object_from_tcp, &[])?);
+        self.check_straight(a, &a_retreat, &|_, _| &*holding_b, false)
             .map_err(|f| f.at(Step::FirstHandRetreat))?;
         segments.push(Segment::reach("retreat-first", a, a_retreat.clone()));
         // A goes back to its start while B holds.
@@ -371,7 +372,7 @@ impl Ctx<'_> {
         let back_a = self
             .motion(a, &holding_b, &here(&a_retreat)?, &a_home, salt ^ 4)
             .map_err(|f| f.at(Step::FirstArmHome))?;
-        segments.push(Segment::reach("home-first", a, back_a));
+        segments.push(Segment::free("home-first", a, back_a, &holding_b));
         // B carries the object to the pre-place pose.
         let lower: Vec<Vec<Real>> = place
             .lower
@@ -381,7 +382,7 @@ impl Ctx<'_> {
         let to_place = self
             .motion(b, &holding_b, &a_home, &lower[0], salt ^ 5)
             .map_err(|f| f.at(Step::ToPrePlace))?;
-        segments.push(Segment::reach("pre-place", b, to_place));
+        segments.push(Segment::free("pre-place", b, to_place, &holding_b));
         segments.push(Segment::reach("place", b, lower.clone()));
         let q = here(&lower)?;
         let opened = self.opened(b, &q);
@@ -401,7 +402,7 @@ impl Ctx<'_> {
         );
         self.check_place(b, h.g2, placed, &lower, &retreat)?;
         segments.push(Segment::reach("retreat", b, retreat.clone()));
-        let left = self.world_with_object_at(&self.placements[pi].world_from_object);
+        let left = Arc::new(self.world_with_object_at(&self.placements[pi].world_from_object));
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
             segments.push(back);
         }
@@ -446,7 +447,7 @@ impl Ctx<'_> {
             },
             &open_start,
         )?;
-        let resting = self.world_with_object_at(&rest);
+        let resting = Arc::new(self.world_with_object_at(&rest));
         if a != b
             && let Some(back) = self.back_to_start(a, &resting, &current, start, salt ^ 3)?
         {
@@ -475,7 +476,7 @@ impl Ctx<'_> {
             },
             &current,
         )?;
-        let left = self.world_with_object_at(placed.0);
+        let left = Arc::new(self.world_with_object_at(placed.0));
         if let Some(back) = self.back_to_start(b, &left, &retreated, start, salt ^ 6)? {
             segments.push(back);
         }

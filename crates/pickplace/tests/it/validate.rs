@@ -105,10 +105,7 @@ fn with_path(setup: &Setup, plan: &Plan, path: &[Vec<Real>], speed: Real) -> Pla
         if k > 0 {
             t += segment(&states[k - 1], q);
         }
-        points.push(TrajectoryPoint {
-            time_from_start: t,
-            positions: q.clone(),
-        });
+        points.push(TrajectoryPoint::positions_only(t, q.clone()));
     }
     let shift = t + segment(&states[states.len() - 1], &q0);
     let mut out = plan.clone();
@@ -412,10 +409,7 @@ fn a_trajectory_needing_too_many_checked_states_is_refused_before_checking() {
         .map(|i| {
             let mut q = start.clone();
             q[j] = if i % 2 == 0 { l.lower } else { l.upper };
-            TrajectoryPoint {
-                time_from_start: i as Real,
-                positions: q,
-            }
+            TrajectoryPoint::positions_only(i as Real, q)
         })
         .collect();
     let e = validate(setup, &faulty, Path::new("plan.json")).expect_err("too many states");
