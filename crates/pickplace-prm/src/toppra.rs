@@ -246,13 +246,16 @@ impl BlendedPath {
         let k = self.starts.partition_point(|&t| t <= s).saturating_sub(1);
         // A point at a junction belongs to both pieces: prefer the straight one.
         let candidates = [Some(k), k.checked_sub(1), Some(k + 1)];
-        candidates.into_iter().flatten().find(|&i| match self.pieces.get(i) {
-            Some(Piece::Line { length, .. }) => {
-                let (a, b) = (self.starts[i], self.starts[i] + length);
-                s >= a - 1e-9 && s <= b + 1e-9
-            }
-            _ => false,
-        })
+        candidates
+            .into_iter()
+            .flatten()
+            .find(|&i| match self.pieces.get(i) {
+                Some(Piece::Line { length, .. }) => {
+                    let (a, b) = (self.starts[i], self.starts[i] + length);
+                    s >= a - 1e-9 && s <= b + 1e-9
+                }
+                _ => false,
+            })
     }
 
     /// Position, tangent and curvature vector at arc length `s` (clamped into the path).

@@ -7,6 +7,7 @@
 //! the URDF when the SRDF names none, a single arm when only one is found.
 
 use crate::error::{Error, Result};
+use crate::joint_limits::JointLimitSpec;
 use crate::scene::{GroupSpecToml, RobotSpec, Scene};
 use crate::strategy::Arm;
 use pickplace_geometry::io::FileKind;
@@ -16,6 +17,7 @@ use pickplace_grasp::gripper::PalmBox;
 use pickplace_robot::gripper::{Gripper, GripperOptions, find_arms};
 use pickplace_robot::srdf::{ChainSpec, GroupSpec};
 use pickplace_robot::{KinematicChain, LoadOptions, RobotModel, Semantics, Srdf};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The fewest actuated joints of an arm found in the URDF.
@@ -167,6 +169,12 @@ pub struct RobotSetup {
     pub urdf_path: PathBuf,
     /// The file that named the groups: the SRDF, or the URDF when there is none.
     pub srdf_path: PathBuf,
+    /// Each variable's timing limits (model order): the URDF's velocities, the robots'
+    /// joint-limits files, the scene's `[trajectory]` ([`crate::joint_limits::resolve`]).
+    pub timing: Vec<crate::joint_limits::TimingLimit>,
+    /// The velocity and acceleration scaling of the first joint-limits file that gives one
+    /// (MoveIt's `default_*_scaling_factor`), for a scene that sets none.
+    pub file_scaling: (Option<Real>, Option<Real>),
 }
 
 /// The file a robot error names: the URDF.
@@ -191,6 +199,8 @@ impl RobotSetup {
             reason,
         };
         let several = scene.robots.len() > 1;
+        let mut limit_files: Vec<(crate::joint_limits::JointLimitsFile, PathBuf, String)> =
+            Vec::new();
         let field = |i: usize, f: &str| {
             if several {
                 format!("robots[{i}].{f}")
@@ -232,6 +242,43 @@ impl RobotSetup {
                 .map(|p| resolve(p, "gripper"))
                 .transpose()?;
             let spec = resolved;
+            // The joint-limits table: the scene's file, else one beside the URDF.
+            let limits_path = match &spec.joint_limits {
+                Some(p) => Some(p.clone()),
+                None => spec
+                    .urdf
+                    .parent()
+                    .map(|d| d.join(crate::joint_limits::FILE_NAME))
+                    .filter(|p| p.is_file()),
+            };
+            if let Some(path) = limits_path {
+                let file = crate::joint_limits::JointLimitsFile::load(&path).map_err(|e| {
+                    Error::Invalid {
+                        path: e.path,
+                        field: "(file)".into(),
+                        reason: e.reason,
+                    }
+                })?;
+                for (factor, field) in [
+                    (
+                        file.default_velocity_scaling_factor,
+                        "default_velocity_scaling_factor",
+                    ),
+                    (
+                        file.default_acceleration_scaling_factor,
+                        "default_acceleration_scaling_factor",
+                    ),
+                ] {
+                    if let Some(v) = factor {
+                        crate::scene::scaling(v).map_err(|reason| Error::Invalid {
+                            path: path.clone(),
+                            field: field.into(),
+                            reason,
+                        })?;
+                    }
+                }
+                limit_files.push((file, path, spec.prefix.clone()));
+            }
             let options = LoadOptions {
                 package_dirs: dirs,
                 ..LoadOptions::default()
@@ -400,6 +447,46 @@ impl RobotSetup {
         for w in semantics.warnings() {
             notes.push(format!("{}: {w}", srdf_path.display()));
         }
+        let variables: Vec<String> = model.variable_names().map(str::to_owned).collect();
+        let joints: Vec<String> = model.joints().iter().map(|j| j.name.clone()).collect();
+        let velocities: Vec<Real> = model.variable_limits().map(|l| l.velocity).collect();
+        let mut tables: Vec<(&BTreeMap<String, JointLimitSpec>, String, String)> = limit_files
+            .iter()
+            .map(|(f, p, prefix)| (&f.joint_limits, p.display().to_string(), prefix.clone()))
+            .collect();
+        tables.push((
+            &scene.trajectory.joint_limits,
+            scene_path.display().to_string(),
+            String::new(),
+        ));
+        let timing = crate::joint_limits::resolve(
+            &variables,
+            &joints,
+            &velocities,
+            scene.trajectory.max_acceleration,
+            &tables,
+        )
+        .map_err(|(source, field, reason)| {
+            // The scene's own table is `[trajectory.joint_limits]`.
+            let field = if Path::new(&source) == scene_path {
+                format!("trajectory.{field}")
+            } else {
+                field
+            };
+            Error::Invalid {
+                path: source.into(),
+                field,
+                reason,
+            }
+        })?;
+        let file_scaling = (
+            limit_files
+                .iter()
+                .find_map(|f| f.0.default_velocity_scaling_factor),
+            limit_files
+                .iter()
+                .find_map(|f| f.0.default_acceleration_scaling_factor),
+        );
         Ok(Self {
             model,
             semantics,
@@ -410,6 +497,8 @@ impl RobotSetup {
             key_text,
             urdf_path: first_urdf,
             srdf_path,
+            timing,
+            file_scaling,
         })
     }
 

@@ -219,6 +219,38 @@ pub struct Scene {
     /// Planner options.
     #[serde(default)]
     pub planner: PlannerOptions,
+    /// Timing of the trajectory: limits and scaling.
+    #[serde(default)]
+    pub trajectory: TrajectorySpec,
+}
+
+/// The scene's `[trajectory]`: how fast the robot may move (issue 19).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrajectorySpec {
+    /// Fraction of every joint's velocity limit used, in (0, 1] (default: the joint-limits
+    /// file's `default_velocity_scaling_factor`, else 1).
+    pub velocity_scaling: Option<Real>,
+    /// Fraction of every joint's acceleration limit used, in (0, 1] (default: the file's
+    /// `default_acceleration_scaling_factor`, else 1).
+    pub acceleration_scaling: Option<Real>,
+    /// Acceleration limit of a joint no table limits (rad/s² or m/s²; URDFs carry none)
+    /// (default: 3).
+    pub max_acceleration: Real,
+    /// Limits by joint name (full names, prefix included), in the shape of MoveIt's
+    /// `joint_limits.yaml`; over the robots' files.
+    pub joint_limits: BTreeMap<String, crate::joint_limits::JointLimitSpec>,
+}
+
+impl Default for TrajectorySpec {
+    fn default() -> Self {
+        Self {
+            velocity_scaling: None,
+            acceleration_scaling: None,
+            max_acceleration: crate::joint_limits::DEFAULT_ACCELERATION,
+            joint_limits: BTreeMap::new(),
+        }
+    }
 }
 
 fn current_format() -> u32 {
@@ -240,6 +272,10 @@ pub struct RobotSpec {
     /// measured on the URDF).
     #[serde(default)]
     pub gripper: Option<PathBuf>,
+    /// Joint velocity and acceleration limits in the shape of MoveIt's `joint_limits.yaml`
+    /// (default: `joint_limits.yaml` beside the URDF when there is one, else none).
+    #[serde(default)]
+    pub joint_limits: Option<PathBuf>,
     /// Folders searched for `package://NAME/…` mesh paths (relative to the scene), before
     /// the command line's `--package-dir` and `ROS_PACKAGE_PATH`.
     #[serde(default)]
@@ -568,6 +604,22 @@ impl Scene {
         if let Some(t) = scene.target.tolerance {
             positive(t).map_err(|r| invalid("target.tolerance", r))?;
         }
+        let t = &scene.trajectory;
+        for (field, value) in [
+            ("trajectory.velocity_scaling", t.velocity_scaling),
+            ("trajectory.acceleration_scaling", t.acceleration_scaling),
+        ] {
+            if let Some(v) = value {
+                scaling(v).map_err(|r| invalid(field, r))?;
+            }
+        }
+        positive(t.max_acceleration).map_err(|r| invalid("trajectory.max_acceleration", r))?;
+        for (joint, spec) in &t.joint_limits {
+            pickplace_geometry::io::check_name("the joint name", joint)
+                .map_err(|r| invalid("trajectory.joint_limits", r))?;
+            crate::joint_limits::check_spec(spec)
+                .map_err(|r| invalid(&format!("trajectory.joint_limits.{joint}"), r))?;
+        }
         let p = &scene.planner;
         positive(p.h_max_environment).map_err(|r| invalid("planner.h_max_environment", r))?;
         positive(p.h_max_finger).map_err(|r| invalid("planner.h_max_finger", r))?;
@@ -596,6 +648,9 @@ impl Scene {
             if let Some(p) = robot.gripper.as_mut() {
                 resolve(p);
             }
+            if let Some(p) = robot.joint_limits.as_mut() {
+                resolve(p);
+            }
             for p in &mut robot.package_dirs {
                 resolve(p);
             }
@@ -610,6 +665,21 @@ impl Scene {
     /// The target point.
     pub fn target_point(&self) -> Point3 {
         Point3::from(self.target.point)
+    }
+}
+
+/// A scaling factor: in (0, 1].
+///
+/// # Errors
+/// What is wrong, for the field's message.
+pub fn scaling(v: Real) -> Result<(), String> {
+    if v.is_finite() && v > 0.0 && v <= 1.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} is not a scaling factor in (0, 1]",
+            pickplace_geometry::io::fmt_real(v)
+        ))
     }
 }
 
@@ -636,6 +706,9 @@ fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
         }
         if let Some(p) = &robot.gripper {
             path(field("gripper"), p)?;
+        }
+        if let Some(p) = &robot.joint_limits {
+            path(field("joint_limits"), p)?;
         }
         for (k, p) in robot.package_dirs.iter().enumerate() {
             path(field(&format!("package_dirs[{k}]")), p)?;

@@ -173,6 +173,12 @@ pub struct Setup {
     pub object_shape: CollisionShape,
     /// Robot and environment (no object).
     pub world: CollisionWorld,
+    /// Each variable's timing limits (model order), unscaled: velocity from the URDF or a
+    /// joint-limits table, acceleration from a table or `trajectory.max_acceleration`.
+    pub timing: Vec<crate::joint_limits::TimingLimit>,
+    /// The default velocity and acceleration scaling factors: the scene's `[trajectory]`,
+    /// else the joint-limits file's defaults, else 1.
+    pub scaling: (Real, Real),
     /// What loading did (cache hits, builds, times), one line each.
     pub log: Vec<String>,
     /// Why the cache could not be used, or only in part (at most one warning: the setup went
@@ -214,6 +220,19 @@ impl Setup {
         let t = Instant::now();
         let robot = RobotSetup::load(&scene, scene_path, &options.package_dirs)?;
         log.extend(robot.notes.iter().cloned());
+        let timing = robot.timing.clone();
+        let scaling = (
+            scene
+                .trajectory
+                .velocity_scaling
+                .or(robot.file_scaling.0)
+                .unwrap_or(1.0),
+            scene
+                .trajectory
+                .acceleration_scaling
+                .or(robot.file_scaling.1)
+                .unwrap_or(1.0),
+        );
         let model = robot.model.clone();
         let semantics = robot.semantics.clone();
         let world_from_root = robot.world_from_root;
@@ -472,6 +491,8 @@ impl Setup {
             environment,
             object_shape,
             world,
+            timing,
+            scaling,
             log,
             warnings: cache.into_warnings(),
         })

@@ -5,8 +5,7 @@
 use crate::args;
 use crate::support::{Scratch, fails_with, mesh, ok, run_in};
 use pickplace::plan::{
-    Event, EventKind, KeyPose, ObjectMotion, PlacementInfo, Plan, Stats,
-    TrajectoryPoint,
+    Event, EventKind, KeyPose, ObjectMotion, PlacementInfo, Plan, Stats, TrajectoryPoint,
 };
 use pickplace::scene::PoseSpec;
 use pickplace::{Arm, Strategy};

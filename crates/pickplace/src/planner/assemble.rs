@@ -6,8 +6,8 @@
 use super::Ctx;
 use crate::error::Result;
 use crate::plan::{
-    ArmJoints, Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo, Plan, RestInfo,
-    Stats, TrajectoryPoint,
+    ArmJoints, Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo,
+    Plan, RestInfo, Stats, TrajectoryPoint,
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
@@ -130,11 +130,10 @@ pub(super) struct Found {
 /// input's fault ([`crate::Error::TrajectoryLimit`]); anything else is a defect.
 fn timing_error(e: pickplace_prm::Error) -> crate::Error {
     match e {
-        pickplace_prm::Error::TooManySamples { .. } | pickplace_prm::Error::TooManyPoints { .. } => {
-            crate::Error::TrajectoryLimit {
-                reason: e.to_string(),
-            }
-        }
+        pickplace_prm::Error::TooManySamples { .. }
+        | pickplace_prm::Error::TooManyPoints { .. } => crate::Error::TrajectoryLimit {
+            reason: e.to_string(),
+        },
         other => crate::error::internal("timing")(other),
     }
 }
@@ -286,19 +285,24 @@ impl Ctx<'_> {
         })
     }
 
-    /// The joints' limits the trajectory keeps: each joint's velocity limit from the URDF
-    /// (1 rad/s or m/s where it gives none) and the plan's acceleration limit, scaled by the
-    /// options' factors (paper §III-C leaves timing open; issue 19).
+    /// The joints' limits the trajectory keeps: the setup's ([`Setup::timing`]: URDF
+    /// velocities, joint-limits tables, the scene's default acceleration), scaled by the
+    /// options' factors.
+    ///
+    /// [`Setup::timing`]: crate::Setup::timing
     fn timing_limits(&self) -> ToppraOptions {
-        let model = &self.setup.model;
-        let vs = self.options.velocity_scaling;
-        let acc = self.options.max_acceleration * self.options.acceleration_scaling;
+        let (vs, acs) = (
+            self.options.velocity_scaling,
+            self.options.acceleration_scaling,
+        );
         ToppraOptions {
-            max_velocities: model
-                .variable_limits()
-                .map(|l| if l.velocity > 0.0 { l.velocity } else { 1.0 } * vs)
+            max_velocities: self.setup.timing.iter().map(|l| l.velocity * vs).collect(),
+            max_accelerations: self
+                .setup
+                .timing
+                .iter()
+                .map(|l| l.acceleration * acs)
                 .collect(),
-            max_accelerations: vec![acc; model.variable_count()],
             sample_period: self.options.sample_period,
             ..ToppraOptions::default()
         }

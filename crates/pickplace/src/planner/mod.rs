@@ -82,8 +82,6 @@ pub struct PlanOptions {
     /// strategy that cannot succeed does not starve the next. A budget makes the outcome
     /// depend on the machine's speed only when it runs out.
     pub time_budget: Real,
-    /// Acceleration limit of every joint (rad/s² or m/s²): URDFs carry none (default: 3.0).
-    pub max_acceleration: Real,
     /// Trajectory sampling period (s) (default: 0.04).
     pub sample_period: Real,
     /// How far (rad, joint space) a motion through free space may cut a corner of its path
@@ -107,6 +105,8 @@ impl PlanOptions {
             seed: setup.scene.planner.seed,
             strategy: setup.scene.planner.strategy,
             time_budget: setup.scene.planner.time_budget,
+            velocity_scaling: setup.scaling.0,
+            acceleration_scaling: setup.scaling.1,
             ..Self::default()
         }
     }
@@ -128,7 +128,6 @@ impl Default for PlanOptions {
             contact_zone: 0.005,
             timings: true,
             time_budget: 10.0,
-            max_acceleration: 3.0,
             sample_period: 0.04,
             blend_tolerance: 0.1,
             velocity_scaling: 1.0,

@@ -58,8 +58,12 @@ fn a_plan_survives_its_json_round_trip() {
     assert_eq!(back, plan);
     assert!(Plan::from_json(&plan.to_json().replace("pickplace.plan/2", "other/9")).is_err());
     // Format 1 has positions only: velocities in it are refused, and so are missing ones in 2.
-    let err = Plan::from_json(&plan.to_json().replace("pickplace.plan/2", "pickplace.plan/1"))
-        .expect_err("format 1 has no velocities");
+    let err = Plan::from_json(
+        &plan
+            .to_json()
+            .replace("pickplace.plan/2", "pickplace.plan/1"),
+    )
+    .expect_err("format 1 has no velocities");
     assert!(err.contains("velocities"), "{err}");
     let mut old = plan.clone();
     old.format = pickplace::plan::PLAN_FORMAT_1.into();
@@ -68,11 +72,17 @@ fn a_plan_survives_its_json_round_trip() {
         p.velocities.clear();
         p.accelerations.clear();
     }
-    assert_eq!(Plan::from_json(&old.to_json()).expect("format 1 is read"), old);
+    assert_eq!(
+        Plan::from_json(&old.to_json()).expect("format 1 is read"),
+        old
+    );
     let mut cut = plan.clone();
     cut.trajectory[3].accelerations.pop();
     let err = Plan::from_json(&cut.to_json()).expect_err("one acceleration short");
-    assert!(err.contains("trajectory[3]") && err.contains("accelerations"), "{err}");
+    assert!(
+        err.contains("trajectory[3]") && err.contains("accelerations"),
+        "{err}"
+    );
 }
 
 #[test]
