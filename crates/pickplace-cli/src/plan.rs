@@ -66,6 +66,18 @@ pub struct PlanArgs {
     /// Leave the stage timings out of the plan, so that the same seed gives the same bytes.
     #[arg(long)]
     pub no_timings: bool,
+    /// Fraction of every joint's velocity limit the trajectory uses, in (0, 1] (MoveIt's
+    /// velocity scaling factor; default: the scene's trajectory.velocity_scaling, else the
+    /// joint-limits file's default, else 1).
+    #[arg(long, value_name = "FACTOR", value_parser = scaling_factor)]
+    pub velocity_scaling: Option<f64>,
+    /// Fraction of every joint's acceleration limit the trajectory uses, in (0, 1] (default
+    /// as for --velocity-scaling).
+    #[arg(long, value_name = "FACTOR", value_parser = scaling_factor)]
+    pub acceleration_scaling: Option<f64>,
+    /// Time between trajectory samples, seconds, in [0.001, 1] (default: 0.04).
+    #[arg(long, value_name = "SECONDS", value_parser = sample_period)]
+    pub sample_period: Option<f64>,
     /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
     /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
     #[arg(long, value_name = "DIR")]
@@ -77,6 +89,27 @@ pub struct PlanArgs {
     /// `package_dirs`, before ROS_PACKAGE_PATH).
     #[arg(long = "package-dir", value_name = "DIR")]
     pub package_dirs: Vec<PathBuf>,
+}
+
+/// A scaling factor in (0, 1].
+fn scaling_factor(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    pickplace::scene::scaling(v)?;
+    Ok(v)
+}
+
+/// A sample period in [0.001, 1] s (finer would make huge files, coarser would hide motion).
+fn sample_period(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a number"))?;
+    if (0.001..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{text} s is not a sample period in [0.001, 1] s"))
+    }
 }
 
 /// Which cache folder a command's setup uses.
@@ -145,6 +178,15 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
         options.strategy = s.into();
     }
     options.timings = !args.no_timings;
+    if let Some(f) = args.velocity_scaling {
+        options.velocity_scaling = f;
+    }
+    if let Some(f) = args.acceleration_scaling {
+        options.acceleration_scaling = f;
+    }
+    if let Some(p) = args.sample_period {
+        options.sample_period = p;
+    }
     let t = Instant::now();
     let outcome = pickplace::plan(setup, &options)?;
     let elapsed = t.elapsed().as_secs_f64() * 1e3;

@@ -69,6 +69,9 @@ pub struct Plan {
     /// them (absent in format `pickplace.plan/1`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub arms: Vec<ArmJoints>,
+    /// The limits the trajectory was timed with (absent in format `pickplace.plan/1`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limits: Option<Limits>,
     /// The time-stamped joint trajectory, starting at the scene's start state.
     pub trajectory: Vec<TrajectoryPoint>,
     /// Grasps and releases, in time order.
@@ -116,6 +119,21 @@ impl TrajectoryPoint {
             accelerations: Vec::new(),
         }
     }
+}
+
+/// The limits a plan was timed with: each joint's (in [`Plan::joint_names`] order), the
+/// scaling factors already applied.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Limits {
+    /// Velocity limits (rad/s or m/s).
+    pub velocities: Vec<Real>,
+    /// Acceleration limits (rad/s² or m/s²).
+    pub accelerations: Vec<Real>,
+    /// The velocity scaling factor applied.
+    pub velocity_scaling: Real,
+    /// The acceleration scaling factor applied.
+    pub acceleration_scaling: Real,
 }
 
 /// One arm's joints in a plan.
@@ -652,6 +670,26 @@ impl Plan {
                 return Err(format!("trajectory[{i}] goes back in time"));
             }
         }
+        if let Some(l) = &plan.limits {
+            if !current {
+                return Err(format!(
+                    "limits: format {PLAN_FORMAT_1:?} has no limits (write format {PLAN_FORMAT:?})"
+                ));
+            }
+            if l.velocities.len() != n || l.accelerations.len() != n {
+                return Err(format!(
+                    "limits: one velocity and one acceleration per joint ({n})"
+                ));
+            }
+            if l.velocities
+                .iter()
+                .chain(&l.accelerations)
+                .chain([&l.velocity_scaling, &l.acceleration_scaling])
+                .any(|v| !(v.is_finite() && *v > 0.0))
+            {
+                return Err("limits: every limit and factor is a positive number".into());
+            }
+        }
         for (i, a) in plan.arms.iter().enumerate() {
             if !current {
                 return Err(format!(
@@ -783,6 +821,7 @@ mod tests {
             strategy: Strategy::RightLeft,
             joint_names: vec!["a".into(), "b".into()],
             arms: vec![],
+            limits: None,
             trajectory: vec![],
             events,
             object: ObjectMotion {

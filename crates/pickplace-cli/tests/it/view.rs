@@ -112,6 +112,7 @@ fn plan(points: usize) -> Plan {
     Plan {
         format: pickplace::plan::PLAN_FORMAT_1.into(),
         arms: vec![],
+        limits: None,
         seed: 1,
         strategy: Strategy::RightRight,
         joint_names: JOINTS.iter().map(|s| s.to_string()).collect(),

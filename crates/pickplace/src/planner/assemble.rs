@@ -6,8 +6,8 @@
 use super::Ctx;
 use crate::error::Result;
 use crate::plan::{
-    ArmJoints, Event, EventKind, GraspInfo, KeyPose, ObjectMotion, PLAN_FORMAT, PlacementInfo,
-    Plan, RestInfo, Stats, TrajectoryPoint,
+    ArmJoints, Event, EventKind, GraspInfo, KeyPose, Limits, ObjectMotion, PLAN_FORMAT,
+    PlacementInfo, Plan, RestInfo, Stats, TrajectoryPoint,
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
@@ -271,6 +271,12 @@ impl Ctx<'_> {
                     }
                 })
                 .collect(),
+            limits: Some(Limits {
+                velocities: limits.max_velocities.clone(),
+                accelerations: limits.max_accelerations.clone(),
+                velocity_scaling: self.options.velocity_scaling,
+                acceleration_scaling: self.options.acceleration_scaling,
+            }),
             trajectory,
             events,
             object: ObjectMotion {
@@ -327,7 +333,7 @@ impl Ctx<'_> {
             Shape::Free(_) => self.options.blend_tolerance,
         };
         for attempt in 0..=BLEND_ATTEMPTS {
-            let exact = attempt == BLEND_ATTEMPTS || !(tolerance > 0.0);
+            let exact = attempt == BLEND_ATTEMPTS || tolerance.is_nan() || tolerance <= 0.0;
             let parts = if exact {
                 // Each straight piece alone: the robot stops at every waypoint.
                 let mut parts = Vec::new();
@@ -387,8 +393,17 @@ impl Ctx<'_> {
                 ..limits.clone()
             };
             let timing = toppra::parameterize(part, &options).map_err(timing_error)?;
-            let samples =
+            let mut samples =
                 toppra::sample(part, &timing, limits.sample_period).map_err(timing_error)?;
+            // A last sample within a millisecond of the one before it is merged into it: the
+            // times are rounded to the microsecond, which such a step would not survive.
+            let m = samples.points.len();
+            if m >= 3
+                && samples.points[m - 1].time_from_start - samples.points[m - 2].time_from_start
+                    < 1e-3
+            {
+                samples.points.remove(m - 2);
+            }
             // Each part's first sample is where the one before ended, at rest.
             for p in samples.points.into_iter().skip(1) {
                 timed.at.push((k, timing.state(p.time_from_start).0));

@@ -99,6 +99,35 @@ pub struct PlanOptions {
 }
 
 impl PlanOptions {
+    /// Refuses timing options out of range: scaling factors outside (0, 1], a sample period
+    /// that is not positive, a negative blend tolerance.
+    ///
+    /// # Errors
+    /// [`crate::Error::Invalid`] naming the option (and the scene).
+    pub fn check(&self, setup: &Setup) -> Result<()> {
+        let invalid = |field: &str, reason: String| crate::Error::Invalid {
+            path: setup.scene_path.clone(),
+            field: format!("plan option {field}"),
+            reason,
+        };
+        crate::scene::scaling(self.velocity_scaling).map_err(|r| invalid("velocity_scaling", r))?;
+        crate::scene::scaling(self.acceleration_scaling)
+            .map_err(|r| invalid("acceleration_scaling", r))?;
+        if !(self.sample_period.is_finite() && self.sample_period > 0.0) {
+            return Err(invalid(
+                "sample_period",
+                format!("{} s is not a positive period", self.sample_period),
+            ));
+        }
+        if !(self.blend_tolerance.is_finite() && self.blend_tolerance >= 0.0) {
+            return Err(invalid(
+                "blend_tolerance",
+                format!("{} is not a tolerance (0 or more)", self.blend_tolerance),
+            ));
+        }
+        Ok(())
+    }
+
     /// The defaults with the scene's seed, strategy and time budget.
     pub fn for_setup(setup: &Setup) -> Self {
         Self {
@@ -349,6 +378,7 @@ impl<'a> Ctx<'a> {
 /// when a lower layer fails on checked input (the collision library, the motion planner).
 /// An infeasible scene is not an error: it is [`Outcome::NoPlan`] with the reasons.
 pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
+    options.check(setup)?;
     // The scene, before any search: the start state free, the object resting, the target
     // on a surface; otherwise the scene is infeasible at once.
     crate::start::check_scene(setup)?;
