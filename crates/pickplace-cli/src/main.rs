@@ -6,6 +6,7 @@
 mod args;
 mod clusters;
 mod demo;
+mod export;
 mod grasps;
 mod output;
 mod placements;
@@ -59,6 +60,9 @@ enum Command {
     Validate(plan::ValidateArgs),
     /// Pictures of a plan: an animated glTF (plan.glb) and PNGs of the key poses.
     View(view::ViewArgs),
+    /// A plan as ROS 2 messages: JointTrajectory per motion and arm (YAML or JSON), or a
+    /// MoveIt DisplayTrajectory (docs/ros2.md).
+    Export(export::ExportArgs),
 }
 
 fn main() -> ExitCode {
@@ -109,6 +113,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Plan(args) => plan::run(&args),
         Command::Validate(args) => plan::run_validate(&args),
         Command::View(args) => view::run(&args),
+        Command::Export(args) => export::run(&args),
     }
 }
 

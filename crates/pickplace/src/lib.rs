@@ -43,6 +43,7 @@ pub mod cache;
 pub mod checker;
 pub mod contact;
 pub mod error;
+pub mod export;
 pub mod joint_limits;
 pub mod plan;
 pub mod planner;

@@ -4,6 +4,7 @@ mod bad_input;
 mod cache;
 mod clusters;
 mod demo;
+mod export;
 mod hardening;
 mod limits;
 mod placements;
