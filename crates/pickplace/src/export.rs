@@ -587,6 +587,7 @@ mod tests {
             strategy: Strategy::RightLeft,
             joint_names: ["r1", "rg", "l1", "lg"].map(String::from).to_vec(),
             arms: vec![arm(Arm::Right, "r"), arm(Arm::Left, "l")],
+            limits: None,
             trajectory,
             events: vec![Event {
                 time: 3.0,
