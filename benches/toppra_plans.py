@@ -13,6 +13,9 @@ releases: `Plan::motions`); each motion's samples lie on our blended path, and t
 the cubic spline through them, parameterized by joint-space arc length as ours, under the
 plan's own limits (`limits` of the plan: URDF velocities, 3 rad/s², scaling applied).
 
+`--max-ratio R` exits 1 when a motion takes more than R times toppra's time, or when no
+plan was made (`cargo xtask test` runs it on the shipped scenes with R = 1.05).
+
 Prints one line per scene (motions, our total, toppra's, the largest ratio ours/toppra of a
 motion) and a summary; `--json FILE` also writes every motion's figures.
 """
@@ -74,6 +77,11 @@ def main(argv):
         i = argv.index("--json")
         json_out = argv[i + 1]
         argv = argv[:i] + argv[i + 2:]
+    max_ratio = None
+    if "--max-ratio" in argv:
+        i = argv.index("--max-ratio")
+        max_ratio = float(argv[i + 1])
+        argv = argv[:i] + argv[i + 2:]
     binary, scenes = argv[1], argv[2:]
     ta.setup_logging("WARNING")
     rows, worst = [], (0.0, None)
@@ -85,6 +93,8 @@ def main(argv):
                                 "--out", out], capture_output=True, text=True)
             if r.returncode != 0:
                 print(f"{scene}: no plan (exit {r.returncode}), skipped")
+                if max_ratio is not None:
+                    sys.exit(f"{scene}: no plan: {r.stderr.strip()[-400:]}")
                 continue
             with open(out) as f:
                 plan = json.load(f)
@@ -122,6 +132,12 @@ def main(argv):
     if json_out:
         with open(json_out, "w") as f:
             json.dump(rows, f, indent=1)
+    if max_ratio is not None:
+        if not len(ratios):
+            sys.exit("no motion was compared")
+        if worst[0] > max_ratio:
+            sys.exit(f"a motion takes {worst[0]:.3f} times toppra's time ({worst[1]}), "
+                     f"more than {max_ratio}")
 
 
 if __name__ == "__main__":

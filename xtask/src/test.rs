@@ -37,7 +37,77 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     crate::suite_run::run(root, &[])?;
     // Hostile and careless use of the release CLI (issue 18; docs/torture.md).
     eprintln!("xtask test: cargo xtask torture");
-    crate::torture::run(root, &[])
+    crate::torture::run(root, &[])?;
+    // Our motion durations against the toppra package on the shipped scenes (issue 19).
+    toppra_compare(root)
+}
+
+/// The pinned release of `toppra` on PyPI (the reference of issue 19; numpy and scipy come
+/// with it). Not a dependency of any crate.
+pub const TOPPRA: &str = "toppra==0.6.10";
+
+/// Most a motion of a shipped scene may take over toppra's time on the same path (issue 19).
+const MAX_TOPPRA_RATIO: &str = "1.05";
+
+/// Runs `benches/toppra_plans.py` on the shipped scenes with the release CLI (built by the
+/// suite), in a virtual environment with `toppra` (`$PICKPLACE_TOPPRA_VENV`, else
+/// `target/toppra-venv`; created when missing); fails when a motion is more than
+/// [`MAX_TOPPRA_RATIO`] times toppra's.
+fn toppra_compare(root: &Path) -> anyhow::Result<()> {
+    let venv = std::env::var_os("PICKPLACE_TOPPRA_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target/toppra-venv"));
+    let python = venv.join("bin/python");
+    let has_toppra = Command::new(&python)
+        .args(["-c", "import toppra"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !has_toppra {
+        if let Some(parent) = venv.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
+        }
+        let system = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+        eprintln!("xtask test: creating {} with {system}", venv.display());
+        let status = Command::new(&system)
+            .args(["-m", "venv"])
+            .arg(&venv)
+            .status()
+            .with_context(|| format!("cannot run {system}"))?;
+        if !status.success() {
+            bail!("{system} -m venv {} failed ({status})", venv.display());
+        }
+        eprintln!("xtask test: pip install {TOPPRA}");
+        let status = Command::new(venv.join("bin/pip"))
+            .args(["install", "--quiet", "--disable-pip-version-check", TOPPRA])
+            .status()
+            .context("cannot run pip")?;
+        if !status.success() {
+            bail!("pip install {TOPPRA} failed ({status})");
+        }
+    }
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(root.join("scenes"))
+        .context("cannot list scenes/")?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    scenes.sort();
+    eprintln!(
+        "xtask test: benches/toppra_plans.py on {} shipped scenes",
+        scenes.len()
+    );
+    let status = Command::new(&python)
+        .current_dir(root)
+        .arg("benches/toppra_plans.py")
+        .args(["--max-ratio", MAX_TOPPRA_RATIO])
+        .arg(root.join("target/release/pickplace"))
+        .args(&scenes)
+        .status()
+        .context("cannot run benches/toppra_plans.py")?;
+    if !status.success() {
+        bail!("benches/toppra_plans.py failed ({status})");
+    }
+    Ok(())
 }
 
 /// Installs `example-robot-data` into its virtual environment when it is not there yet, and
