@@ -2,7 +2,8 @@
 //! on arbitrary text (lossy UTF-8). A plan that is accepted must write back (`to_json`) to
 //! text that reads back to an equal plan, and the validator's structural helpers must not
 //! panic on it: its holds (grasp/release pairing) and its joint columns against NX-HIRO's
-//! actuated joints (the model loaded once from `robots/nx-hiro`). The whole validator
+//! actuated joints (the model loaded once from `robots/nx-hiro`), its motions
+//! (`Plan::motions`) and its ROS 2 export (`pickplace::export`). The whole validator
 //! (`pickplace::validate::validate`) is not run: it interpolates and collision-checks up to
 //! its state limit, seconds per plan.
 #![no_main]
@@ -40,6 +41,16 @@ fuzz_target!(|data: &[u8]| {
                 assert!(h.link_from_object.rotation.quaternion().norm().is_finite());
             }
         }
+        let motions = plan.motions();
+        for m in &motions {
+            assert!(m.first < m.last && m.last < plan.trajectory.len());
+        }
+        if let Ok(messages) = pickplace::export::joint_trajectories(&plan) {
+            for t in &messages {
+                let _ = pickplace::export::to_yaml(&t.message);
+            }
+        }
+        let _ = pickplace::export::display_trajectory(&plan, "robot");
         let names: Vec<&str> = joint_names().iter().map(String::as_str).collect();
         if let Ok(columns) = plan.columns(&names) {
             assert_eq!(columns.len(), names.len());
