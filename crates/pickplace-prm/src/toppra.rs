@@ -58,6 +58,31 @@ impl Piece {
         }
     }
 
+    /// First and second derivatives at arc length `s` of the piece (as [`Piece::eval`]), an
+    /// arc's sine and cosine from `angles` (this piece is number `k`).
+    fn derivatives(
+        &self,
+        k: usize,
+        s: f64,
+        angles: &mut ArcAngle,
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) {
+        match self {
+            Piece::Line { dir, .. } => {
+                dq.copy_from_slice(dir);
+                ddq.fill(0.0);
+            }
+            Piece::Arc { x, y, radius, .. } => {
+                let (sin, cos) = angles.sin_cos(k, s / radius);
+                for j in 0..dq.len() {
+                    dq[j] = -sin * x[j] + cos * y[j];
+                    ddq[j] = -(cos * x[j] + sin * y[j]) / radius;
+                }
+            }
+        }
+    }
+
     /// Position, first and second derivatives at arc length `s` of the piece.
     fn eval(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64]) {
         match self {
@@ -266,6 +291,101 @@ impl BlendedPath {
             piece.eval(s - self.starts[k], q, dq, ddq);
         }
     }
+
+    /// The piece [`BlendedPath::eval`] evaluates at `s`, searched forward from piece `hint`.
+    fn piece_at(&self, s: f64, hint: usize) -> usize {
+        last_at_most(&self.starts, s.clamp(0.0, self.length), hint)
+    }
+
+    /// [`BlendedPath::eval`], the piece searched forward from piece `hint`; returns the piece.
+    fn eval_from(
+        &self,
+        hint: usize,
+        s: f64,
+        q: &mut [f64],
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) -> usize {
+        let s = s.clamp(0.0, self.length);
+        let k = last_at_most(&self.starts, s, hint);
+        if let Some(piece) = self.pieces.get(k) {
+            piece.eval(s - self.starts[k], q, dq, ddq);
+        }
+        k
+    }
+
+    /// The derivatives of piece `k` at arc length `s` of the path (clamped into the path,
+    /// not into the piece), an arc's sine and cosine from `angles`.
+    fn derivatives_on(
+        &self,
+        k: usize,
+        s: f64,
+        angles: &mut ArcAngle,
+        dq: &mut [f64],
+        ddq: &mut [f64],
+    ) {
+        let s = s.clamp(0.0, self.length);
+        if let (Some(piece), Some(start)) = (self.pieces.get(k), self.starts.get(k)) {
+            piece.derivatives(k, s - start, angles, dq, ddq);
+        }
+    }
+}
+
+/// Largest difference (rad) between an angle and the previous one turned by the last step for
+/// [`ArcAngle`] to turn the previous sine and cosine instead of calling `sin_cos`.
+const ROTATION_MATCH: f64 = 1e-12;
+
+/// The sine and cosine of angles along one arc in increasing order (its grid points): the
+/// first step from the arc's start (angle 0, sine 0, cosine 1) costs a `sin_cos` and gives
+/// the step's sine and cosine; on the arc's uniform grid the next angles are the previous
+/// turned by that step, one rotation each (its rounding, about one unit in the last place a
+/// step, is far below the grid's own). Any other angle gets its `sin_cos`.
+#[derive(Clone, Copy, Debug)]
+struct ArcAngle {
+    piece: usize,
+    angle: f64,
+    sin: f64,
+    cos: f64,
+    /// The last step, its sine and cosine.
+    step: Option<(f64, f64, f64)>,
+}
+
+impl ArcAngle {
+    fn new() -> Self {
+        Self {
+            piece: usize::MAX,
+            angle: 0.0,
+            sin: 0.0,
+            cos: 1.0,
+            step: None,
+        }
+    }
+
+    /// `angle.sin_cos()` on arc `piece`.
+    fn sin_cos(&mut self, piece: usize, angle: f64) -> (f64, f64) {
+        if piece != self.piece {
+            *self = Self {
+                piece,
+                ..Self::new()
+            };
+        }
+        if angle == self.angle {
+            return (self.sin, self.cos);
+        }
+        if let Some((delta, ds, dc)) = self.step {
+            let next = self.angle + delta;
+            if (angle - next).abs() <= ROTATION_MATCH {
+                let (sin, cos) = (self.sin * dc + self.cos * ds, self.cos * dc - self.sin * ds);
+                (self.angle, self.sin, self.cos) = (next, sin, cos);
+                return (sin, cos);
+            }
+        }
+        let (sin, cos) = angle.sin_cos();
+        // From the arc's start the step is the angle itself.
+        self.step = (self.angle == 0.0).then_some((angle, sin, cos));
+        (self.angle, self.sin, self.cos) = (angle, sin, cos);
+        (sin, cos)
+    }
 }
 
 /// Options of [`parameterize`].
@@ -313,16 +433,23 @@ impl Parameterization {
 
     /// `(s, ṡ, s̈)` at time `t` (clamped): within a stage `s̈` is constant.
     pub fn state(&self, t: f64) -> (f64, f64, f64) {
+        self.state_in(self.stage_at(t, 0), t)
+    }
+
+    /// The stage [`Parameterization::state`] uses at `t`, searched forward from `hint`.
+    fn stage_at(&self, t: f64, hint: usize) -> usize {
+        let n = self.grid.len().min(self.times.len());
+        let t = t.clamp(0.0, self.duration());
+        last_at_most(&self.times, t, hint).min(n.saturating_sub(2))
+    }
+
+    /// `(s, ṡ, s̈)` at time `t` (clamped) in stage `i` (from [`Parameterization::stage_at`]).
+    fn state_in(&self, i: usize, t: f64) -> (f64, f64, f64) {
         let n = self.grid.len();
         if n < 2 {
             return (self.grid.first().copied().unwrap_or(0.0), 0.0, 0.0);
         }
         let t = t.clamp(0.0, self.duration());
-        let i = self
-            .times
-            .partition_point(|&ti| ti <= t)
-            .saturating_sub(1)
-            .min(n - 2);
         let ds = self.grid[i + 1] - self.grid[i];
         let u = if ds > 0.0 {
             (self.x[i + 1] - self.x[i]) / (2.0 * ds)
@@ -364,31 +491,24 @@ pub fn parameterize(path: &BlendedPath, options: &ToppraOptions) -> Result<Param
             times: vec![0.0; n],
         });
     }
-    // Each stage's constraints, evaluated at its first grid point (collocation).
-    let mut q = vec![0.0; dof];
-    let mut dq = vec![0.0; dof];
-    let mut ddq = vec![0.0; dof];
-    // Each stage lies within one piece: its start's derivatives are the piece's at s_i, its
-    // end's the same piece's just before s_{i+1} (at a junction the next piece's curvature
-    // is another).
-    let mut derivative = |s: f64| {
-        path.eval(s, &mut q, &mut dq, &mut ddq);
-        (dq.clone(), ddq.clone())
-    };
-    let stages: Vec<Stage> = (0..n - 1)
-        .map(|i| {
-            let d = grid[i + 1] - grid[i];
-            let start = derivative(grid[i]);
-            let end = derivative(grid[i + 1] - 1e-9 * d);
-            Stage::new(&start, &end, d, options)
-        })
-        .collect();
+    let stages = Stages::new(path, &grid, options);
     // Backward pass: controllable sets [lo, hi] of x, the last one {0}.
     let mut lo = vec![0.0; n];
     let mut hi = vec![0.0; n];
+    // Hints: the pairs that bound the last two stages, and the last one's lower line against
+    // the next set (deceleration).
+    let mut hints: Vec<Pair> = Vec::with_capacity(3);
     for i in (0..n - 1).rev() {
         let d = grid[i + 1] - grid[i];
-        let (a, b) = stages[i].x_range(d, lo[i + 1], hi[i + 1]);
+        let next = (lo[i + 1], hi[i + 1]);
+        let ((a, b), binding) = x_range(stages.bands(i), stages.x_max[i], d, next, &hints);
+        if let Some(pair) = binding {
+            let last = hints.first().copied();
+            hints.clear();
+            hints.push(pair);
+            hints.push((pair.0, usize::MAX));
+            hints.extend(last.filter(|&p| p != pair));
+        }
         // Rest (x = 0, u = 0) is always admissible, so the set is never empty; rounding may
         // only make it look so.
         lo[i] = a.max(0.0).min(b.max(0.0));
@@ -398,12 +518,14 @@ pub fn parameterize(path: &BlendedPath, options: &ToppraOptions) -> Result<Param
     let mut x = vec![0.0; n];
     for i in 0..n - 1 {
         let d = grid[i + 1] - grid[i];
-        let (ulo, uhi) = stages[i].u_range(x[i], d, lo[i + 1], hi[i + 1]);
+        let (ulo, uhi) = u_range(stages.bands(i), x[i], d, lo[i + 1], hi[i + 1]);
         let u = if uhi >= ulo { uhi } else { ulo.min(uhi) };
         x[i + 1] = (x[i] + 2.0 * d * u).clamp(lo[i + 1], hi[i + 1].max(lo[i + 1]));
     }
     x[n - 1] = 0.0;
-    let mut times = vec![0.0; n];
+    // The controllable sets are done with: their buffer holds the times.
+    let mut times = lo;
+    times[0] = 0.0;
     for i in 0..n - 1 {
         let d = grid[i + 1] - grid[i];
         let speed = x[i].sqrt() + x[i + 1].sqrt();
@@ -443,19 +565,34 @@ pub fn sample(
     }
     let count = count as usize;
     let dof = path.dof();
-    let mut q = vec![0.0; dof];
-    let mut dq = vec![0.0; dof];
-    let mut ddq = vec![0.0; dof];
     let mut points = Vec::with_capacity(count + 1);
+    // Time and arc length only grow: the stage and the piece are found from the last ones.
+    let (mut stage, mut piece) = (0, 0);
     for k in 0..=count {
         let t = (k as f64 * sample_period).min(duration);
-        let (s, sd, sdd) = timing.state(t);
-        path.eval(s, &mut q, &mut dq, &mut ddq);
+        stage = timing.stage_at(t, stage);
+        let (s, sd, sdd) = timing.state_in(stage, t);
+        // The point's own vectors take the path's derivatives, then become its velocities
+        // and accelerations: three allocations per point, no scratch.
+        let mut positions = vec![0.0; dof];
+        let mut velocities = vec![0.0; dof];
+        let mut accelerations = vec![0.0; dof];
+        piece = path.eval_from(
+            piece,
+            s,
+            &mut positions,
+            &mut velocities,
+            &mut accelerations,
+        );
+        for (v, a) in velocities.iter_mut().zip(accelerations.iter_mut()) {
+            *a = *v * sdd + *a * sd * sd;
+            *v *= sd;
+        }
         points.push(TrajectoryPoint {
             time_from_start: t,
-            positions: q.clone(),
-            velocities: dq.iter().map(|d| d * sd).collect(),
-            accelerations: (0..dof).map(|j| dq[j] * sdd + ddq[j] * sd * sd).collect(),
+            positions,
+            velocities,
+            accelerations,
         });
         if t >= duration {
             break;
@@ -464,25 +601,33 @@ pub fn sample(
     Ok(Trajectory { points })
 }
 
+/// The last index `i` of the nondecreasing `sorted` with `sorted[i] ≤ v` (0 when there is
+/// none), as `sorted.partition_point(|&t| t <= v).saturating_sub(1)`, searched forward from
+/// `hint` for a few steps before bisecting (walks along a path or a timing are monotone).
+fn last_at_most(sorted: &[f64], v: f64, hint: usize) -> usize {
+    let mut i = hint;
+    if sorted.get(i).is_some_and(|&t| t <= v) {
+        for _ in 0..8 {
+            match sorted.get(i + 1) {
+                Some(&t) if t <= v => i += 1,
+                _ => return i,
+            }
+        }
+    }
+    sorted.partition_point(|&t| t <= v).saturating_sub(1)
+}
+
 /// The grid: every junction of pieces, and points between them at most `step` apart.
 fn grid(path: &BlendedPath, step: f64) -> Result<Vec<f64>> {
     // On an arc the tangent turns: a stage turns it by at most ARC_STAGE_ANGLE, so that the
     // constraints met at both ends of a stage hold closely in between.
-    let steps: Vec<(f64, f64, f64)> = path
-        .pieces
-        .iter()
-        .zip(&path.starts)
-        .map(|(p, &s0)| {
-            let h = match p {
-                Piece::Line { .. } => step,
-                Piece::Arc { radius, .. } => step.min(radius * ARC_STAGE_ANGLE),
-            };
-            (s0, p.length(), h)
-        })
-        .collect();
+    let spacing = |p: &Piece| match p {
+        Piece::Line { .. } => step,
+        Piece::Arc { radius, .. } => step.min(radius * ARC_STAGE_ANGLE),
+    };
     let mut count = 0.0;
-    for &(_, len, h) in &steps {
-        count += (len / h).ceil().max(1.0);
+    for p in &path.pieces {
+        count += (p.length() / spacing(p)).ceil().max(1.0);
     }
     if count.is_nan() || count >= MAX_TRAJECTORY_SAMPLES as f64 {
         return Err(Error::TooManyPoints {
@@ -492,11 +637,12 @@ fn grid(path: &BlendedPath, step: f64) -> Result<Vec<f64>> {
         });
     }
     let mut g = Vec::with_capacity(count as usize + 1);
-    for (s0, len, h) in steps {
+    for (p, &s0) in path.pieces.iter().zip(&path.starts) {
+        let len = p.length();
         if len <= EPS {
             continue;
         }
-        let m = (len / h).ceil().max(1.0) as usize;
+        let m = (len / spacing(p)).ceil().max(1.0) as usize;
         for k in 0..m {
             g.push(s0 + len * k as f64 / m as f64);
         }
@@ -505,105 +651,306 @@ fn grid(path: &BlendedPath, step: f64) -> Result<Vec<f64>> {
     Ok(g)
 }
 
-/// One stage's constraints: `u ≥ l(x)` and `u ≤ h(x)` for lines `l`, `h`, and `x ≤ x_max`.
-struct Stage {
-    /// Lower lines `(slope, offset)`: `u ≥ slope · x + offset`.
-    lower: Vec<(f64, f64)>,
-    /// Upper lines: `u ≤ slope · x + offset`.
-    upper: Vec<(f64, f64)>,
-    /// Largest `x` the velocity limits and the acceleration constraints with no `u` allow.
-    x_max: f64,
+/// One constraint of a stage on `u` at `x`: `slope · x + lo ≤ u ≤ slope · x + hi` (a joint's
+/// acceleration limits, both lines of the same slope).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Band {
+    slope: f64,
+    lo: f64,
+    hi: f64,
 }
 
-impl Stage {
-    /// The constraints of the stage from `s_i` to `s_i + d`, whose path derivatives are
-    /// `start` and `end` (`(q', q'')` at each end): the joint accelerations at both ends (at
-    /// the end, `x_{i+1} = x + 2 d u`: TOPP-RA's first-order interpolation, so that the limits
-    /// hold at every grid point, not only where each stage begins), and the joint velocities
-    /// at the start (the end's are the next stage's).
-    fn new(
-        start: &(Vec<f64>, Vec<f64>),
-        end: &(Vec<f64>, Vec<f64>),
-        d: f64,
-        o: &ToppraOptions,
-    ) -> Self {
-        let dof = start.0.len();
-        let mut lower = Vec::with_capacity(2 * dof);
-        let mut upper = Vec::with_capacity(2 * dof);
-        let mut x_max = f64::INFINITY;
-        for j in 0..dof {
-            let v = o.max_velocities[j];
-            let acc = o.max_accelerations[j];
-            let (a0, b0) = (start.0[j], start.1[j]);
-            if a0.abs() > EPS {
-                x_max = x_max.min((v / a0) * (v / a0));
+/// Every stage's constraints, in flat arrays: stage `i`'s bands are
+/// `bands[ends[i - 1]..ends[i]]` (from 0 for the first), and `x ≤ x_max[i]`.
+struct Stages {
+    bands: Vec<Band>,
+    ends: Vec<usize>,
+    /// Largest `x` the velocity limits and the acceleration constraints with no `u` allow.
+    x_max: Vec<f64>,
+}
+
+impl Stages {
+    /// The constraints of every stage of `grid` on `path`. Each stage lies within one piece
+    /// (the piece of its first grid point): its start's derivatives are the piece's at `s_i`,
+    /// its end's the same piece's at `s_{i+1}` (at a junction the next piece's curvature is
+    /// another). Inside a piece a grid point's derivatives serve as the end of one stage and
+    /// the start of the next.
+    fn new(path: &BlendedPath, grid: &[f64], o: &ToppraOptions) -> Self {
+        let dof = path.dof();
+        let stages = grid.len().saturating_sub(1);
+        let mut out = Self {
+            bands: Vec::with_capacity(stages * 2 * dof),
+            ends: Vec::with_capacity(stages),
+            x_max: Vec::with_capacity(stages),
+        };
+        let (mut dq0, mut ddq0) = (vec![0.0; dof], vec![0.0; dof]);
+        let (mut dq1, mut ddq1) = (vec![0.0; dof], vec![0.0; dof]);
+        let Some(&first) = grid.first() else {
+            return out;
+        };
+        let mut inv = vec![0.0; 2 * dof];
+        let mut angles = ArcAngle::new();
+        let mut piece = path.piece_at(first, 0);
+        path.derivatives_on(piece, first, &mut angles, &mut dq0, &mut ddq0);
+        for i in 0..stages {
+            let d = grid[i + 1] - grid[i];
+            path.derivatives_on(piece, grid[i + 1], &mut angles, &mut dq1, &mut ddq1);
+            let start = (&dq0[..], &ddq0[..]);
+            let x_max = push_bands(&mut out.bands, start, (&dq1, &ddq1), d, o, &mut inv);
+            out.x_max.push(x_max);
+            out.ends.push(out.bands.len());
+            if i + 2 < grid.len() {
+                let next = path.piece_at(grid[i + 1], piece);
+                if next == piece {
+                    std::mem::swap(&mut dq0, &mut dq1);
+                    std::mem::swap(&mut ddq0, &mut ddq1);
+                } else {
+                    piece = next;
+                    path.derivatives_on(piece, grid[i + 1], &mut angles, &mut dq0, &mut ddq0);
+                }
             }
-            let (a1, b1) = (end.0[j], end.1[j]);
-            // -acc ≤ a u + b x ≤ acc, at the start and (with x_{i+1} = x + 2 d u) at the end.
-            for (a, b) in [(a0, b0), (a1 + 2.0 * d * b1, b1)] {
-                if a.abs() > EPS {
-                    // u between (∓acc - b x) / a.
-                    let (l, h) = (-acc / a, acc / a);
-                    let slope = -b / a;
-                    if a > 0.0 {
-                        lower.push((slope, l));
-                        upper.push((slope, h));
-                    } else {
-                        lower.push((slope, h));
-                        upper.push((slope, l));
+        }
+        out
+    }
+
+    fn bands(&self, i: usize) -> &[Band] {
+        let start = if i == 0 { 0 } else { self.ends[i - 1] };
+        &self.bands[start..self.ends[i]]
+    }
+}
+
+/// Appends the bands of the stage of length `d` whose path derivatives are `start` and `end`
+/// (`(q', q'')` at each end) and returns its `x_max`: the joint accelerations at both ends (at
+/// the end, `x_{i+1} = x + 2 d u`: TOPP-RA's first-order interpolation, so that the limits
+/// hold at every grid point, not only where each stage begins), and the joint velocities at
+/// the start (the end's are the next stage's). `inv` is scratch of two values per joint.
+fn push_bands(
+    bands: &mut Vec<Band>,
+    start: (&[f64], &[f64]),
+    end: (&[f64], &[f64]),
+    d: f64,
+    o: &ToppraOptions,
+    inv: &mut [f64],
+) -> f64 {
+    // The stage's divisions first: independent of one another, they overlap.
+    for (((r, &a0), &a1), &b1) in inv.chunks_exact_mut(2).zip(start.0).zip(end.0).zip(end.1) {
+        r[0] = 1.0 / a0;
+        r[1] = 1.0 / (a1 + 2.0 * d * b1);
+    }
+    let mut x_max = f64::INFINITY;
+    let joints = start
+        .0
+        .iter()
+        .zip(start.1)
+        .zip(end.0.iter().zip(end.1))
+        .zip(o.max_velocities.iter().zip(&o.max_accelerations))
+        .zip(inv.chunks_exact(2));
+    for ((((&a0, &b0), (&a1, &b1)), (&v, &acc)), r) in joints {
+        if a0.abs() > EPS {
+            let w = v * r[0];
+            x_max = x_max.min(w * w);
+        }
+        // -acc ≤ a u + b x ≤ acc, at the start and (with x_{i+1} = x + 2 d u) at the end.
+        for (a, b, inv) in [(a0, b0, r[0]), (a1 + 2.0 * d * b1, b1, r[1])] {
+            if a.abs() > EPS {
+                // u between (∓acc - b x) / a.
+                let h = acc * inv;
+                let slope = -b * inv;
+                bands.push(if a > 0.0 {
+                    Band {
+                        slope,
+                        lo: -h,
+                        hi: h,
                     }
-                } else if b.abs() > EPS {
-                    x_max = x_max.min(acc / b.abs());
-                }
+                } else {
+                    Band {
+                        slope,
+                        lo: h,
+                        hi: -h,
+                    }
+                });
+            } else if b.abs() > EPS {
+                x_max = x_max.min(acc / b.abs());
             }
         }
-        Self {
-            lower,
-            upper,
-            x_max,
+    }
+    x_max
+}
+
+/// A lower and an upper line of a stage, each the index of its band (the stage's bands, then
+/// the next stage's set as the last).
+type Pair = (usize, usize);
+
+/// The highest lower line and the lowest upper line at `x` of `bands` and `next` (index
+/// `bands.len()`), and `F(x)`, the first's value less the second's.
+fn envelope(bands: &[Band], next: &Band, x: f64) -> (Pair, f64) {
+    let sx = next.slope * x;
+    let (mut lv, mut hv) = (sx + next.lo, sx + next.hi);
+    let (mut li, mut hi) = (bands.len(), bands.len());
+    for (k, b) in bands.iter().enumerate() {
+        let sx = b.slope * x;
+        let l = sx + b.lo;
+        if l > lv {
+            (lv, li) = (l, k);
+        }
+        let h = sx + b.hi;
+        if h < hv {
+            (hv, hi) = (h, k);
         }
     }
+    ((li, hi), lv - hv)
+}
 
-    /// The controllable `x` of this stage given the next one's `[lo, hi]` and the stage's
-    /// length `d`: `x ∈ [0, x_max]` with some admissible `u` such that
-    /// `x + 2 d u ∈ [lo, hi]`.
-    fn x_range(&self, d: f64, lo: f64, hi: f64) -> (f64, f64) {
-        // (lo - x) / 2d ≤ u ≤ (hi - x) / 2d joins the stage's own lines.
-        let next_lower = (-1.0 / (2.0 * d), lo / (2.0 * d));
-        let next_upper = (-1.0 / (2.0 * d), hi / (2.0 * d));
-        let mut a: f64 = 0.0;
-        let mut b = self.x_max;
-        for &(ls, lo_) in self.lower.iter().chain(std::iter::once(&next_lower)) {
-            for &(hs, ho) in self.upper.iter().chain(std::iter::once(&next_upper)) {
-                // ls x + lo_ ≤ hs x + ho  ⇔  (ls - hs) x ≤ ho - lo_
-                let c = ls - hs;
-                let r = ho - lo_;
-                if c > EPS {
-                    b = b.min(r / c);
-                } else if c < -EPS {
-                    a = a.max(r / c);
-                } else if r < 0.0 {
-                    // Parallel lines the wrong way round: only rounding makes them so when
-                    // both come from the same joint at u's bound; keep rest admissible.
-                    b = b.min(0.0);
-                }
+/// Where the lower line of `pair` meets its upper line, `r / c` of `c x ≤ r`: an upper bound of
+/// the admissible `x` when `c > 0`, a lower bound when `c < 0`.
+fn pair_root(bands: &[Band], next: &Band, (l, h): Pair) -> (f64, f64) {
+    let lower = bands.get(l).unwrap_or(next);
+    let upper = bands.get(h).unwrap_or(next);
+    let c = lower.slope - upper.slope;
+    (c, (upper.hi - lower.lo) / c)
+}
+
+/// The controllable `x` of a stage of length `d` with `bands` (each with `lo ≤ 0 ≤ hi`, as
+/// [`push_bands`] makes them) and `x ≤ x_max`, given the next stage's `[lo, hi]`:
+/// `x ∈ [0, x_max]` with some admissible `u` such that `x + 2 d u ∈ [lo, hi]`, as `(a, b)`
+/// (empty when `a > b`), and the pair of lines that binds at `b` if any.
+///
+/// `x` is admissible where `F(x) = max(lower lines) - min(upper lines) ≤ 0`; `F` is convex
+/// and piecewise linear, so the set is an interval, and Newton's method finds each end
+/// exactly: at an `x` with `F(x) > 0` the active pair of lines is a supporting line of `F`,
+/// its root lies between `x` and the end, and the next step starts from that root; every
+/// step leaves a piece of `F` for good, so that there are at most as many steps as pieces,
+/// each of `O(L)` for `L` lines (the pairwise intersection of all half-lines is `O(L²)`). The
+/// end is the root of the pair of lines that binds there, as in the pairwise computation.
+/// The root of any pair whose lines cross with `c > 0` bounds the set from above: `hints`,
+/// such as the pairs that bound the neighbouring stages, often bind here too, and Newton's
+/// method starts from their least root (one evaluation of `F` when that pair binds). A hint's
+/// index past the bands is the next stage's set.
+fn x_range(
+    bands: &[Band],
+    x_max: f64,
+    d: f64,
+    (lo, hi): (f64, f64),
+    hints: &[Pair],
+) -> ((f64, f64), Option<Pair>) {
+    if !x_max.is_finite() {
+        // No line bounds x from the start (no joint moves): never with a unit tangent.
+        return (x_range_pairwise(bands, x_max, d, lo, hi), None);
+    }
+    // (lo - x) / 2d ≤ u ≤ (hi - x) / 2d joins the stage's own lines.
+    let next = Band {
+        slope: -1.0 / (2.0 * d),
+        lo: lo / (2.0 * d),
+        hi: hi / (2.0 * d),
+    };
+    // F has at most 2 (L + 1) pieces; more steps only come from rounding.
+    let steps = 2 * bands.len() + 4;
+    // The right end: from x_max, or the least root of the hints, leftwards.
+    let mut b = x_max;
+    let mut binding = None;
+    for &pair in hints {
+        let (c, root) = pair_root(bands, &next, pair);
+        if c > 0.0 && root < b {
+            (b, binding) = (root, Some(pair));
+        }
+    }
+    let mut done = false;
+    for _ in 0..steps {
+        if b < 0.0 {
+            // Below rest: the caller clips at 0.
+            done = true;
+            break;
+        }
+        let (pair, f) = envelope(bands, &next, b);
+        if f <= 0.0 {
+            done = true;
+            break;
+        }
+        let (c, root) = pair_root(bands, &next, pair);
+        if c.is_nan() || c <= 0.0 {
+            // F does not decrease leftwards: nothing at or left of b is admissible.
+            b = f64::NEG_INFINITY;
+            done = true;
+            break;
+        }
+        binding = Some(pair);
+        if root.is_nan() || root >= b {
+            // No progress: only by rounding, b is the root.
+            done = true;
+            break;
+        }
+        b = root;
+    }
+    // The left end: 0 when rest is admissible, F(0) ≤ 0: every band has lo ≤ 0 ≤ hi, so it
+    // is when the next set holds 0; else from 0 rightwards.
+    let mut a: f64 = 0.0;
+    let mut left_done = lo <= 0.0 && hi >= 0.0;
+    for _ in 0..steps {
+        if left_done || a > b {
+            left_done = true;
+            break;
+        }
+        let (pair, f) = envelope(bands, &next, a);
+        if f <= 0.0 {
+            left_done = true;
+            break;
+        }
+        let (c, root) = pair_root(bands, &next, pair);
+        if c.is_nan() || c >= 0.0 {
+            // F does not decrease rightwards: nothing at or right of a is admissible.
+            a = f64::INFINITY;
+            left_done = true;
+            break;
+        }
+        if root.is_nan() || root <= a {
+            left_done = true;
+            break;
+        }
+        a = root;
+    }
+    if !(done && left_done) {
+        return (x_range_pairwise(bands, x_max, d, lo, hi), None);
+    }
+    ((a, b), binding)
+}
+
+/// [`x_range`] by intersecting the half-lines of every pair of a lower and an upper line.
+fn x_range_pairwise(bands: &[Band], x_max: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
+    let next_lower = (-1.0 / (2.0 * d), lo / (2.0 * d));
+    let next_upper = (-1.0 / (2.0 * d), hi / (2.0 * d));
+    let lower = bands.iter().map(|b| (b.slope, b.lo)).chain([next_lower]);
+    let mut a: f64 = 0.0;
+    let mut b = x_max;
+    for (ls, lo_) in lower {
+        let upper = bands.iter().map(|b| (b.slope, b.hi)).chain([next_upper]);
+        for (hs, ho) in upper {
+            // ls x + lo_ ≤ hs x + ho  ⇔  (ls - hs) x ≤ ho - lo_
+            let c = ls - hs;
+            let r = ho - lo_;
+            if c > EPS {
+                b = b.min(r / c);
+            } else if c < -EPS {
+                a = a.max(r / c);
+            } else if r < 0.0 {
+                // Parallel lines the wrong way round: only rounding makes them so when
+                // both come from the same joint at u's bound; keep rest admissible.
+                b = b.min(0.0);
             }
         }
-        (a, b)
     }
+    (a, b)
+}
 
-    /// The admissible `u` at `x` that keeps the next `x` in `[lo, hi]`.
-    fn u_range(&self, x: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
-        let mut ulo = (lo - x) / (2.0 * d);
-        let mut uhi = (hi - x) / (2.0 * d);
-        for &(s, o) in &self.lower {
-            ulo = ulo.max(s * x + o);
-        }
-        for &(s, o) in &self.upper {
-            uhi = uhi.min(s * x + o);
-        }
-        (ulo, uhi)
+/// The admissible `u` at `x` that keeps the next `x` in `[lo, hi]`.
+fn u_range(bands: &[Band], x: f64, d: f64, lo: f64, hi: f64) -> (f64, f64) {
+    let mut ulo = (lo - x) / (2.0 * d);
+    let mut uhi = (hi - x) / (2.0 * d);
+    for b in bands {
+        let sx = b.slope * x;
+        ulo = ulo.max(sx + b.lo);
+        uhi = uhi.min(sx + b.hi);
     }
+    (ulo, uhi)
 }
 
 fn distance(a: &[f64], b: &[f64]) -> f64 {
@@ -640,6 +987,7 @@ fn turn(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn opts(dof: usize, v: f64, a: f64) -> ToppraOptions {
         ToppraOptions {
@@ -771,6 +1119,97 @@ mod tests {
         assert!(
             saturated as f64 >= 0.9 * traj.points.len() as f64,
             "{saturated}"
+        );
+    }
+
+    /// A stage's bands as [`push_bands`] makes them: `lo ≤ 0 ≤ hi`, one slope each.
+    fn bands_strategy() -> impl Strategy<Value = Vec<Band>> {
+        proptest::collection::vec((-50.0..50.0f64, 0.01..20.0f64, 0.01..20.0f64), 0..16).prop_map(
+            |v| {
+                v.into_iter()
+                    .map(|(slope, l, h)| Band {
+                        slope,
+                        lo: -l,
+                        hi: h,
+                    })
+                    .collect()
+            },
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 2000,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(19),
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
+
+        /// Newton's method on the envelopes finds the pairwise intersection of the half-lines,
+        /// whatever pair it starts from.
+        #[test]
+        fn x_range_is_the_pairwise_intersection(
+            bands in bands_strategy(),
+            x_max in 0.0..100.0f64,
+            d in 1e-4..0.2f64,
+            hi in prop_oneof![Just(0.0), 0.0..50.0f64],
+            hints in proptest::collection::vec((0usize..20, 0usize..20), 0..4),
+        ) {
+            let (expected_a, expected_b) = x_range_pairwise(&bands, x_max, d, 0.0, hi);
+            let ((a, b), binding) = x_range(&bands, x_max, d, (0.0, hi), &hints);
+            prop_assert_eq!(a, expected_a);
+            let tolerance = 1e-12 * (1.0 + expected_b.abs());
+            prop_assert!((b.max(0.0) - expected_b.max(0.0)).abs() <= tolerance, "{b} {expected_b}");
+            if let Some(pair) = binding {
+                // The binding pair's root is the end.
+                let next = Band { slope: -1.0 / (2.0 * d), lo: 0.0, hi: hi / (2.0 * d) };
+                let (c, root) = pair_root(&bands, &next, pair);
+                prop_assert!(c > 0.0);
+                prop_assert!(b >= 0.0 || root == b || b == f64::NEG_INFINITY);
+            }
+        }
+
+        /// `last_at_most` is `partition_point` whatever the hint.
+        #[test]
+        fn last_at_most_is_partition_point(
+            mut v in proptest::collection::vec(0u8..20, 0..40),
+            x in 0u8..22,
+            hint in 0usize..45,
+        ) {
+            v.sort_unstable();
+            let v: Vec<f64> = v.into_iter().map(f64::from).collect();
+            let x = f64::from(x);
+            let expected = v.partition_point(|&t| t <= x).saturating_sub(1);
+            prop_assert_eq!(last_at_most(&v, x, hint), expected);
+        }
+    }
+
+    #[test]
+    fn sampling_walks_as_state_and_eval_search() {
+        let w = vec![
+            vec![0.0, 0.0, 0.0],
+            vec![0.8, 0.1, -0.3],
+            vec![1.0, 0.9, 0.2],
+            vec![0.1, 1.3, 0.6],
+            vec![-0.4, 0.2, 0.1],
+        ];
+        let o = opts(3, 1.0, 2.0);
+        let paths = BlendedPath::split(&w, 0.05).expect("path");
+        let timing = parameterize(&paths[0], &o).expect("timed");
+        let traj = sample(&paths[0], &timing, 0.003).expect("sampled");
+        let (mut q, mut dq, mut ddq) = (vec![0.0; 3], vec![0.0; 3], vec![0.0; 3]);
+        for p in &traj.points {
+            let (s, sd, sdd) = timing.state(p.time_from_start);
+            paths[0].eval(s, &mut q, &mut dq, &mut ddq);
+            assert_eq!(p.positions, q);
+            let v: Vec<f64> = dq.iter().map(|d| d * sd).collect();
+            let a: Vec<f64> = (0..3).map(|j| dq[j] * sdd + ddq[j] * sd * sd).collect();
+            assert_eq!(p.velocities, v);
+            assert_eq!(p.accelerations, a);
+        }
+        assert_eq!(
+            traj.points.last().map(|p| p.time_from_start),
+            Some(timing.duration())
         );
     }
 
