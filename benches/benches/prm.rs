@@ -339,7 +339,7 @@ fn bench_toppra(c: &mut Criterion) {
     use pickplace_prm::toppra::{BlendedPath, ToppraOptions, parameterize};
     let mut rng = pickplace_prm::rng::Rng::new(19);
     let mut q = vec![0.0; 7];
-    let mut dir = vec![1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut dir = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut waypoints = vec![q.clone()];
     for _ in 1..1000 {
         for d in dir.iter_mut() {

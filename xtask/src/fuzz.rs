@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Every fuzz target of `fuzz/Cargo.toml`, in the order they run.
-pub const TARGETS: [&str; 11] = [
+pub const TARGETS: [&str; 12] = [
     "mesh_stl",
     "mesh_obj",
     "mesh_ply",
@@ -25,6 +25,7 @@ pub const TARGETS: [&str; 11] = [
     "plan_json",
     "gripper",
     "srdf_writer",
+    "joint_limits_yaml",
 ];
 
 /// Command-line options of `cargo xtask fuzz`.

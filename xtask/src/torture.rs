@@ -216,7 +216,7 @@ impl Torture {
 
     /// A scene like `scenes/fig9-near.toml` with every path absolute, some replaced.
     fn scene_text(&self, replace: &[(&str, &str)]) -> String {
-        let mut fields = vec![
+        let mut fields = [
             ("URDF", self.repo("robots/nx-hiro/nx-hiro.urdf")),
             ("SRDF", self.repo("robots/nx-hiro/nx-hiro.srdf")),
             ("GRIPPER", self.repo("robots/nx-hiro/gripper.toml")),

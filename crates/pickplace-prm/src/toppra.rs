@@ -25,6 +25,9 @@ use crate::timing::{MAX_TRAJECTORY_SAMPLES, Trajectory, TrajectoryPoint};
 /// Below this, a turn is straight (no arc) and a length is zero.
 const EPS: f64 = 1e-12;
 
+/// Fewest stages of a path's grid.
+const MIN_STAGES: f64 = 32.0;
+
 /// Largest turn of the tangent within one stage on an arc (rad).
 const ARC_STAGE_ANGLE: f64 = 0.2;
 
@@ -482,7 +485,14 @@ pub fn parameterize(path: &BlendedPath, options: &ToppraOptions) -> Result<Param
             expected: "a positive, finite length",
         });
     }
-    let grid = grid(path, options.grid_step)?;
+    // At least MIN_STAGES stages however short the path (a gripper closing by millimetres):
+    // the speed lives between grid points, and one stage from rest to rest cannot move.
+    let step = if path.length() > 0.0 {
+        options.grid_step.min(path.length() / MIN_STAGES)
+    } else {
+        options.grid_step
+    };
+    let grid = grid(path, step)?;
     let n = grid.len();
     if n < 2 {
         return Ok(Parameterization {
@@ -987,6 +997,25 @@ fn turn(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_path_shorter_than_one_grid_step_still_takes_time() {
+        // A gripper closing by 7.5 mm at 0.1 m/s and 3 m/s²: a trapezoid of
+        // L / v + v / a = 0.075 + 0.0333 s (one stage from rest to rest took no time).
+        let parts = BlendedPath::split(&[vec![0.0], vec![0.0075]], 0.1).expect("path");
+        let options = ToppraOptions {
+            max_velocities: vec![0.1],
+            max_accelerations: vec![3.0],
+            ..ToppraOptions::default()
+        };
+        let timing = parameterize(&parts[0], &options).expect("times");
+        let exact = 0.0075 / 0.1 + 0.1 / 3.0;
+        assert!(
+            (timing.duration() - exact).abs() < 0.002,
+            "{}",
+            timing.duration()
+        );
+    }
     use proptest::prelude::*;
 
     fn opts(dof: usize, v: f64, a: f64) -> ToppraOptions {

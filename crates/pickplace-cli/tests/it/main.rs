@@ -14,6 +14,7 @@ mod robot;
 mod robots;
 mod suite;
 mod support;
+mod trajectory;
 mod view;
 
 use std::path::PathBuf;

@@ -53,7 +53,7 @@ fn plan_and_validate(scene: &Path, out: &Path) -> serde_json::Value {
 fn near_start_is_planned_with_one_hand_and_validates() {
     let dir = Scratch::new("plan-near");
     let plan = plan_and_validate(&scene("fig9-near.toml"), &dir.join("plan.json"));
-    assert_eq!(plan["format"], "pickplace.plan/1");
+    assert_eq!(plan["format"], "pickplace.plan/2");
     assert_eq!(plan["strategy"], "right-right");
     assert_eq!(plan["placement"]["contact"], "face-face");
     assert_eq!(plan["placement"]["environment"], "pallet");
