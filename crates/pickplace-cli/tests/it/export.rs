@@ -2,26 +2,14 @@
 //! a handover) read back with PyYAML and serde_json and compared with the plan; bad input
 //! exits 2.
 
+use crate::support::run_at_root as run;
 use crate::support::{Scratch, fails_with, ok, stderr};
 use crate::{args, root};
 use pickplace::Plan;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::OnceLock;
-
-/// Runs `pickplace` from the repository's root with the cache of the `plan` tests.
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
-        .output()
-        .expect("the pickplace binary runs")
-}
 
 /// The plans of fig9-near and fig9-far-left, planned once for all these tests.
 fn plans() -> &'static [PathBuf; 2] {

@@ -2,22 +2,9 @@
 //! message naming the file (or argument) and the limit, refused before the memory is taken.
 
 use crate::root;
+use crate::support::run_at_root as run;
 use crate::support::{Scratch, stderr};
-use std::path::Path;
-use std::process::{Command, Output};
-
-/// `pickplace ARGS…` from the repository's root, with the cache of the plan tests.
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
-        .output()
-        .expect("the pickplace binary runs")
-}
+use std::process::Output;
 
 /// Asserts exit 2, no panic, and every `needle` in the standard error.
 fn assert_refused(o: &Output, needles: &[&str]) {

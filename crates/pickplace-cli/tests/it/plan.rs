@@ -1,23 +1,10 @@
 //! `pickplace plan` and `pickplace validate` on the shipped scenes (the paper's Figs. 9 and 10).
 
 use crate::root;
+use crate::support::run_at_root as run;
 use crate::support::{Scratch, stdout};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-/// Runs `pickplace` from the repository's root with a cache shared by these tests (cluster
-/// databases and roadmaps are built once per checkout, in the target folder).
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
-        .output()
-        .expect("the pickplace binary runs")
-}
+use std::process::Output;
 
 fn scene(name: &str) -> PathBuf {
     root().join("scenes").join(name)

@@ -5,22 +5,9 @@
 
 use crate::root;
 use crate::support::Scratch;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-/// Runs `pickplace` from the repository's root with the cache the plan tests share (the
-/// roadmaps are the robot's, the same for every scene).
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
-        .output()
-        .expect("the pickplace binary runs")
-}
+use crate::support::run_at_root as run;
+use std::path::PathBuf;
+use std::process::Output;
 
 fn scene(name: &str) -> PathBuf {
     root().join("scenes/suite").join(format!("{name}.toml"))

@@ -68,6 +68,20 @@ pub fn run_in(cwd: &Path, args: &[&std::ffi::OsStr]) -> Output {
         .expect("the pickplace binary runs")
 }
 
+/// Runs `pickplace` with `args` from the repository's root, with the cache folder of the plan
+/// tests (`CARGO_TARGET_TMPDIR/plan-cache`, shared: the tests plan the shipped scenes).
+pub fn run_at_root(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pickplace"))
+        .args(args)
+        .current_dir(crate::root())
+        .env(
+            "PICKPLACE_CACHE",
+            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
+        )
+        .output()
+        .expect("the pickplace binary runs")
+}
+
 /// Shorthand: arguments as strings or paths.
 #[macro_export]
 macro_rules! args {

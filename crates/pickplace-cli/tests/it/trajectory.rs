@@ -2,22 +2,11 @@
 //! (issue 19): a slower limit makes a slower plan that still validates against the limits it
 //! was timed with; bad tables and factors exit 2 naming the file, the line or the option.
 
+use crate::support::run_at_root as run;
 use crate::support::{Scratch, ok};
 use crate::{args, root};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn run(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
-        .args(args)
-        .current_dir(root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
-        .output()
-        .expect("the pickplace binary runs")
-}
+use std::process::Output;
 
 /// fig9-near written into `dir` with `extra` appended and `robot_line` added to `[robot]`.
 fn scene(dir: &Scratch, robot_line: &str, extra: &str) -> PathBuf {
