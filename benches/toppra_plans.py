@@ -8,8 +8,8 @@ of the shipped scenes and of the scene suite (issue 19). Not a dependency of any
         scenes/*.toml scenes/suite/*.toml
 
 Each scene is planned with `--sample-period 0.002 --no-timings` (the sampling does not change
-the timing). The plan is cut into its motions where the robot stops (key poses, grasps and
-releases: `Plan::motions`); each motion's samples lie on our blended path, and toppra times
+the timing). The plan is cut into its motions where the robot stops (grasps, releases and
+wherever the velocities are all 0: `Plan::motions`); each motion's samples lie on our blended path, and toppra times
 the cubic spline through them, parameterized by joint-space arc length as ours, under the
 plan's own limits (`limits` of the plan: URDF velocities, 3 rad/s², scaling applied).
 
@@ -39,8 +39,13 @@ def motions(plan):
     def index_at(t):
         return max(int(np.searchsorted(times, t + 1e-9, side="right")) - 1, 0)
 
-    cuts = sorted({index_at(k["time"]) for k in plan["key_poses"]}
-                  | {index_at(e["time"]) for e in plan["events"]} | {len(traj) - 1})
+    def at_rest(i):
+        return all(v == 0.0 for v in traj[i].get("velocities", []))
+
+    cuts = sorted({i for i in (index_at(k["time"]) for k in plan["key_poses"]) if at_rest(i)}
+                  | {index_at(e["time"]) for e in plan["events"]}
+                  | {i for i in range(1, len(traj) - 1) if traj[i].get("velocities") and at_rest(i)}
+                  | {len(traj) - 1})
     out, first = [], 0
     for last in cuts:
         if last > first:

@@ -122,7 +122,30 @@ pub struct BlendedPath {
     pieces: Vec<Piece>,
     /// Arc length at the start of each piece.
     starts: Vec<f64>,
+    /// For each piece, the index (in the waypoints given to [`BlendedPath::split_with`]) of
+    /// the waypoint a line starts from, or of the corner an arc turns through.
+    sources: Vec<usize>,
+    /// Indices of the path's first and last waypoints in the waypoints given.
+    ends: (usize, usize),
     length: f64,
+}
+
+/// Where an arc length lies on a [`BlendedPath`], by the waypoints it was made from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// On the straight piece that runs from waypoint `from` towards waypoint `from + 1` (the
+    /// next waypoint that is not a repeat of it).
+    Line {
+        /// The waypoint the piece starts from.
+        from: usize,
+    },
+    /// On the blend arc of the corner at waypoint `corner`; `past_middle` on its second half.
+    Arc {
+        /// The waypoint whose corner the arc cuts.
+        corner: usize,
+        /// Whether the arc length is past the arc's middle.
+        past_middle: bool,
+    },
 }
 
 impl BlendedPath {
@@ -139,6 +162,33 @@ impl BlendedPath {
                 name: "tolerance",
                 value: tolerance,
                 expected: "a positive, finite distance",
+            });
+        }
+        Self::split_with(waypoints, &vec![tolerance; waypoints.len()])
+    }
+
+    /// As [`BlendedPath::split`], with a tolerance per waypoint: `tolerances[i]` bounds the
+    /// blend of the corner at waypoint `i` (the ends' are not used), and a corner whose
+    /// tolerance is 0 is not blended: the path is split there too, and the robot stops. Of
+    /// repeated waypoints the first one's tolerance counts.
+    ///
+    /// # Errors
+    /// [`Error::JointCount`] for waypoints of different lengths or a tolerance list of
+    /// another length, [`Error::InvalidOption`] for non-finite values or a negative
+    /// tolerance.
+    pub fn split_with(waypoints: &[Vec<f64>], tolerances: &[f64]) -> Result<Vec<BlendedPath>> {
+        if tolerances.len() != waypoints.len() {
+            return Err(Error::JointCount {
+                what: "the tolerances",
+                expected: waypoints.len(),
+                found: tolerances.len(),
+            });
+        }
+        if let Some(t) = tolerances.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+            return Err(Error::InvalidOption {
+                name: "tolerance",
+                value: *t,
+                expected: "a finite distance, 0 or more",
             });
         }
         let Some(dof) = waypoints.first().map(Vec::len) else {
@@ -158,30 +208,36 @@ impl BlendedPath {
                 expected: "finite joint values",
             });
         }
-        let mut points: Vec<&Vec<f64>> = Vec::with_capacity(waypoints.len());
-        for w in waypoints {
-            if points.last().is_none_or(|p| distance(p, w) > EPS) {
-                points.push(w);
+        // The waypoints kept (index, point): repeats dropped.
+        let mut points: Vec<(usize, &Vec<f64>)> = Vec::with_capacity(waypoints.len());
+        for (i, w) in waypoints.iter().enumerate() {
+            if points.last().is_none_or(|(_, p)| distance(p, w) > EPS) {
+                points.push((i, w));
             }
         }
-        let mut parts: Vec<Vec<&Vec<f64>>> = vec![Vec::new()];
-        for (i, p) in points.iter().enumerate() {
+        let mut parts: Vec<Vec<(usize, &Vec<f64>)>> = vec![Vec::new()];
+        for (i, &p) in points.iter().enumerate() {
             if let Some(part) = parts.last_mut() {
                 part.push(p);
             }
-            if i > 0 && i + 1 < points.len() && turn(points[i - 1], p, points[i + 1]) > REVERSAL {
+            if i > 0
+                && i + 1 < points.len()
+                && (tolerances[p.0] <= 0.0
+                    || turn(points[i - 1].1, p.1, points[i + 1].1) > REVERSAL)
+            {
                 parts.push(vec![p]);
             }
         }
         Ok(parts
             .into_iter()
             .filter(|part| part.len() >= 2)
-            .map(|part| Self::blend(&part, tolerance, dof))
+            .map(|part| Self::blend(&part, tolerances, dof))
             .collect())
     }
 
     /// The path through `points` (no reversal, no repeated point), corners blended.
-    fn blend(points: &[&Vec<f64>], tolerance: f64, dof: usize) -> Self {
+    fn blend(indexed: &[(usize, &Vec<f64>)], tolerances: &[f64], dof: usize) -> Self {
+        let points: Vec<&Vec<f64>> = indexed.iter().map(|&(_, p)| p).collect();
         let n = points.len();
         // The distance cut from each side of every corner (0 at the two ends).
         let mut cut = vec![0.0; n];
@@ -201,7 +257,7 @@ impl BlendedPath {
             // tolerance, and it uses at most half of each adjacent segment.
             let l = (seg_len[i - 1] / 2.0)
                 .min(seg_len[i] / 2.0)
-                .min(tolerance * half.sin() / (1.0 - half.cos()));
+                .min(tolerances[indexed[i].0] * half.sin() / (1.0 - half.cos()));
             let radius = l / half.tan();
             let bisector: Vec<f64> = (0..dof).map(|j| y2[j] - y1[j]).collect();
             let bn = norm(&bisector);
@@ -227,6 +283,7 @@ impl BlendedPath {
             });
         }
         let mut pieces = Vec::with_capacity(2 * n);
+        let mut sources = Vec::with_capacity(2 * n);
         for i in 0..n - 1 {
             let dir = unit(points[i], points[i + 1], seg_len[i]);
             let length = (seg_len[i] - cut[i] - cut[i + 1]).max(0.0);
@@ -236,9 +293,11 @@ impl BlendedPath {
                     dir,
                     length,
                 });
+                sources.push(indexed[i].0);
             }
             if let Some(arc) = arcs[i + 1].take() {
                 pieces.push(arc);
+                sources.push(indexed[i + 1].0);
             }
         }
         let mut starts = Vec::with_capacity(pieces.len());
@@ -251,6 +310,8 @@ impl BlendedPath {
             dof,
             pieces,
             starts,
+            sources,
+            ends: (indexed[0].0, indexed[n - 1].0),
             length,
         }
     }
@@ -284,6 +345,61 @@ impl BlendedPath {
                 }
                 _ => false,
             })
+    }
+
+    /// Where arc length `s` (clamped into the path) lies, by the waypoints the path was made
+    /// from; at the junction of two pieces, on the first.
+    pub fn locate(&self, s: f64) -> Location {
+        let s = s.clamp(0.0, self.length);
+        let k = self
+            .starts
+            .partition_point(|&t| t < s)
+            .saturating_sub(1)
+            .min(self.pieces.len().saturating_sub(1));
+        match (self.pieces.get(k), self.sources.get(k)) {
+            (Some(Piece::Arc { radius, angle, .. }), Some(&corner)) => Location::Arc {
+                corner,
+                past_middle: s - self.starts[k] > 0.5 * radius * angle,
+            },
+            (_, source) => Location::Line {
+                from: source.copied().unwrap_or(self.ends.0),
+            },
+        }
+    }
+
+    /// The arc length of the middle of the blend of the corner at waypoint `corner` (an
+    /// index in the waypoints given), if this path blends that corner.
+    pub fn corner_middle(&self, corner: usize) -> Option<f64> {
+        self.pieces
+            .iter()
+            .zip(&self.sources)
+            .zip(&self.starts)
+            .find_map(|((p, &c), &start)| match p {
+                Piece::Arc { radius, angle, .. } if c == corner => {
+                    Some(start + 0.5 * radius * angle)
+                }
+                _ => None,
+            })
+    }
+
+    /// The corners (waypoint indices) whose blend arcs overlap the arc lengths from `s0` to
+    /// `s1`: what a straight line between the path's points at `s0` and `s1` cuts across.
+    pub fn corners_between(&self, s0: f64, s1: f64) -> Vec<usize> {
+        let (a, b) = (s0.min(s1), s0.max(s1));
+        self.pieces
+            .iter()
+            .zip(&self.sources)
+            .zip(&self.starts)
+            .filter_map(|((p, &c), &start)| match p {
+                Piece::Arc { .. } if start < b && start + p.length() > a => Some(c),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Indices of the path's first and last waypoints in the waypoints it was made from.
+    pub fn ends(&self) -> (usize, usize) {
+        self.ends
     }
 
     /// Position, tangent and curvature vector at arc length `s` (clamped into the path).
@@ -997,6 +1113,64 @@ fn turn(a: &[f64], b: &[f64], c: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn corners_with_no_tolerance_split_and_every_piece_knows_its_waypoints() {
+        // A square's corners: 1 and 3 blended, 2 not (a stop), 2 repeated.
+        let w = vec![
+            vec![0.0, 0.0],
+            vec![1.0, 0.0],
+            vec![1.0, 1.0],
+            vec![1.0, 1.0],
+            vec![0.0, 1.0],
+            vec![0.0, 2.0],
+        ];
+        let parts = BlendedPath::split_with(&w, &[0.0, 0.1, 0.0, 0.3, 0.1, 0.0]).expect("paths");
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0].ends(), (0, 2));
+        assert_eq!(parts[1].ends(), (2, 5));
+        assert_eq!(parts[0].locate(0.1), Location::Line { from: 0 });
+        let middle = parts[0].corner_middle(1).expect("corner 1 is blended");
+        assert_eq!(
+            parts[0].locate(middle - 1e-6),
+            Location::Arc {
+                corner: 1,
+                past_middle: false
+            }
+        );
+        assert_eq!(
+            parts[0].locate(middle + 1e-6),
+            Location::Arc {
+                corner: 1,
+                past_middle: true
+            }
+        );
+        assert_eq!(
+            parts[0].locate(parts[0].length()),
+            Location::Line { from: 1 }
+        );
+        assert!(parts[0].corner_middle(2).is_none());
+        assert_eq!(parts[0].corners_between(0.0, parts[0].length()), [1]);
+        assert!(parts[0].corners_between(0.0, 0.1).is_empty());
+        // The repeated waypoint's first copy (index 2) starts the second part; its corner
+        // at index 4 is blended.
+        assert_eq!(parts[1].locate(0.0), Location::Line { from: 2 });
+        assert!(parts[1].corner_middle(4).is_some());
+        let mut q = [0.0; 2];
+        let (mut dq, mut ddq) = ([0.0; 2], [0.0; 2]);
+        parts[1].eval(
+            parts[1].corner_middle(4).expect("blended"),
+            &mut q,
+            &mut dq,
+            &mut ddq,
+        );
+        let off = ((q[0] - 0.0f64).powi(2) + (q[1] - 1.0f64).powi(2)).sqrt();
+        assert!(off <= 0.1 + 1e-9 && off > 0.01, "{off}");
+        // Bad lists.
+        assert!(BlendedPath::split_with(&w, &[0.1; 3]).is_err());
+        assert!(BlendedPath::split_with(&w, &[0.1, -0.1, 0.1, 0.1, 0.1, 0.1]).is_err());
+        assert!(BlendedPath::split_with(&w, &[0.1, f64::NAN, 0.1, 0.1, 0.1, 0.1]).is_err());
+    }
 
     #[test]
     fn a_path_shorter_than_one_grid_step_still_takes_time() {

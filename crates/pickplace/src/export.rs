@@ -571,7 +571,13 @@ mod tests {
             .map(|(&t, q)| TrajectoryPoint {
                 time_from_start: t,
                 positions: q.to_vec(),
-                velocities: vec![0.0, 0.0, if t == 3.5 { 1.0 } else { 0.0 }, 0.0],
+                // Moving in the middle of each motion, at rest where they meet.
+                velocities: vec![
+                    if t == 1.0 { 1.0 } else { 0.0 },
+                    0.0,
+                    if t == 3.5 { 1.0 } else { 0.0 },
+                    0.0,
+                ],
                 accelerations: vec![0.0; 4],
             })
             .collect();

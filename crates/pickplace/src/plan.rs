@@ -716,10 +716,11 @@ impl Plan {
     }
 
     /// The plan cut into its motions: from one stop of the robot to the next. The robot
-    /// stops at the start, at every key pose and every grasp and release, and at the end;
-    /// a motion is the samples from one such instant to the next, both included, when
-    /// something moves between them. Times that fall between samples (a malformed plan)
-    /// cut at the sample before.
+    /// stops at the start, at every grasp and release, at the end, and wherever a sample's
+    /// velocities are all 0 (format 2: a key pose it does not pass through moving, a corner
+    /// that was not blended); in a plan without velocities (format 1), at every key pose. A
+    /// motion is the samples from one stop to the next, both included. Times that fall
+    /// between samples (a malformed plan) cut at the sample before.
     pub fn motions(&self) -> Vec<Motion> {
         let Some(last) = self.trajectory.len().checked_sub(1) else {
             return Vec::new();
@@ -729,10 +730,18 @@ impl Plan {
                 .partition_point(|p| p.time_from_start <= t + 1e-9)
                 .saturating_sub(1)
         };
+        let at_rest = |i: usize| {
+            self.trajectory
+                .get(i)
+                .is_some_and(|p| p.velocities.iter().all(|v| *v == 0.0))
+        };
         // Each cut with what happens there (the latest name wins at one instant).
         let mut cuts: BTreeMap<usize, String> = BTreeMap::new();
         for k in &self.key_poses {
-            cuts.insert(index_at(k.time), k.name.clone());
+            let i = index_at(k.time);
+            if at_rest(i) {
+                cuts.insert(i, k.name.clone());
+            }
         }
         for e in &self.events {
             let name = match e.kind {
@@ -741,6 +750,11 @@ impl Plan {
             };
             cuts.entry(index_at(e.time))
                 .or_insert_with(|| format!("{name} ({})", e.arm));
+        }
+        for i in 1..last {
+            if self.trajectory[i].velocities.iter().any(|_| true) && at_rest(i) {
+                cuts.entry(i).or_insert_with(|| "stop".into());
+            }
         }
         cuts.entry(last).or_insert_with(|| "end".into());
         let mut motions = Vec::new();
@@ -791,7 +805,8 @@ pub struct Motion {
     pub first: usize,
     /// Index of its last sample (the robot at rest).
     pub last: usize,
-    /// What it reaches: the key pose's name, `grasp (right)`, `release (left)` or `end`.
+    /// What it reaches: the key pose's name, `grasp (right)`, `release (left)`, `stop` (a
+    /// corner that was not blended) or `end`.
     pub to: String,
     /// The arms (from [`Plan::arms`]) whose joints or gripper move in it.
     pub arms: Vec<Arm>,
@@ -861,6 +876,60 @@ mod tests {
         assert_eq!(
             bad.holds().unwrap_err(),
             "event 0: release by \"R\" without a grasp before it"
+        );
+    }
+
+    #[test]
+    fn motions_end_where_the_robot_stops() {
+        // Joint a moves from 0 to 4 over samples 0..=8; the velocities are 0 at 0, 3 (a
+        // corner that was not blended), 5 (a grasp) and 8.
+        let mut p = plan(vec![event(5.0, EventKind::Grasp, "R")]);
+        p.trajectory = (0..=8)
+            .map(|k| {
+                let mut s =
+                    TrajectoryPoint::positions_only(f64::from(k), vec![0.5 * f64::from(k), 0.0]);
+                let moving = ![0, 3, 5, 8].contains(&k);
+                s.velocities = vec![if moving { 0.5 } else { 0.0 }, 0.0];
+                s.accelerations = vec![0.0; 2];
+                s
+            })
+            .collect();
+        let key = |name: &str, time: Real| KeyPose {
+            name: name.into(),
+            arm: Arm::Right,
+            time,
+            world_from_tcp: p.object.start_pose,
+            world_from_object: p.object.start_pose,
+        };
+        // "pre-grasp" is passed moving (sample 2): no cut; "lift" is at a stop (sample 8).
+        p.key_poses = vec![key("pre-grasp", 2.0), key("lift", 8.0)];
+        let cuts = |p: &Plan| -> Vec<(usize, usize, String)> {
+            p.motions()
+                .into_iter()
+                .map(|m| (m.first, m.last, m.to))
+                .collect()
+        };
+        let s = |x: &str| x.to_owned();
+        assert_eq!(
+            cuts(&p),
+            [
+                (0, 3, s("stop")),
+                (3, 5, s("grasp (right)")),
+                (5, 8, s("lift"))
+            ]
+        );
+        // Without velocities (format 1) every key pose is a stop.
+        for point in &mut p.trajectory {
+            point.velocities.clear();
+            point.accelerations.clear();
+        }
+        assert_eq!(
+            cuts(&p),
+            [
+                (0, 2, s("pre-grasp")),
+                (2, 5, s("grasp (right)")),
+                (5, 8, s("lift"))
+            ]
         );
     }
 

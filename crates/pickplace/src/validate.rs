@@ -73,24 +73,32 @@ fn short_number(value: Real) -> String {
     fmt_real_fixed(value, 4)
 }
 
-/// The robot is at rest at every key pose (docs/plan-format.md): a key pose is at a
+/// The robot is at rest at every grasp and release (docs/plan-format.md): an event is at a
 /// trajectory sample, and from rest a joint whose acceleration is at most its limit `a`
 /// ([`Setup::timing`]) moves at most `a h² / 2` in the time `h` to the sample before or
 /// after it (5 % and 1e-9 of slack for rounding); where the plan has velocities, they are 0
-/// there.
-fn at_rest_at_key_poses(v: &mut Validator<'_>, plan: &Plan, names: &[&str]) {
+/// there. Key poses are at trajectory samples; the robot may pass through them moving (a
+/// blend between two motions, docs/trajectories.md).
+fn at_rest_at_events(v: &mut Validator<'_>, plan: &Plan, names: &[&str]) {
     let samples = &plan.trajectory;
-    let stops = plan
-        .key_poses
-        .iter()
-        .map(|k| (k.time, format!("key pose {:?}", k.name)))
-        .chain(plan.events.iter().map(|e| {
-            let what = match e.kind {
-                EventKind::Grasp => "grasp",
-                EventKind::Release => "release",
-            };
-            (e.time, format!("the {} hand's {what}", e.arm))
-        }));
+    for k in &plan.key_poses {
+        if !samples
+            .iter()
+            .any(|p| (p.time_from_start - k.time).abs() <= 1e-6)
+        {
+            v.problem(
+                k.time,
+                format!("key pose {:?} is at no trajectory sample", k.name),
+            );
+        }
+    }
+    let stops = plan.events.iter().map(|e| {
+        let what = match e.kind {
+            EventKind::Grasp => "grasp",
+            EventKind::Release => "release",
+        };
+        (e.time, format!("the {} hand's {what}", e.arm))
+    });
     for (time, what) in stops {
         let Some(i) = samples
             .iter()
@@ -448,7 +456,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         }
     }
     let events: Vec<Ev> = events.into_iter().map(|(e, _)| e).collect();
-    at_rest_at_key_poses(&mut v, plan, &names);
+    at_rest_at_events(&mut v, plan, &names);
     dynamics(&mut v, plan, &names);
     v.rests = v.rest_poses(plan, &events)?;
 

@@ -221,7 +221,7 @@ fn one_motion_of_one_arm_is_one_document_for_ros2_topic_pub() {
             "--format",
             "ros2-yaml",
             "--motion",
-            "1",
+            "0",
             "--arm",
             "right",
             "--kind",
@@ -229,14 +229,14 @@ fn one_motion_of_one_arm_is_one_document_for_ros2_topic_pub() {
         ],
     );
     assert_eq!(yaml.matches("---").count(), 1, "{yaml}");
-    assert!(yaml.starts_with("# motion 1: grasp (right arm, group right_arm)"));
+    assert!(yaml.starts_with("# motion 0: grasp (right arm, group right_arm)"));
     let json: Value = serde_json::from_str(&export(
         path,
         &[
             "--format",
             "ros2-json",
             "--motion",
-            "1",
+            "0",
             "--arm",
             "right",
             "--kind",
@@ -254,7 +254,7 @@ fn one_motion_of_one_arm_is_one_document_for_ros2_topic_pub() {
             "--format",
             "ros2-json",
             "--motion",
-            "2",
+            "1",
             "--kind",
             "gripper",
         ],
@@ -371,11 +371,11 @@ fn bad_input_exits_2_naming_the_file() {
             "--format",
             "ros2-yaml",
             "--motion",
-            "1",
+            "2",
             "--kind",
             "gripper"
         ]),
-        &["no message selected: in motion 1 move right arm"],
+        &["no message selected: in motion 2 move right arm"],
     );
     let missing = dir.join("missing.json");
     fails_with(

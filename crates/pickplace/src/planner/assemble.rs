@@ -33,11 +33,169 @@ const BLEND_ATTEMPTS: usize = 3;
 /// Fewest grid stages of a timed part of a path.
 const MIN_STAGES: Real = 32.0;
 
-/// A segment's samples (times from its start) and, for each, the part of the path and the
+/// The plan's samples (times from its start) and, for each, the part of the path and the
 /// arc length it is at.
 struct Timed {
     points: Vec<pickplace_prm::TrajectoryPoint>,
     at: Vec<(usize, Real)>,
+}
+
+/// The timed plan: its samples, and for each segment the sample where it ends.
+struct TimedPlan {
+    points: Vec<pickplace_prm::TrajectoryPoint>,
+    ends: Vec<usize>,
+}
+
+/// The segments' waypoints as one path: each segment's first waypoint dropped where it
+/// repeats the one before.
+struct Path {
+    waypoints: Vec<Vec<Real>>,
+    /// For each waypoint from the second on, the segment that moves the robot to it:
+    /// `owners[i - 1]` for waypoint `i`, so the piece from waypoint `i` to `i + 1` is
+    /// segment `owners[i]`'s.
+    owners: Vec<usize>,
+    /// For each segment, the waypoint it ends at.
+    ends: Vec<usize>,
+}
+
+impl Path {
+    fn of(segments: &[Segment]) -> Self {
+        let mut path = Path {
+            waypoints: Vec::new(),
+            owners: Vec::new(),
+            ends: Vec::with_capacity(segments.len()),
+        };
+        for (j, seg) in segments.iter().enumerate() {
+            for (i, q) in seg.path.iter().enumerate() {
+                let repeat = i == 0 && path.waypoints.last().is_some_and(|last| last == q);
+                if repeat {
+                    continue;
+                }
+                if !path.waypoints.is_empty() {
+                    path.owners.push(j);
+                }
+                path.waypoints.push(q.clone());
+            }
+            path.ends.push(path.waypoints.len().saturating_sub(1));
+        }
+        path
+    }
+
+    /// The segment whose piece runs from waypoint `i` to the next one.
+    fn owner(&self, i: usize) -> Option<usize> {
+        self.owners.get(i).copied()
+    }
+
+    /// Each waypoint's blend tolerance: within a straight motion
+    /// [`STRAIGHT_BLEND_TOLERANCE`], within a free one `free`; between two motions the free
+    /// one's (the straight one's line is checked), or the straight one's when both are
+    /// straight; 0 (a stop) at the ends and around every segment with an event (the hand
+    /// at rest while the fingers close or open).
+    fn tolerances(&self, segments: &[Segment], free: Real) -> Vec<Real> {
+        let of = |j: usize| match segments.get(j).map(|s| &s.shape) {
+            Some(Shape::Free(_)) => free,
+            _ => STRAIGHT_BLEND_TOLERANCE,
+        };
+        let has_event = |j: usize| segments.get(j).is_some_and(|s| s.event.is_some());
+        let n = self.waypoints.len();
+        (0..n)
+            .map(|i| {
+                if i == 0 || i + 1 >= n {
+                    return 0.0;
+                }
+                let (before, after) = (self.owners[i - 1], self.owners[i]);
+                if before == after {
+                    return of(before);
+                }
+                // A junction: every segment from `before` to `after` ends here (the ones
+                // between moved nothing).
+                if (before..=after).any(has_event) {
+                    0.0
+                } else if (before..=after).any(|j| matches!(segments[j].shape, Shape::Free(_))) {
+                    free
+                } else {
+                    STRAIGHT_BLEND_TOLERANCE
+                }
+            })
+            .collect()
+    }
+
+    /// For each segment, the index of the sample where it ends: where its part of the path
+    /// ends when the robot stops there, else the sample nearest to the middle of the blend
+    /// through its last waypoint.
+    fn segment_samples(
+        &self,
+        segments: &[Segment],
+        parts: &[BlendedPath],
+        timed: &Timed,
+    ) -> Vec<usize> {
+        let last = timed.points.len().saturating_sub(1);
+        // The sample where each part ends.
+        let part_end: Vec<usize> = (0..parts.len())
+            .map(|k| timed.at.iter().rposition(|&(p, _)| p == k).unwrap_or(last))
+            .collect();
+        let mut from = 0;
+        segments
+            .iter()
+            .enumerate()
+            .map(|(j, _)| {
+                let w = self.ends[j];
+                let found = parts.iter().enumerate().find_map(|(k, part)| {
+                    if part.ends().1 == w {
+                        return Some(part_end[k]);
+                    }
+                    if part.ends().0 == w {
+                        // The path's start, or a stop where the part before ended.
+                        return Some(if k == 0 { 0 } else { part_end[k - 1] });
+                    }
+                    let middle = part.corner_middle(w)?;
+                    // On a straight motion's side of the blend, where its line is checked.
+                    let straight = |i: Option<usize>| {
+                        i.and_then(|j| segments.get(j))
+                            .is_some_and(|s| matches!(s.shape, Shape::Straight))
+                    };
+                    let (before, after) = (
+                        straight(self.owner(w.wrapping_sub(1))),
+                        straight(self.owner(w)),
+                    );
+                    let side = |s: Real| match (before, after) {
+                        (false, true) => s > middle,
+                        (true, false) => s <= middle,
+                        _ => true,
+                    };
+                    timed
+                        .at
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, (p, s))| *p == k && side(*s))
+                        .min_by(|(_, a), (_, b)| {
+                            (a.1 - middle).abs().total_cmp(&(b.1 - middle).abs())
+                        })
+                        .map(|(i, _)| i)
+                });
+                // A corner the path goes straight through (no arc) or a waypoint dropped as
+                // a repeat: the nearest sample from the last end on.
+                let i = found.unwrap_or_else(|| {
+                    let q = &self.waypoints[w.min(self.waypoints.len() - 1)];
+                    (from..=last)
+                        .min_by(|&a, &b| {
+                            let d = |i: usize| {
+                                timed.points[i]
+                                    .positions
+                                    .iter()
+                                    .zip(q)
+                                    .map(|(x, y)| (x - y) * (x - y))
+                                    .sum::<Real>()
+                            };
+                            d(a).total_cmp(&d(b))
+                        })
+                        .unwrap_or(last)
+                });
+                from = from.max(i);
+                i
+            })
+            .collect()
+    }
 }
 
 /// How a segment may be smoothed before it is timed.
@@ -52,7 +210,8 @@ pub(super) enum Shape {
     Free(Arc<CollisionWorld>),
 }
 
-/// One motion of the plan: full configurations, from rest to rest.
+/// One motion of the plan: full configurations. The robot is at rest at its ends only next
+/// to a segment with an event; elsewhere the segments are blended into each other.
 #[derive(Debug, Clone)]
 pub(super) struct Segment {
     /// Waypoints (full configurations).
@@ -168,25 +327,40 @@ impl Ctx<'_> {
         // The hands holding the object, in the order they took it: it moves with the first.
         let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
         let placed = self.placements[found.placement].world_from_object;
-        for seg in &found.segments {
-            let offset = trajectory.last().map_or(0.0, |p| p.time_from_start);
-            for p in self.time_segment(seg, &limits)?.into_iter().skip(1) {
-                let point = TrajectoryPoint {
-                    time_from_start: round_time(offset + p.time_from_start),
-                    positions: p.positions,
-                    velocities: p.velocities,
-                    accelerations: p.accelerations,
-                };
-                // A last sample within half a microsecond of the one before replaces it.
-                match trajectory.last_mut() {
-                    Some(last) if last.time_from_start >= point.time_from_start => *last = point,
-                    _ => trajectory.push(point),
-                }
+        let path = Path::of(&found.segments);
+        let timed = self.time_path(&found.segments, &path, &limits)?;
+        // Each sample once, times rounded; a sample within half a microsecond of the one
+        // before replaces it. `index[i]`: where timed sample `i` went.
+        let mut index = Vec::with_capacity(timed.points.len());
+        for p in timed.points {
+            let point = TrajectoryPoint {
+                time_from_start: round_time(p.time_from_start),
+                positions: p.positions,
+                velocities: p.velocities,
+                accelerations: p.accelerations,
+            };
+            match trajectory.last_mut() {
+                Some(last) if last.time_from_start >= point.time_from_start => *last = point,
+                _ => trajectory.push(point),
             }
-            // The trajectory starts with the start state and only grows.
-            let end = &trajectory[trajectory.len() - 1];
-            let q_end = end.positions.clone();
-            let time = end.time_from_start;
+            index.push(trajectory.len() - 1);
+        }
+        for (j, seg) in found.segments.iter().enumerate() {
+            // The sample where the segment ends: a stop, or the middle of its blend.
+            let at = timed
+                .ends
+                .get(j)
+                .and_then(|&i| index.get(i).copied())
+                .unwrap_or(trajectory.len() - 1);
+            // The key pose as planned (the robot passes within the blend's tolerance of it
+            // when it does not stop there), at the time it passes.
+            let q_end = path
+                .ends
+                .get(j)
+                .and_then(|&w| path.waypoints.get(w))
+                .unwrap_or(&trajectory[at].positions)
+                .clone();
+            let time = trajectory[at].time_from_start;
             if let Some((kind, arm, link_from_object)) = seg.event {
                 let a = self.setup.arm(arm);
                 events.push(Event {
@@ -314,53 +488,60 @@ impl Ctx<'_> {
         }
     }
 
-    /// The segment's time-optimal trajectory (TOPP-RA on its blended path, see
-    /// [`pickplace_prm::toppra`]), from rest at its first waypoint to rest at its last, times
-    /// from 0. A blend that collides (free motions) or takes the tool point off its line
-    /// (straight motions) is tightened; after [`BLEND_ATTEMPTS`] the robot stops at every
-    /// waypoint, on the path exactly as it was checked.
+    /// The whole plan's time-optimal trajectory (TOPP-RA on the blended path of all its
+    /// segments, see [`pickplace_prm::toppra`]), from rest at the start to rest at the end,
+    /// with the robot at rest only where the task needs it: before and after the fingers
+    /// close or open (a segment with an event), where the path turns back on itself, and
+    /// where a blend was refused. Each corner's blend is checked ([`Ctx::blend_failures`]);
+    /// a corner whose blend collides (free motions) or takes a tool point off its line
+    /// (straight motions) is tightened (its tolerance divided by 4), and after
+    /// [`BLEND_ATTEMPTS`] the robot stops there, on the path exactly as it was checked.
     ///
     /// # Errors
     /// [`crate::Error::TrajectoryLimit`] when the trajectory would be too long to sample;
     /// [`crate::Error::Internal`] when the timing refuses the path or the limits.
-    fn time_segment(
+    fn time_path(
         &self,
-        seg: &Segment,
+        segments: &[Segment],
+        path: &Path,
         limits: &ToppraOptions,
-    ) -> Result<Vec<pickplace_prm::TrajectoryPoint>> {
-        let mut tolerance = match seg.shape {
-            Shape::Straight => STRAIGHT_BLEND_TOLERANCE,
-            Shape::Free(_) => self.options.blend_tolerance,
-        };
-        for attempt in 0..=BLEND_ATTEMPTS {
-            let exact = attempt == BLEND_ATTEMPTS || tolerance.is_nan() || tolerance <= 0.0;
-            let parts = if exact {
-                // Each straight piece alone: the robot stops at every waypoint.
-                let mut parts = Vec::new();
-                for w in seg.path.windows(2) {
-                    parts.extend(BlendedPath::split(w, 1.0).map_err(timing_error)?);
-                }
-                parts
-            } else {
-                BlendedPath::split(&seg.path, tolerance).map_err(timing_error)?
-            };
-            let mut timed = self.time_parts(&parts, limits, seg.path.first())?;
-            if exact || self.blends_hold(seg, &parts, &timed)? {
-                // The motion ends at rest exactly at its last waypoint (a grasp, a key pose),
+    ) -> Result<TimedPlan> {
+        let mut tolerances = path.tolerances(segments, self.options.blend_tolerance);
+        let mut tightened = vec![0usize; tolerances.len()];
+        loop {
+            let parts =
+                BlendedPath::split_with(&path.waypoints, &tolerances).map_err(timing_error)?;
+            let mut timed = self.time_parts(&parts, limits, path.waypoints.first())?;
+            let failed = self.blend_failures(segments, path, &parts, &timed)?;
+            if failed.is_empty() {
+                // Each part ends at rest exactly at its last waypoint (a grasp, a key pose),
                 // not where the arc length's rounding puts it.
-                if let (Some(p), Some(q)) = (timed.points.last_mut(), seg.path.last()) {
-                    p.positions.clone_from(q);
-                    p.velocities.iter_mut().for_each(|v| *v = 0.0);
+                for (i, &(k, _)) in timed.at.iter().enumerate() {
+                    let part_end = timed.at.get(i + 1).is_none_or(|&(next, _)| next != k);
+                    if part_end
+                        && let Some(part) = parts.get(k)
+                        && let (Some(p), Some(q)) =
+                            (timed.points.get_mut(i), path.waypoints.get(part.ends().1))
+                    {
+                        p.positions.clone_from(q);
+                        p.velocities.iter_mut().for_each(|v| *v = 0.0);
+                    }
                 }
-                return Ok(timed.points);
+                let ends = path.segment_samples(segments, &parts, &timed);
+                return Ok(TimedPlan {
+                    points: timed.points,
+                    ends,
+                });
             }
-            tolerance /= 4.0;
+            for c in failed {
+                tightened[c] += 1;
+                tolerances[c] = if tightened[c] > BLEND_ATTEMPTS {
+                    0.0
+                } else {
+                    tolerances[c] / 4.0
+                };
+            }
         }
-        // The last attempt is exact and always returns.
-        Err(crate::Error::Internal {
-            stage: "timing",
-            reason: "no attempt returned".into(),
-        })
     }
 
     /// The parts timed one after the other, the robot at rest between them.
@@ -417,53 +598,100 @@ impl Ctx<'_> {
         Ok(timed)
     }
 
-    /// Whether what the blends changed still holds: for a free motion, every state between
-    /// two samples that are not on one straight piece of the path (checked as densely as
-    /// `validate` checks: 1° of joint motion, 1 cm of tool motion) is free of collisions and
-    /// keeps the hands apart; for a straight motion, every sample's tool point is within
-    /// [`STRAIGHT_DEVIATION`] of the line between the motion's ends.
-    fn blends_hold(&self, seg: &Segment, parts: &[BlendedPath], timed: &Timed) -> Result<bool> {
-        match &seg.shape {
-            Shape::Straight => {
-                let (Some(first), Some(last)) = (seg.path.first(), seg.path.last()) else {
-                    return Ok(true);
-                };
-                for a in &self.setup.arms {
-                    let p0 = self.tcp(a.arm, first).translation.vector;
-                    let p1 = self.tcp(a.arm, last).translation.vector;
-                    let line = p1 - p0;
-                    let len2 = line.norm_squared();
-                    for p in &timed.points {
-                        let x = self.tcp(a.arm, &p.positions).translation.vector - p0;
-                        let f = if len2 > 0.0 {
-                            (x.dot(&line) / len2).clamp(0.0, 1.0)
-                        } else {
-                            0.0
-                        };
-                        if (x - line * f).norm() > STRAIGHT_DEVIATION {
-                            return Ok(false);
-                        }
-                    }
-                }
-                Ok(true)
+    /// The corners whose blends do not hold. For a pair of consecutive samples that are not
+    /// on one straight piece of the path, every state between them (as densely as `validate`
+    /// checks: 1° of joint motion, 1 cm of tool motion) must be free of collisions, with the
+    /// hands apart, in the world of each free motion the pair touches; the corners whose
+    /// arcs the pair crosses fail otherwise. On a straight motion (the blend's half on its
+    /// side included) every sample's tool points stay within [`STRAIGHT_DEVIATION`] of the
+    /// lines between the motion's ends; a sample on an arc that leaves them fails its
+    /// corner. (Samples on the waypoints' own lines follow the path as it was checked.)
+    fn blend_failures(
+        &self,
+        segments: &[Segment],
+        path: &Path,
+        parts: &[BlendedPath],
+        timed: &Timed,
+    ) -> Result<std::collections::BTreeSet<usize>> {
+        use pickplace_prm::toppra::Location;
+        let mut failed = std::collections::BTreeSet::new();
+        for (i, w) in timed.points.windows(2).enumerate() {
+            let ((k0, s0), (k1, s1)) = (timed.at[i], timed.at[i + 1]);
+            let Some(part) = parts.get(k1) else {
+                continue;
+            };
+            // A part ends where the next one starts: from there, the pair is on the next.
+            let s0 = if k0 == k1 { s0 } else { 0.0 };
+            let corners = part.corners_between(s0, s1);
+            if corners.is_empty() {
+                continue;
             }
-            Shape::Free(world) => {
-                for (i, w) in timed.points.windows(2).enumerate() {
-                    let ((k0, s0), (k1, s1)) = (timed.at[i], timed.at[i + 1]);
-                    if k0 == k1
-                        && let Some(part) = parts.get(k0)
-                        && let (Some(l0), Some(l1)) = (part.line_at(s0), part.line_at(s1))
-                        && l0 == l1
+            let mut worlds: Vec<&Arc<CollisionWorld>> = Vec::new();
+            for &c in &corners {
+                for owner in [path.owner(c.wrapping_sub(1)), path.owner(c)] {
+                    if let Some(Shape::Free(world)) =
+                        owner.and_then(|j| segments.get(j)).map(|s| &s.shape)
+                        && !worlds.iter().any(|w| Arc::ptr_eq(w, world))
                     {
-                        continue;
-                    }
-                    if !self.states_free(world, &w[0].positions, &w[1].positions)? {
-                        return Ok(false);
+                        worlds.push(world);
                     }
                 }
-                Ok(true)
+            }
+            for world in worlds {
+                if !self.states_free(world, &w[0].positions, &w[1].positions)? {
+                    failed.extend(corners.iter().copied());
+                    break;
+                }
             }
         }
+        for (p, &(k, s)) in timed.points.iter().zip(&timed.at) {
+            let Some(part) = parts.get(k) else {
+                continue;
+            };
+            let Location::Arc {
+                corner,
+                past_middle,
+            } = part.locate(s)
+            else {
+                continue;
+            };
+            if failed.contains(&corner) {
+                continue;
+            }
+            let owner = path.owner(if past_middle {
+                corner
+            } else {
+                corner.wrapping_sub(1)
+            });
+            let Some(seg) = owner.and_then(|j| segments.get(j)) else {
+                continue;
+            };
+            if matches!(seg.shape, Shape::Straight) && !self.on_line(seg, &p.positions) {
+                failed.insert(corner);
+            }
+        }
+        Ok(failed)
+    }
+
+    /// Whether every tool point at `q` is within [`STRAIGHT_DEVIATION`] of the straight
+    /// line between its positions at the segment's two ends.
+    fn on_line(&self, seg: &Segment, q: &[Real]) -> bool {
+        let (Some(first), Some(last)) = (seg.path.first(), seg.path.last()) else {
+            return true;
+        };
+        self.setup.arms.iter().all(|a| {
+            let p0 = self.tcp(a.arm, first).translation.vector;
+            let p1 = self.tcp(a.arm, last).translation.vector;
+            let line = p1 - p0;
+            let len2 = line.norm_squared();
+            let x = self.tcp(a.arm, q).translation.vector - p0;
+            let f = if len2 > 0.0 {
+                (x.dot(&line) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (x - line * f).norm() <= STRAIGHT_DEVIATION
+        })
     }
 
     /// Whether the states from `a` (excluded) to `b` (included), as densely as `validate`

@@ -330,24 +330,36 @@ fn a_plan_ending_with_the_object_held_is_refused() {
 #[test]
 fn a_grip_that_does_not_touch_is_refused() {
     // While the object is carried, the fingers stand 5.5 mm wider apart than the grasp
-    // (opened and closed again slowly, within the fingers' velocity limit).
+    // (opened and closed again smoothly over half a second each way, within the fingers'
+    // limits, velocities and accelerations consistent with the positions).
     let (setup, plan) = near();
     let (grasp, release) = (&plan.events[0], &plan.events[1]);
     let arm = setup.arm(grasp.arm);
     let width = plan.grasps[0].width;
     let mut faulty = plan.clone();
+    let (g, r) = (grasp.time, release.time);
+    // Each finger variable's offset at time t.
+    let offset = |q: &[Real], t: Real| -> Vec<Real> {
+        let x = ((t - g) / 0.5).min((r - t) / 0.5).clamp(0.0, 1.0);
+        let ease = x * x * (3.0 - 2.0 * x);
+        let (mut wide, mut tight) = (q.to_vec(), q.to_vec());
+        arm.gripper.set_opening(&mut wide, width + ease * 0.0055);
+        arm.gripper.set_opening(&mut tight, width);
+        arm.finger_variables
+            .iter()
+            .map(|&v| wide[v] - tight[v])
+            .collect()
+    };
+    let h = 1e-4;
     for p in &mut faulty.trajectory {
         let t = p.time_from_start;
-        if t > grasp.time + 1e-9 && t < release.time - 1e-9 {
-            // Eased in and out over half a second each way.
-            let ease = ((t - grasp.time) / 0.5)
-                .min((release.time - t) / 0.5)
-                .min(1.0);
-            let (mut wide, mut tight) = (p.positions.clone(), p.positions.clone());
-            arm.gripper.set_opening(&mut wide, width + ease * 0.0055);
-            arm.gripper.set_opening(&mut tight, width);
-            for &v in &arm.finger_variables {
-                p.positions[v] += wide[v] - tight[v];
+        if t > g + 1e-9 && t < r - 1e-9 {
+            let q = p.positions.clone();
+            let (before, at, after) = (offset(&q, t - h), offset(&q, t), offset(&q, t + h));
+            for (k, &v) in arm.finger_variables.iter().enumerate() {
+                p.positions[v] += at[k];
+                p.velocities[v] += (after[k] - before[k]) / (2.0 * h);
+                p.accelerations[v] += (after[k] - 2.0 * at[k] + before[k]) / (h * h);
             }
         }
     }
@@ -648,25 +660,24 @@ fn a_plan_that_does_not_fit_is_an_error_not_a_list_of_problems() {
 }
 
 #[test]
-fn a_robot_still_moving_at_a_key_pose_is_refused() {
-    // The sample after the grasp key pose is moved 1 cm (rad) along: the hand would pass the
-    // grasp without stopping there.
+fn a_robot_still_moving_at_a_grasp_is_refused() {
+    // The sample after the grasp is moved 1 cm (rad) along: the hand would pass the grasp
+    // without stopping there, though its velocities say 0.
     let (setup, plan) = near();
     let grasp = plan
-        .key_poses
+        .events
         .iter()
-        .find(|k| k.name == "grasp")
-        .expect("a grasp key pose");
+        .find(|e| e.kind == pickplace::plan::EventKind::Grasp)
+        .expect("a grasp");
     let i = sample_at(plan, grasp.time);
     let mut faulty = plan.clone();
     let j = setup.arm(pickplace::strategy::Arm::Right).variables[0];
     faulty.trajectory[i + 1].positions[j] += 0.01;
     let report = check(setup, &faulty);
     assert!(
-        report
-            .problems
-            .iter()
-            .any(|p| p.contains("the robot is not at rest at key pose \"grasp\"")),
+        report.problems.iter().any(|p| p
+            .contains("the robot is not at rest at the right hand's grasp")
+            && p.contains("moves")),
         "{:#?}",
         report.problems
     );
@@ -757,25 +768,59 @@ fn a_hand_that_closes_while_the_arm_moves_is_reported() {
 fn the_timed_plans_keep_their_limits_and_stop_only_where_the_task_needs_it() {
     for (setup, plan) in [near(), handover()] {
         assert!(check(setup, plan).problems.is_empty());
-        let stops: Vec<Real> = plan
-            .key_poses
-            .iter()
-            .map(|k| k.time)
-            .chain(plan.events.iter().map(|e| e.time))
-            .collect();
+        let events: Vec<Real> = plan.events.iter().map(|e| e.time).collect();
         let end = plan.trajectory.last().expect("samples").time_from_start;
-        // A sample at rest between stops is a reversal of the path (a turn of 180°): none in
-        // these plans.
-        for p in &plan.trajectory {
+        // The robot stops at the start, the end, and at grasps and releases (the fingers
+        // close and open at rest), nowhere else: it passes the other key poses moving.
+        // The columns of the fingers' joints.
+        let fingers: Vec<usize> = plan
+            .arms
+            .iter()
+            .flat_map(|a| &a.gripper_joints)
+            .filter_map(|name| plan.joint_names.iter().position(|n| n == name))
+            .collect();
+        for (i, p) in plan.trajectory.iter().enumerate() {
             let at_rest = p.velocities.iter().all(|v| v.abs() < 1e-9);
             let t = p.time_from_start;
-            let planned = t == 0.0 || t == end || stops.iter().any(|s| (s - t).abs() < 1e-6);
+            // The event is where the fingers have closed (or opened); they start from rest
+            // at the sample where only they move up to the event.
+            let closing = events.iter().any(|&e| {
+                let Some(k) = plan
+                    .trajectory
+                    .iter()
+                    .position(|q| (q.time_from_start - e).abs() < 1e-6)
+                else {
+                    return false;
+                };
+                k >= i
+                    && plan.trajectory[i..=k].iter().all(|q| {
+                        q.positions
+                            .iter()
+                            .zip(&p.positions)
+                            .enumerate()
+                            .all(|(j, (a, b))| a == b || fingers.contains(&j))
+                    })
+            });
+            let planned = t == 0.0 || t == end || closing;
             assert!(
                 !at_rest || planned,
                 "{:?}: the robot stops at {t} s",
                 plan.strategy
             );
         }
+        let passed = plan
+            .key_poses
+            .iter()
+            .filter(|k| {
+                let i = sample_at(plan, k.time);
+                plan.trajectory[i].velocities.iter().any(|v| v.abs() > 1e-6)
+            })
+            .count();
+        assert!(
+            passed >= 3,
+            "{:?}: {passed} key poses passed moving",
+            plan.strategy
+        );
     }
 }
 
@@ -811,10 +856,16 @@ fn straight_motions_stay_within_a_millimetre_of_their_line() {
                     p.time_from_start >= a.time - 1e-9 && p.time_from_start <= b.time + 1e-9
                 })
                 .collect();
-            let (p0, p1) = (
-                tcp(&samples[0].positions),
-                tcp(&samples[samples.len() - 1].positions),
-            );
+            // The line between the key poses as planned (the robot may pass through the
+            // first one moving, on a blend).
+            let pose = |k: &KeyPose| {
+                k.world_from_tcp
+                    .to_isometry()
+                    .expect("a pose")
+                    .translation
+                    .vector
+            };
+            let (p0, p1) = (pose(a), pose(b));
             let line = p1 - p0;
             for s in &samples {
                 let x = tcp(&s.positions) - p0;
