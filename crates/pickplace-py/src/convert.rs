@@ -28,7 +28,10 @@ pub fn vector(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Real>> {
             .map_err(|_| input_msg(format!("{what}: expected a 1-D array of numbers")))?
     };
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-        return Err(input_msg(format!("{what}[{i}] = {} is not finite", values[i])));
+        return Err(input_msg(format!(
+            "{what}[{i}] = {} is not finite",
+            values[i]
+        )));
     }
     Ok(values)
 }

@@ -14,11 +14,8 @@ const STRATEGIES: &str = "auto, right-right, left-left, right-left, left-right, 
 
 /// A strategy by its CLI name.
 fn strategy(name: &str) -> PyResult<StrategyChoice> {
-    serde_json::from_value(serde_json::Value::String(name.to_owned())).map_err(|_| {
-        input_msg(format!(
-            "strategy {name:?} is not one of {STRATEGIES}"
-        ))
-    })
+    serde_json::from_value(serde_json::Value::String(name.to_owned()))
+        .map_err(|_| input_msg(format!("strategy {name:?} is not one of {STRATEGIES}")))
 }
 
 /// A pick-and-place plan (docs/plan-format.md): the strategy, grasps, placement, key poses
@@ -48,11 +45,9 @@ impl Plan {
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let inner = py.detach(|| {
-            let text = pickplace_geometry::io::read_text(
-                &path,
-                pickplace_geometry::io::FileKind::Plan,
-            )
-            .map_err(|e| format!("{}: cannot read the plan: {e}", path.display()))?;
+            let text =
+                pickplace_geometry::io::read_text(&path, pickplace_geometry::io::FileKind::Plan)
+                    .map_err(|e| format!("{}: cannot read the plan: {e}", path.display()))?;
             pickplace::Plan::from_json(&text).map_err(|r| format!("{}: {r}", path.display()))
         });
         Ok(Self {
@@ -129,17 +124,17 @@ impl Plan {
 
     /// Joint accelerations, shape (N, J), rad/s² or m/s²; None when the plan has none.
     #[getter]
-    fn accelerations<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+    fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         self.derivative(py, |p| &p.accelerations)
     }
 
     /// Duration of the motion, s.
     #[getter]
     fn duration(&self) -> f64 {
-        self.inner.trajectory.last().map_or(0.0, |p| p.time_from_start)
+        self.inner
+            .trajectory
+            .last()
+            .map_or(0.0, |p| p.time_from_start)
     }
 
     /// Grasps and releases in time order: list of dicts `{time, kind, arm, link,

@@ -263,8 +263,7 @@ impl Robot {
     ) -> PyResult<IkSolution> {
         let target: Isometry3 = isometry(pose, "pose")?;
         let semantics = self.semantics()?;
-        let solver =
-            IkSolver::for_group(&self.model, semantics, group).map_err(|e| input(&e))?;
+        let solver = IkSolver::for_group(&self.model, semantics, group).map_err(|e| input(&e))?;
         let q = match seed_q {
             Some(q) => self.joints(q)?,
             None => {
@@ -286,7 +285,10 @@ impl Robot {
             .map(|a| -> PyResult<UnitVector3> {
                 let a = vector(a, "free_axis")?;
                 if a.len() != 3 {
-                    return Err(input_msg(format!("free_axis: {} values, expected 3", a.len())));
+                    return Err(input_msg(format!(
+                        "free_axis: {} values, expected 3",
+                        a.len()
+                    )));
                 }
                 UnitVector3::try_new(Vector3::new(a[0], a[1], a[2]), 1e-9)
                     .ok_or_else(|| input_msg("free_axis has zero length"))
@@ -363,7 +365,11 @@ impl IkSolution {
     fn __repr__(&self) -> String {
         format!(
             "IkSolution(success={}, position_error={:.2e}, orientation_error={:.2e}, attempts={})",
-            if self.solution.success { "True" } else { "False" },
+            if self.solution.success {
+                "True"
+            } else {
+                "False"
+            },
             self.solution.position_error,
             self.solution.orientation_error,
             self.solution.attempts

@@ -61,9 +61,7 @@ impl Scene {
         package_dirs: Vec<PathBuf>,
     ) -> PyResult<Self> {
         let (options, warning) = options(cache_dir, use_cache, package_dirs);
-        let setup = py
-            .detach(|| load(&options))
-            .map_err(|e| facade(py, &e))?;
+        let setup = py.detach(|| load(&options)).map_err(|e| facade(py, &e))?;
         let mut warnings: Vec<String> = warning.into_iter().collect();
         warnings.extend(setup.warnings.iter().map(ToString::to_string));
         Ok(Self {
@@ -169,8 +167,8 @@ impl Scene {
                 name.display()
             ))
         })?;
-        let text = toml::to_string(&table)
-            .map_err(|e| input_msg(format!("{}: {e}", name.display())))?;
+        let text =
+            toml::to_string(&table).map_err(|e| input_msg(format!("{}: {e}", name.display())))?;
         Self::from_text(
             py,
             &text,

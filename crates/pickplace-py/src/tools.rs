@@ -32,7 +32,9 @@ fn check_scale(scale: Real) -> PyResult<()> {
     if scale.is_finite() && scale > 0.0 {
         Ok(())
     } else {
-        Err(input_msg(format!("scale {scale}: must be a positive number")))
+        Err(input_msg(format!(
+            "scale {scale}: must be a positive number"
+        )))
     }
 }
 
@@ -100,7 +102,9 @@ pub fn placements<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     check_scale(scale)?;
     if on.is_none() && (env_pose.is_some() || target.is_some()) {
-        return Err(input_msg("env_pose and target need an environment mesh (on=...)"));
+        return Err(input_msg(
+            "env_pose and target need an environment mesh (on=...)",
+        ));
     }
     let world_from_env = match env_pose {
         Some(p) => isometry(p, "env_pose")?,
@@ -132,9 +136,8 @@ pub fn placements<'py>(
             };
             let object_clusters = cluster_surface(&object_mesh, &params)
                 .map_err(|e| format!("{object_name}: clustering: {}", message(&e)))?;
-            let env_clusters = cluster_surface(&env_mesh, &params).map_err(|e| {
-                format!("{}: clustering: {}", env_path.display(), message(&e))
-            })?;
+            let env_clusters = cluster_surface(&env_mesh, &params)
+                .map_err(|e| format!("{}: clustering: {}", env_path.display(), message(&e)))?;
             let object_model =
                 ObjectModel::new(&object_mesh, &object_clusters, cog).map_err(|e| message(&e))?;
             let env = EnvironmentModel::new(&env_mesh, &env_clusters, &world_from_env)
