@@ -36,3 +36,26 @@ def test_exceptions():
     assert issubclass(pickplace.NoPlanError, Exception)
     assert not issubclass(pickplace.NoPlanError, ValueError)
     assert pickplace.__version__
+
+
+def test_the_demo_script_plans_and_plots_or_says_why_not(root, cache_dir, tmp_path):
+    import importlib.util
+    import os
+    import subprocess
+    import sys
+
+    out = tmp_path / "demo.png"
+    done = subprocess.run(
+        [sys.executable, root / "docs/examples/plan_demo.py", "--out", out],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, "PICKPLACE_CACHE": str(cache_dir)},
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "fig9-near.toml: right-right" in done.stdout and "validation passed" in done.stdout
+    if importlib.util.find_spec("matplotlib") is None:
+        assert "matplotlib is not installed" in done.stdout
+    else:
+        assert out.read_bytes().startswith(b"\x89PNG")
