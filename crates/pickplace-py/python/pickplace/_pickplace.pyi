@@ -1,6 +1,7 @@
 """Type stubs of the extension module `pickplace._pickplace` (Rust, PyO3)."""
 
 import builtins
+import pathlib
 from collections.abc import Sequence
 from os import PathLike
 from typing import Any, Literal, final
@@ -91,7 +92,7 @@ class Scene:
     ) -> Scene:
         """A scene from a dict with the TOML file's tables and keys."""
     @property
-    def path(self) -> PathLike[str]:
+    def path(self) -> pathlib.Path:
         """The scene file (or the name given)."""
     def to_dict(self) -> dict[str, Any]:
         """The scene as a dict (paths resolved)."""
