@@ -86,6 +86,25 @@ def test_ik_reaches_an_fk_pose(nx):
     assert not nx.ik(far, "right_arm", home).success
 
 
+def test_ik_matches_the_cli(nx, run_cli):
+    target_q = nx.state("home")
+    for name, delta in {"RARM_JOINT0": 0.3, "RARM_JOINT2": -0.4, "RARM_JOINT5": 0.5}.items():
+        target_q[nx.joint_names.index(name)] += delta
+    pose = pickplace.pose_parts(nx.tcp_pose(target_q, "right_arm"))
+    text = ",".join(repr(v) for v in pose["position"] + pose["orientation"])
+    status, out, err = run_cli(
+        "robot", "ik", "robots/nx-hiro/nx-hiro.urdf", "--srdf", "robots/nx-hiro/nx-hiro.srdf",
+        "--group", "right_arm", "--pose", text, "--json",
+    )  # fmt: skip
+    assert status == 0, err
+    cli = json.loads(out)
+    ours = nx.ik(pickplace.pose_matrix(**pose), "right_arm")
+    assert ours.success and cli["success"]
+    expected = np.array([cli["positions"][n] for n in nx.joint_names])
+    np.testing.assert_allclose(ours.positions, expected, atol=1e-9)
+    assert ours.attempts == cli["attempts"]
+
+
 def test_robot_errors(nx, root):
     with pytest.raises(pickplace.InputError, match="nope.urdf"):
         pickplace.Robot.load(root / "nope.urdf")
