@@ -64,12 +64,15 @@ def test_validate_passes_the_plan_and_reports_a_broken_one(near, near_plan):
     assert report.states_checked > 100
     assert report.to_dict()["format"] == "pickplace.validation/1"
     doc = near_plan.to_dict()
-    # The gripper of the right arm closed from the start: the object is not held right.
+    # The first samples jump: LARM_JOINT2 moves 0.8 rad between two samples 40 ms apart,
+    # beyond its velocity limit.
+    column = doc["joint_names"].index("LARM_JOINT2")
     for point in doc["trajectory"][:3]:
-        point["positions"][5] += 0.8
+        point["positions"][column] += 0.8
     broken = pickplace.Plan.from_json(json.dumps(doc))
     report = pickplace.validate(near, broken)
     assert not report.ok and report.problems
+    assert any("LARM_JOINT2" in p for p in report.problems), report.problems
 
 
 def test_plan_is_byte_identical_to_the_cli(near, near_plan, run_cli, cache_dir, tmp_path):
