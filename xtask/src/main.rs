@@ -5,6 +5,7 @@ mod bench;
 mod fuzz;
 mod gen_meshes;
 mod precompute;
+mod python;
 mod roadmaps;
 mod suite;
 mod suite_run;
@@ -23,6 +24,7 @@ fn main() -> anyhow::Result<()> {
         Some("fuzz-seeds") => fuzz::write_seeds(&repo_root()),
         Some("suite") => suite::run(&repo_root(), &rest_args()),
         Some("test") => test::run(&repo_root(), &rest_args()),
+        Some("pytest") => python::run(&repo_root(), &rest_args()),
         Some("torture") => torture::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
@@ -59,7 +61,10 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      the release CLI and check each expectation (docs/suite.md)\n  \
      test         [CARGO_TEST_ARGS…]: install what the tests need (example-robot-data \
      from PyPI into target/robots-venv, once), run cargo test --workspace, then cargo \
-     xtask suite run\n  \
+     xtask suite run, torture, the toppra comparison and pytest\n  \
+     pytest       [PYTEST_ARGS…]: build the Python package (crates/pickplace-py) with \
+     maturin develop --release into $PICKPLACE_PY_VENV or target/py-venv (created with \
+     maturin, pytest and numpy when missing) and run its pytest suite\n  \
      torture      hostile and careless use of the release CLI (FIFOs, devices, huge, \
      truncated, NaN and nested inputs, kill -9 during writes, concurrent runs on one cache, \
      unusable cache folders, closed pipes): every case's exit status, message and files \
@@ -92,7 +97,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 9, "{tasks:?}");
+        assert_eq!(tasks.len(), 10, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

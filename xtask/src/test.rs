@@ -2,7 +2,9 @@
 //! need installed first, then the scene suite in release (`cargo xtask suite run`, seeds 1 to
 //! 3: every feasible scene plans and validates, every infeasible one is refused for its
 //! reason), then the torture suite (`cargo xtask torture`: hostile and careless input, kills,
-//! concurrent runs, unusable cache folders, closed pipes).
+//! concurrent runs, unusable cache folders, closed pipes), the comparison with toppra, and
+//! the Python package's pytest suite (`cargo xtask pytest`, built with maturin into
+//! `target/py-venv` or `$PICKPLACE_PY_VENV`).
 //!
 //! The robots-as-shipped tests plan with PR2, Baxter, TALOS and two Pandas from the public
 //! PyPI package `example-robot-data` (version pinned below). It is installed with a plain
@@ -39,7 +41,10 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     eprintln!("xtask test: cargo xtask torture");
     crate::torture::run(root, &[])?;
     // Our motion durations against the toppra package on the shipped scenes (issue 19).
-    toppra_compare(root)
+    toppra_compare(root)?;
+    // The Python package, built into its virtual environment, and its pytest suite (issue 20).
+    eprintln!("xtask test: cargo xtask pytest");
+    crate::python::run(root, &[])
 }
 
 /// The pinned release of `toppra` on PyPI (the reference of issue 19; numpy and scipy come

@@ -1,0 +1,106 @@
+//! `cargo xtask pytest [PYTEST_ARGS…]` (also the last step of `cargo xtask test`): builds the
+//! Python package `pickplace` (crates/pickplace-py) in release with maturin into a virtual
+//! environment and runs its pytest suite against the release CLI.
+//!
+//! The environment is `$PICKPLACE_PY_VENV`, else `target/py-venv`; it is created with
+//! `$PYTHON` (else `python3`) and the pinned tools below when it lacks them, and kept between
+//! runs. `maturin develop --release` builds into the workspace's `target/`, so the crates
+//! below the bindings are compiled once per feature set, not per run.
+
+use anyhow::{Context, bail};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// What the environment needs, pinned: the build backend, the test runner, numpy.
+pub const PY_TOOLS: [&str; 3] = ["maturin==1.16.0", "pytest==9.2.0", "numpy==2.4.6"];
+
+/// Builds the package into its environment and runs `pytest` on its tests, with the
+/// arguments given after the task; fails when a test fails.
+pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
+    let venv = std::env::var_os("PICKPLACE_PY_VENV")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target/py-venv"));
+    ensure_venv(&venv)?;
+    let crate_dir = root.join("crates/pickplace-py");
+    eprintln!(
+        "xtask pytest: maturin develop --release ({})",
+        venv.display()
+    );
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let mut paths = vec![venv.join("bin")];
+    paths.extend(std::env::split_paths(&path));
+    let status = Command::new(venv.join("bin/maturin"))
+        .current_dir(&crate_dir)
+        .args(["develop", "--release", "--quiet"])
+        .env("VIRTUAL_ENV", &venv)
+        .env("PATH", std::env::join_paths(paths)?)
+        .status()
+        .context("cannot run maturin")?;
+    if !status.success() {
+        bail!("maturin develop --release failed ({status})");
+    }
+    let cli = root.join("target/release/pickplace");
+    if !cli.is_file() {
+        eprintln!("xtask pytest: cargo build --release -p pickplace-cli");
+        let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+            .current_dir(root)
+            .args(["build", "--release", "--quiet", "-p", "pickplace-cli"])
+            .status()
+            .context("cannot run cargo build")?;
+        if !status.success() {
+            bail!("cargo build --release -p pickplace-cli failed ({status})");
+        }
+    }
+    eprintln!("xtask pytest: pytest crates/pickplace-py/tests");
+    let status = Command::new(venv.join("bin/python"))
+        .current_dir(&crate_dir)
+        .args(["-m", "pytest", "-q", "tests"])
+        .args(args)
+        .env("PICKPLACE_CLI", &cli)
+        .status()
+        .context("cannot run pytest")?;
+    if !status.success() {
+        bail!("pytest of crates/pickplace-py failed ({status})");
+    }
+    Ok(())
+}
+
+/// Creates the environment and installs [`PY_TOOLS`] when it does not have them yet.
+fn ensure_venv(venv: &Path) -> anyhow::Result<()> {
+    let ready = venv.join("bin/maturin").is_file()
+        && Command::new(venv.join("bin/python"))
+            .args(["-c", "import numpy, pytest"])
+            .status()
+            .is_ok_and(|s| s.success());
+    if ready {
+        return Ok(());
+    }
+    if !venv.join("bin/python").is_file() {
+        if let Some(parent) = venv.parent() {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create {}", parent.display()))?;
+        }
+        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+        eprintln!("xtask pytest: creating {} with {python}", venv.display());
+        let status = Command::new(&python)
+            .args(["-m", "venv"])
+            .arg(venv)
+            .status()
+            .with_context(|| {
+                format!("cannot run {python} (set PYTHON to a Python 3.10+ interpreter)")
+            })?;
+        if !status.success() {
+            bail!("{python} -m venv {} failed ({status})", venv.display());
+        }
+    }
+    eprintln!("xtask pytest: pip install {}", PY_TOOLS.join(" "));
+    let status = Command::new(venv.join("bin/pip"))
+        .args(["install", "--quiet", "--disable-pip-version-check"])
+        .args(PY_TOOLS)
+        .status()
+        .context("cannot run pip")?;
+    if !status.success() {
+        bail!("pip install {} failed ({status})", PY_TOOLS.join(" "));
+    }
+    Ok(())
+}
