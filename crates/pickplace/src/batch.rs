@@ -654,7 +654,7 @@ fn plan_into(scene_path: &Path, plan_path: &Path, options: &BatchOptions, s: &mu
     s.warnings = setup.warnings.iter().map(ToString::to_string).collect();
     let plan_options = options.plan_options(&setup);
     if options.resume {
-        match kept_plan(&setup, &plan_options, options, plan_path) {
+        match kept_plan(&setup, &plan_options, plan_path) {
             Kept::Valid(plan) => {
                 s.status = SceneStatus::Skipped;
                 s.plan = Some(plan_path.to_string_lossy().into_owned());
@@ -723,12 +723,7 @@ enum Kept {
 }
 
 /// Reads and checks the plan file a previous run left at `plan_path`.
-fn kept_plan(
-    setup: &Setup,
-    plan_options: &PlanOptions,
-    options: &BatchOptions,
-    plan_path: &Path,
-) -> Kept {
+fn kept_plan(setup: &Setup, plan_options: &PlanOptions, plan_path: &Path) -> Kept {
     if std::fs::symlink_metadata(plan_path).is_err() {
         return Kept::Absent;
     }
@@ -741,7 +736,7 @@ fn kept_plan(
         Ok(plan) => plan,
         Err(reason) => return Kept::Invalid(format!("{shown}: not a plan: {reason}")),
     };
-    if let Some(reason) = other_options(&plan, plan_options, options) {
+    if let Some(reason) = other_options(&plan, plan_options) {
         return Kept::Invalid(format!("{shown}: {reason}"));
     }
     match crate::validate::validate(setup, &plan, plan_path) {
@@ -756,12 +751,9 @@ fn kept_plan(
 }
 
 /// Why a plan was made with other options than this batch's, as far as the plan records
-/// them: the seed, the strategy when one is forced, the scaling factors.
-fn other_options(
-    plan: &Plan,
-    plan_options: &PlanOptions,
-    options: &BatchOptions,
-) -> Option<String> {
+/// them: the seed, the strategy when one is forced (by the batch or the scene), the scaling
+/// factors.
+fn other_options(plan: &Plan, plan_options: &PlanOptions) -> Option<String> {
     if plan.seed != plan_options.seed {
         return Some(format!(
             "planned with seed {}, this batch uses {}",
@@ -769,11 +761,10 @@ fn other_options(
         ));
     }
     if let Some(forced) = plan_options.strategy.strategy()
-        && options.strategy.is_some()
         && forced != plan.strategy
     {
         return Some(format!(
-            "planned with strategy {}, this batch forces {forced}",
+            "planned with strategy {}, this batch asks for {forced}",
             plan.strategy
         ));
     }
@@ -1083,6 +1074,57 @@ mod tests {
             "{s:?}"
         );
         assert_eq!(read(&plan_path), planned);
+        let _ = std::fs::remove_dir_all(&out);
+    }
+
+    #[test]
+    fn a_plan_made_with_other_options_is_not_kept() {
+        let plan = Plan::from_json(&direct_plan("fig9-near.toml")).expect("plan");
+        let setup = crate::testing::setup("fig9-near.toml");
+        let same = PlanOptions {
+            timings: false,
+            ..PlanOptions::for_setup(setup)
+        };
+        assert_eq!(other_options(&plan, &same), None);
+        let forced = PlanOptions {
+            strategy: StrategyChoice::LeftLeft,
+            ..same.clone()
+        };
+        assert_eq!(
+            other_options(&plan, &forced).as_deref(),
+            Some("planned with strategy right-right, this batch asks for left-left")
+        );
+        let slower = PlanOptions {
+            velocity_scaling: 0.5,
+            ..same.clone()
+        };
+        let why = other_options(&plan, &slower).expect("another factor");
+        assert!(why.contains("scaling factors 1 (velocity)"), "{why}");
+    }
+
+    #[test]
+    fn an_infeasible_scene_has_no_plan_and_its_message_is_the_reason() {
+        let out = scratch("infeasible");
+        // The can 5 cm above the table: not resting where it starts.
+        let text = read(&scene("fig9-near.toml"))
+            .replace(
+                "\"../",
+                &format!("\"{}/../", root().join("scenes").display()),
+            )
+            .replace("[0.42, -0.04, 0.72]", "[0.42, -0.04, 0.77]");
+        let floating = out.join("floating.toml");
+        std::fs::write(&floating, text).expect("scene");
+        let report = plan_many(
+            std::slice::from_ref(&floating),
+            &options(&out.join("plans"), 1),
+            &|_| {},
+        )
+        .expect("runs");
+        let s = &report.summaries[0];
+        assert_eq!(s.status, SceneStatus::NoPlan, "{s:?}");
+        assert!(s.reasons[0].contains("not resting"), "{s:?}");
+        assert_eq!(s.error, None);
+        assert_eq!(s.plan, None);
         let _ = std::fs::remove_dir_all(&out);
     }
 
