@@ -86,7 +86,7 @@ fn time_budget(text: &str) -> Result<f64, String> {
 
 /// How progress is shown on stderr: `PICKPLACE_PROGRESS` as for the other commands
 /// ([`crate::progress::PROGRESS_ENV`]), nothing with `--quiet`.
-enum Display {
+enum BatchProgress {
     /// Nothing.
     Hidden,
     /// A line per finished scene (`PICKPLACE_PROGRESS=always`).
@@ -95,7 +95,7 @@ enum Display {
     Bar(indicatif::ProgressBar),
 }
 
-impl Display {
+impl BatchProgress {
     fn new(quiet: bool, scenes: usize) -> Self {
         use std::io::IsTerminal as _;
         if quiet {
@@ -192,7 +192,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<ExitCode> {
             if args.resume { ", resuming" } else { "" }
         );
     }
-    let display = Display::new(args.quiet, total);
+    let display = BatchProgress::new(args.quiet, total);
     let done = AtomicUsize::new(0);
     let elapsed = Mutex::new(vec![Duration::ZERO; total]);
     let result = plan_many(&args.scenes, &options, &|event| {
