@@ -379,6 +379,27 @@ pub enum BatchError {
 /// options, the output folder, the threads), or the summary that cannot be written at the
 /// end. A scene that fails is a summary line, never an error.
 ///
+/// # Example
+/// ```
+/// use pickplace::batch::{BatchOptions, SceneStatus, plan_many};
+/// use std::path::Path;
+///
+/// let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+/// let out = std::env::temp_dir().join(format!("pickplace-batch-doc-{}", std::process::id()));
+/// let options = BatchOptions {
+///     jobs: 2,
+///     timings: false,
+///     cache_dir: Some(root.join("target/pickplace-cache")),
+///     ..BatchOptions::new(&out)
+/// };
+/// let report = plan_many(&[root.join("scenes/fig10b-mug.toml")], &options, &|_| {})?;
+/// assert_eq!(report.count(SceneStatus::Planned), 1);
+/// assert!(out.join("fig10b-mug.json").is_file());
+/// assert_eq!(report.summary_path, out.join("summary.jsonl"));
+/// # std::fs::remove_dir_all(&out)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// # Performance
 /// Each scene is loaded and set up by its worker (the cache makes the second scene of a
 /// robot fast); the scenes are independent, so throughput grows with `jobs` up to the
