@@ -1,9 +1,11 @@
 //! The `pickplace` command. Exit status: 0 success, 1 a well-formed problem with no solution
 //! (no plan, or an infeasible scene such as a start state in collision), 2 bad input or usage.
+//! `pickplace batch` gives the worst of its scenes' statuses (`batch.rs`).
 //! Everything printed on standard output goes through [`output`]: a closed standard output
 //! (`pickplace plan … | head`) ends the printing quietly, never with a panic.
 
 mod args;
+mod batch;
 mod clusters;
 mod demo;
 mod export;
@@ -56,6 +58,9 @@ enum Command {
     /// Plan a pick-and-place motion for a scene (paper Fig. 8): strategy, grasps, placement,
     /// key poses and a timed trajectory.
     Plan(plan::PlanArgs),
+    /// Plan many scenes in parallel into one folder: a plan file per scene and a JSON-lines
+    /// summary, resumable (docs/batch.md).
+    Batch(batch::BatchArgs),
     /// Re-check a plan independently: dense interpolation, limits, collisions, stability.
     Validate(plan::ValidateArgs),
     /// Pictures of a plan: an animated glTF (plan.glb) and PNGs of the key poses.
@@ -111,6 +116,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Robot { command } => robot::run(command),
         Command::Grasps(args) => grasps::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Batch(args) => batch::run(&args),
         Command::Validate(args) => plan::run_validate(&args),
         Command::View(args) => view::run(&args),
         Command::Export(args) => export::run(&args),

@@ -92,7 +92,7 @@ pub struct PlanArgs {
 }
 
 /// A scaling factor in (0, 1].
-fn scaling_factor(text: &str) -> Result<f64, String> {
+pub fn scaling_factor(text: &str) -> Result<f64, String> {
     let v: f64 = text
         .parse()
         .map_err(|_| format!("{text:?} is not a number"))?;
@@ -101,7 +101,7 @@ fn scaling_factor(text: &str) -> Result<f64, String> {
 }
 
 /// A sample period in [0.001, 1] s (finer would make huge files, coarser would hide motion).
-fn sample_period(text: &str) -> Result<f64, String> {
+pub fn sample_period(text: &str) -> Result<f64, String> {
     let v: f64 = text
         .parse()
         .map_err(|_| format!("{text:?} is not a number"))?;

@@ -39,6 +39,7 @@
 //! to its function.
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod cache;
 pub mod checker;
 pub mod contact;

@@ -1,6 +1,7 @@
 //! End-to-end tests of the `pickplace` command on the shipped meshes.
 
 mod bad_input;
+mod batch;
 mod cache;
 mod clusters;
 mod demo;
