@@ -1,18 +1,26 @@
 //! `cargo xtask pytest [PYTEST_ARGS…]` (also the last step of `cargo xtask test`): builds the
-//! Python package `pickplace` (crates/pickplace-py) in release with maturin into a virtual
-//! environment and runs its pytest suite against the release CLI.
+//! Python package `pickplace` (crates/pickplace-py) in release with maturin into a wheel,
+//! installs the wheel into a virtual environment (as `pip install` of a user would), and runs
+//! its pytest suite against the release CLI, Ray's tests on a local Ray cluster included.
 //!
 //! The environment is `$PICKPLACE_PY_VENV`, else `target/py-venv`; it is created with
 //! `$PYTHON` (else `python3`) and the pinned tools below when it lacks them, and kept between
-//! runs. `maturin develop --release` builds into the workspace's `target/`, so the crates
-//! below the bindings are compiled once per feature set, not per run.
+//! runs (a fresh clone starts with a fresh one). `maturin build --release` builds into the
+//! workspace's `target/`, so the crates below the bindings are compiled once per feature set,
+//! not per run; the wheel goes to `target/wheels/`.
 
 use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// What the environment needs, pinned: the build backend, the test runner, numpy.
-pub const PY_TOOLS: [&str; 3] = ["maturin==1.16.0", "pytest==9.2.0", "numpy==2.4.6"];
+/// What the environment needs, pinned: the build backend, the test runner, numpy, and Ray
+/// (the `[ray]` extra of the package, for `pickplace.ray`'s tests).
+pub const PY_TOOLS: [&str; 4] = [
+    "maturin==1.16.0",
+    "pytest==9.2.0",
+    "numpy==2.4.6",
+    "ray==2.60.0",
+];
 
 /// Builds the package into its environment and runs `pytest` on its tests, with the
 /// arguments given after the task; fails when a test fails.
@@ -22,22 +30,53 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         .unwrap_or_else(|| root.join("target/py-venv"));
     ensure_venv(&venv)?;
     let crate_dir = root.join("crates/pickplace-py");
+    let wheels = root.join("target/wheels");
     eprintln!(
-        "xtask pytest: maturin develop --release ({})",
-        venv.display()
+        "xtask pytest: maturin build --release (into {})",
+        wheels.display()
     );
     let path = std::env::var_os("PATH").unwrap_or_default();
     let mut paths = vec![venv.join("bin")];
     paths.extend(std::env::split_paths(&path));
+    // Old wheels out of the way: the one built now is the one installed.
+    if let Ok(entries) = std::fs::read_dir(&wheels) {
+        for e in entries.flatten() {
+            if is_our_wheel(&e.path()) {
+                std::fs::remove_file(e.path())
+                    .with_context(|| format!("cannot remove {}", e.path().display()))?;
+            }
+        }
+    }
     let status = Command::new(venv.join("bin/maturin"))
         .current_dir(&crate_dir)
-        .args(["develop", "--release", "--quiet"])
-        .env("VIRTUAL_ENV", &venv)
+        .args(["build", "--release", "--quiet", "--out"])
+        .arg(&wheels)
         .env("PATH", std::env::join_paths(paths)?)
         .status()
         .context("cannot run maturin")?;
     if !status.success() {
-        bail!("maturin develop --release failed ({status})");
+        bail!("maturin build --release failed ({status})");
+    }
+    let wheel = std::fs::read_dir(&wheels)
+        .with_context(|| format!("cannot read {}", wheels.display()))?
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| is_our_wheel(p))
+        .with_context(|| format!("maturin wrote no pickplace wheel into {}", wheels.display()))?;
+    eprintln!("xtask pytest: pip install {}", wheel.display());
+    let status = Command::new(venv.join("bin/pip"))
+        .args([
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            "--force-reinstall",
+            "--no-deps",
+        ])
+        .arg(&wheel)
+        .status()
+        .context("cannot run pip")?;
+    if !status.success() {
+        bail!("pip install {} failed ({status})", wheel.display());
     }
     let cli = root.join("target/release/pickplace");
     if !cli.is_file() {
@@ -57,6 +96,7 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         .args(["-m", "pytest", "-q", "tests"])
         .args(args)
         .env("PICKPLACE_CLI", &cli)
+        .env("PICKPLACE_REQUIRE_RAY", "1")
         .status()
         .context("cannot run pytest")?;
     if !status.success() {
@@ -65,11 +105,18 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Whether `path` is a wheel of the package (`pickplace-<version>-….whl`).
+fn is_our_wheel(path: &Path) -> bool {
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("pickplace-") && n.ends_with(".whl"))
+}
+
 /// Creates the environment and installs [`PY_TOOLS`] when it does not have them yet.
 fn ensure_venv(venv: &Path) -> anyhow::Result<()> {
     let ready = venv.join("bin/maturin").is_file()
         && Command::new(venv.join("bin/python"))
-            .args(["-c", "import numpy, pytest"])
+            .args(["-c", "import numpy, pytest, ray"])
             .status()
             .is_ok_and(|s| s.success());
     if ready {

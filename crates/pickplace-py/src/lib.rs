@@ -8,6 +8,7 @@
 //! panic: bad input is `pickplace.InputError` (a `ValueError`) with the message the CLI
 //! prints after `error: `, a scene without solution is `pickplace.NoPlanError`.
 
+mod batch;
 mod convert;
 mod errors;
 mod plan;
@@ -35,5 +36,9 @@ fn _pickplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::clusters, m)?)?;
     m.add_function(wrap_pyfunction!(tools::placements, m)?)?;
     m.add_function(wrap_pyfunction!(tools::grasps, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::_batch_plan_many, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::_batch_prepare, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::_batch_plan_one, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::_batch_write_summary, m)?)?;
     Ok(())
 }

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 const STRATEGIES: &str = "auto, right-right, left-left, right-left, left-right, right-place-right, left-place-left, right-place-left, left-place-right";
 
 /// A strategy by its CLI name.
-fn strategy(name: &str) -> PyResult<StrategyChoice> {
+pub(crate) fn strategy(name: &str) -> PyResult<StrategyChoice> {
     serde_json::from_value(serde_json::Value::String(name.to_owned()))
         .map_err(|_| input_msg(format!("strategy {name:?} is not one of {STRATEGIES}")))
 }

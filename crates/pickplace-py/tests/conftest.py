@@ -81,3 +81,22 @@ def cli_error(stderr: str) -> str:
     lines = [line for line in stderr.splitlines() if line.startswith("error: ")]
     assert lines, stderr
     return lines[-1].removeprefix("error: ")
+
+
+@pytest.fixture(scope="session")
+def cli_plans(run_cli, cache_dir: Path, tmp_path_factory) -> dict[str, bytes]:
+    """The shipped scenes planned by `pickplace plan --no-timings`: name -> plan bytes."""
+    out = tmp_path_factory.mktemp("cli-plans")
+    plans = {}
+    for scene in SHIPPED:
+        path = out / f"{scene}.json"
+        status, _, stderr = run_cli(
+            "plan", f"scenes/{scene}.toml", "--no-timings", "--cache", cache_dir, "--out", path
+        )
+        assert status == 0, stderr
+        plans[scene] = path.read_bytes()
+    return plans
+
+
+#: The scenes shipped in `scenes/`.
+SHIPPED = ["fig9-near", "fig9-far-left", "fig10a-edge", "fig10b-mug"]

@@ -22,6 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 import numpy.typing as npt
 
+from . import batch
 from ._pickplace import (
     PLAN_FORMAT,
     IkSolution,
@@ -49,6 +50,7 @@ __all__ = [
     "Scene",
     "ValidationReport",
     "__version__",
+    "batch",
     "clusters",
     "grasps",
     "placements",

@@ -345,3 +345,60 @@ def grasps(
     clearance: float | None = None,
 ) -> dict[str, Any]:
     """Parallel-gripper grasps (`pickplace grasps --json`)."""
+
+# The batch functions behind `pickplace.batch` and `pickplace.ray` (use those).
+def _batch_plan_many(
+    scenes: Sequence[_Path],
+    out_dir: _Path,
+    *,
+    workers: int | None = None,
+    seed: int | None = None,
+    strategy: _Strategy | None = None,
+    time_budget: float | None = None,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
+    sample_period: float | None = None,
+    timings: bool = False,
+    resume: bool = False,
+    cache_dir: _Path | None = None,
+    use_cache: bool = True,
+    package_dirs: Sequence[_Path] = ...,
+    progress: Any | None = None,
+) -> list[str]:
+    """Plans scenes in parallel; the summary lines (JSON)."""
+
+def _batch_prepare(
+    scenes: Sequence[_Path],
+    out_dir: _Path,
+    *,
+    seed: int | None = None,
+    strategy: _Strategy | None = None,
+    time_budget: float | None = None,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
+    sample_period: float | None = None,
+) -> list[pathlib.Path]:
+    """Checks a batch's names and options, creates the folder; the plan files."""
+
+def _batch_plan_one(
+    scene: _Path,
+    plan_path: _Path,
+    *,
+    display: str | None = None,
+    threads: int | None = None,
+    seed: int | None = None,
+    strategy: _Strategy | None = None,
+    time_budget: float | None = None,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
+    sample_period: float | None = None,
+    timings: bool = False,
+    resume: bool = False,
+    cache_dir: _Path | None = None,
+    use_cache: bool = True,
+    package_dirs: Sequence[_Path] = ...,
+) -> str:
+    """One scene of a batch; its summary line (JSON)."""
+
+def _batch_write_summary(path: _Path, lines: Sequence[str]) -> None:
+    """Writes summary lines atomically."""
