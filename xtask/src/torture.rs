@@ -560,6 +560,90 @@ impl Torture {
                 "missing or different bytes".into()
             });
         }
+        self.batch_and_export_outputs(&scene, &victim, &folder)
+    }
+
+    /// `pickplace batch SCENE --out OUT --no-timings --quiet`.
+    fn batch_cmd(&self, scene: &Path, out: &Path) -> Command {
+        self.cmd(&[
+            OsString::from("batch"),
+            scene.into(),
+            "--out".into(),
+            out.into(),
+            "--no-timings".into(),
+            "--quiet".into(),
+        ])
+    }
+
+    /// `pickplace export` of the reference plan as ROS 2 JSON into `dest`.
+    fn export_cmd(&self, dest: &Path) -> Command {
+        self.cmd(&[
+            OsString::from("export"),
+            self.path("reference.json").into(),
+            "--format".into(),
+            "ros2-json".into(),
+            "--out".into(),
+            dest.into(),
+        ])
+    }
+
+    /// `pickplace batch` and `pickplace export` at destinations that must not be written:
+    /// an `--out` that is a file, a summary or a plan file that is a symlink, an export into
+    /// a symlink; what the links name is untouched.
+    fn batch_and_export_outputs(
+        &mut self,
+        scene: &Path,
+        victim: &Path,
+        folder: &Path,
+    ) -> anyhow::Result<()> {
+        self.expect(
+            "batch --out a file",
+            self.batch_cmd(scene, victim),
+            2,
+            &["not a folder"],
+        )?;
+        let out = self.path("batch-summary-link");
+        std::fs::create_dir_all(&out)?;
+        std::os::unix::fs::symlink(victim, out.join("summary.jsonl"))?;
+        self.expect(
+            "batch: summary.jsonl a symlink",
+            self.batch_cmd(scene, &out),
+            2,
+            &["summary.jsonl", "symbolic link"],
+        )?;
+        let out = self.path("batch-plan-link");
+        std::fs::create_dir_all(&out)?;
+        std::os::unix::fs::symlink(victim, out.join("scene.json"))?;
+        self.expect(
+            "batch: the plan file a symlink",
+            self.batch_cmd(scene, &out),
+            2,
+            &[],
+        )?;
+        let summary = std::fs::read_to_string(out.join("summary.jsonl")).unwrap_or_default();
+        self.check(
+            "batch: the symlinked plan is the scene's error",
+            summary.contains("\"status\":\"error\"") && summary.contains("symbolic link"),
+            || format!("summary: {summary}"),
+        );
+        self.expect(
+            "export --out a symlink",
+            self.export_cmd(&self.path("link.json")),
+            2,
+            &["symbolic link"],
+        )?;
+        self.expect(
+            "export --out a folder",
+            self.export_cmd(folder),
+            2,
+            &["folder"],
+        )?;
+        let kept = std::fs::read(victim).ok().as_deref() == Some(&b"keep me"[..]);
+        self.check(
+            "batch and export left the links' target untouched",
+            kept,
+            || "the file a symlink names was changed".into(),
+        );
         Ok(())
     }
 
