@@ -669,6 +669,7 @@ class WebView:
         self.playback = None
         self._show_robot(self.start_q)
         self._set_object(self.object_start)
+        self.set_time(0.0)
         self.time_slider.disabled = True
         self.play_button.disabled = True
         self.keypose_box.disabled = True
