@@ -10,7 +10,10 @@ from __future__ import annotations
 
 import os
 import shutil
+import subprocess
+import sys
 import time
+import urllib.request
 from pathlib import Path
 
 import numpy as np
@@ -87,6 +90,10 @@ def open_page(browser, view: web.WebView, url: str):
     clients = wait_for(lambda: list(view.server.get_clients().values()), 30, "the client")
     camera = clients[-1].camera
     wait_for(lambda: camera.image_width == VIEWPORT["width"], 30, "the camera's state")
+    # Close the "Software WebGL rendering detected" notice: it covers a corner of the view.
+    close = page.locator(".mantine-Notification-root button")
+    if close.count():
+        close.first.click()
     time.sleep(2.0)  # the first frames under SwiftShader
     return page, camera
 
@@ -104,6 +111,8 @@ def project(camera, point) -> tuple[float, float]:
 def screenshot(page, path: Path) -> np.ndarray:
     from PIL import Image  # viser depends on Pillow
 
+    page.mouse.move(300, 20)  # over the background: no hover outline
+    time.sleep(0.5)
     page.screenshot(path=str(path))
     return np.asarray(Image.open(path).convert("RGB"), dtype=np.float64)
 
@@ -153,6 +162,21 @@ def test_scene_renders_with_the_robot_where_it_should_be(view, page, shots):
     assert abs(r - g) < 12 and abs(g - b) < 12, (r, g, b)
     # The bottom-left corner (floor grid, far from the robot) does not change.
     assert changed[-120:, :120].mean() < 0.05
+
+
+def test_clusters_toggle_in_the_page(view, page, shots):
+    v, _ = view
+    page, _ = page
+    before = screenshot(page, shots / "before-clusters.png")
+    page.get_by_label("Show clusters").check()
+    wait_for(lambda: v.clusters_box.value, 10, "the checkbox")
+    assert all(n.visible for n in v.cluster_nodes)
+    time.sleep(1.5)
+    after = screenshot(page, shots / "clusters.png")
+    assert (np.abs(after - before).sum(axis=2) > 30).mean() > 0.02, "no clusters drawn"
+    page.get_by_label("Show clusters").uncheck()
+    wait_for(lambda: not v.clusters_box.value, 10, "the checkbox")
+    assert not any(n.visible for n in v.cluster_nodes)
 
 
 def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path):
@@ -206,6 +230,46 @@ def test_click_out_of_reach_shows_the_reasons(view, page, shots):
     first = v.reasons[0]
     page.get_by_text(first[:40]).first.wait_for(timeout=10_000)
     screenshot(page, shots / "no-plan.png")
+
+
+def test_object_start_strategy_and_seed_from_the_page(view, page):
+    v, _ = view
+    page, camera = page
+    moved = pickplace.pose_matrix([0.40, 0.0, 0.72], [0.0, 0.0, np.sin(0.25), np.cos(0.25)])
+    v.move_object_start(moved)  # what the transform handle does when dragged
+    v.strategy_box.value = "right-right"
+    v.seed_box.value = 2
+    x, y = project(camera, DENT)
+    page.mouse.click(x, y)
+    wait_for(lambda: v.status in ("planned", "no-plan", "error"), 60, "the plan")
+    assert v.status == "planned", v.reasons
+    plan = v.plan
+    assert (plan.strategy, plan.seed) == ("right-right", 2)
+    assert np.allclose(pickplace.pose_matrix(**plan.object["start_pose"]), moved, atol=1e-9)
+    assert pickplace.validate(v.plan_scene, plan).ok
+    # "Plan again" in the page, with another seed.
+    v.seed_box.value = 3
+    page.get_by_role("button", name="Plan again").click()
+    wait_for(lambda: v.status == "planned" and v.plan is not None and v.plan.seed == 3, 60, "the new plan")
+    assert pickplace.validate(v.plan_scene, v.plan).ok
+
+
+def test_command_prints_the_url_and_serves(root, cache_dir):
+    script = Path(sys.executable).parent / "pickplace-view-web"
+    command = [str(script)] if script.is_file() else [sys.executable, "-m", "pickplace.web"]
+    proc = subprocess.Popen(
+        [*command, str(root / "scenes/fig9-near.toml"), "--cache", str(cache_dir)],
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+    )
+    try:
+        url = proc.stdout.readline().strip()
+        assert url.startswith("http://127.0.0.1:"), url
+        with urllib.request.urlopen(url, timeout=10) as response:
+            assert response.status == 200
+            assert b"<html" in response.read().lower()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
 
 
 def test_plan_viewer_plays_a_given_plan(root, cache_dir, browser, near_plan, tmp_path, shots):

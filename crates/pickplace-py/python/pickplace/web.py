@@ -13,6 +13,7 @@ viser (the ``[web]`` extra) is imported only by this module; ``import pickplace`
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import socket
@@ -515,10 +516,7 @@ class WebView:
 
             @self.handle.on_update
             def _(_event) -> None:
-                m = matrix_of(self.handle.position, self.handle.wxyz)
-                self.object_start = m
-                if self.playback is None:
-                    self._set_object(m)
+                self.move_object_start(matrix_of(self.handle.position, self.handle.wxyz))
 
     def _build_gui(self) -> None:
         gui = self.server.gui
@@ -537,14 +535,6 @@ class WebView:
             self.replan_button = gui.add_button("Plan again")
             self.folder_box = gui.add_text("Save folder", initial_value=self.out_dir)
             self.save_button = gui.add_button("Save plan + scene")
-
-            @self.strategy_box.on_update
-            def _(_e) -> None:
-                self.strategy = self.strategy_box.value
-
-            @self.seed_box.on_update
-            def _(_e) -> None:
-                self.seed = int(self.seed_box.value)
 
             @self.move_box.on_update
             def _(_e) -> None:
@@ -600,6 +590,18 @@ class WebView:
     def _set_object(self, m: np.ndarray) -> None:
         self.object_node.position = m[:3, 3]
         self.object_node.wxyz = wxyz_of(m)
+
+    def move_object_start(self, world_from_object: np.ndarray) -> None:
+        """Sets the object's start pose (the transform handle calls this); the next plan
+        starts from it ("Plan again" or a click)."""
+        m = np.asarray(world_from_object, dtype=np.float64)
+        self.object_start = m
+        if self.handle is not None:
+            self.handle.position = m[:3, 3]
+            self.handle.wxyz = wxyz_of(m)
+        if self.playback is not None:
+            self._clear_plan()
+        self._set_object(m)
 
     def set_robot_visible(self, visible: bool) -> None:
         for frame in self.link_frames.values():
@@ -754,6 +756,9 @@ class WebView:
         d = _absolute_paths(self.base)
         d["target"]["point"] = [float(v) for v in self.target]
         d["object"]["start_pose"] = pickplace.pose_parts(self.object_start)
+        if not self.plan_only:
+            self.seed = int(self.seed_box.value)
+            self.strategy = str(self.strategy_box.value)
         d["planner"]["seed"] = int(self.seed)
         d["planner"]["strategy"] = self.strategy
         return d
@@ -835,7 +840,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         view = WebView(args.scene, plan_path=args.plan, cache_dir=args.cache, out_dir=args.out)
-        url = view.serve(args.port)
+        with contextlib.redirect_stdout(sys.stderr):  # viser's banner: stdout is the URL alone
+            url = view.serve(args.port)
     except (pickplace.InputError, OSError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
