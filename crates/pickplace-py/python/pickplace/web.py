@@ -205,14 +205,16 @@ def robot_shapes(urdf: Path, package_dirs: list[str]) -> list[LinkShape]:
             colors[mat.get("name")] = tuple(int(255 * float(v)) for v in c.get("rgba").split()[:3])
     shapes = []
     for link in root.findall("link"):
-        elements = link.findall("visual") or link.findall("collision")
-        for el in elements:
-            geometry = el.find("geometry")
-            if geometry is None:
-                continue
-            mesh = _shape(geometry, urdf.parent, package_dirs)
-            if mesh is None or len(mesh.faces) == 0:
-                continue
+        loaded = []
+        for tag in ("visual", "collision"):  # collision shapes when no visual can be read
+            for el in link.findall(tag):
+                geometry = el.find("geometry")
+                mesh = None if geometry is None else _shape(geometry, urdf.parent, package_dirs)
+                if mesh is not None and len(mesh.faces) > 0:
+                    loaded.append((el, mesh))
+            if loaded:
+                break
+        for el, mesh in loaded:
             color = (200, 200, 200)
             mat = el.find("material")
             if mat is not None:
@@ -391,9 +393,22 @@ class WebView:
         if len(robots) != 1:
             raise pickplace.InputError(f"{self.scene_path}: the browser view shows one [robot] only")
         r = robots[0]
-        self.robot = pickplace.Robot.load(r["urdf"], r.get("srdf"), package_dirs=r.get("package_dirs", []))
+        package_dirs = list(r.get("package_dirs", [])) + [
+            d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d
+        ]
+
+        def local(path: str | None) -> Path | None:
+            if path is None:
+                return None
+            found = _resolve(path, Path("."), package_dirs)
+            if found is None:
+                raise pickplace.InputError(f"{self.scene_path}: cannot find {path}")
+            return found
+
+        urdf = local(r["urdf"])
+        self.robot = pickplace.Robot.load(urdf, local(r.get("srdf")), package_dirs=package_dirs)
         self.world_from_root = pickplace.pose_matrix(**r["base_pose"])
-        self.shapes = robot_shapes(Path(r["urdf"]), r.get("package_dirs", []))
+        self.shapes = robot_shapes(urdf, package_dirs)
         columns = {n: i for i, n in enumerate(self.scene.joint_names)}
         self.start_q = self.scene.start[[columns[n] for n in self.robot.joint_names]]
         obj = self.base["object"]
