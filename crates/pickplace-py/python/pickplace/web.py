@@ -439,6 +439,8 @@ class WebView:
         self.picked: tuple[str, int, np.ndarray] | None = None  # env part, cluster id, point
         self.playback: Playback | None = None
         self.saved: list[Path] = []
+        self.requests = 0  # plans asked for (clicks, "Plan again")
+        self.answered = 0  # the request the page's answer (plan, reasons) is for
         self._lock = threading.Lock()
         self._plan_request = threading.Event()
         self._stop = threading.Event()
@@ -641,6 +643,9 @@ class WebView:
     def play(self) -> None:
         self._playing = True
 
+    def pause(self) -> None:
+        self._playing = False
+
     def _player(self) -> None:
         period = 1.0 / 30.0
         while not self._stop.is_set():
@@ -713,8 +718,8 @@ class WebView:
         self.md_plan.content = "\n\n".join(lines)
         self._playing = True
 
-    def _show_reasons(self, reasons: list[str]) -> None:
-        self.md_plan.content = "### No plan\n\n" + "\n".join(f"- {r}" for r in reasons)
+    def _show_reasons(self, reasons: list[str], heading: str = "No plan") -> None:
+        self.md_plan.content = f"### {heading}\n\n" + "\n".join(f"- {r}" for r in reasons)
 
     # -- clicking and planning --
 
@@ -759,6 +764,7 @@ class WebView:
 
     def request_plan(self) -> None:
         with self._lock:
+            self.requests += 1
             self.status = "planning"
             self.plan = None
         self._clear_plan()
@@ -784,6 +790,7 @@ class WebView:
             if self._stop.is_set():
                 return
             self._plan_request.clear()
+            request = self.requests
             d = self.scene_dict()
             try:
                 scene = pickplace.Scene.from_dict(d, name=str(self.scene_path), cache_dir=self.cache_dir)
@@ -796,14 +803,16 @@ class WebView:
                 self.status = "no-plan"
                 self._show_reasons(self.reasons)
                 self._refresh_status()
+                self.answered = request
                 continue
             except Exception as e:  # noqa: BLE001 - shown in the page
                 if self._plan_request.is_set():
                     continue
                 self.reasons = [str(e)]
                 self.status = "error"
-                self._show_reasons(self.reasons)
+                self._show_reasons(self.reasons, "Error")
                 self._refresh_status()
+                self.answered = request
                 continue
             if self._plan_request.is_set():
                 continue  # a newer request supersedes this plan
@@ -812,6 +821,7 @@ class WebView:
             self._show_plan(plan, report)
             self.status = "planned"
             self._refresh_status()
+            self.answered = request
 
     def save(self, folder: str | os.PathLike[str]) -> list[Path]:
         """Writes FOLDER/plan.json and FOLDER/scene.toml (the scene with the chosen target, seed
