@@ -208,8 +208,17 @@ def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path):
     want = pickplace.pose_matrix(**middle["world_from_object"])
     assert np.linalg.norm(carried[:3, 3] - want[:3, 3]) < 0.003  # m
     assert np.allclose(carried[:3, :3], want[:3, :3], atol=0.01)  # about 0.6 degrees
-    # Scrub to the pre-place pose and look at it.
+    # Play / pause from the page; the key pose list jumps to a key pose's time.
     v.pause()
+    play = page.get_by_role("button", name="Play / pause")
+    play.click()
+    wait_for(lambda: v._playing, 10, "playing")
+    play.click()
+    wait_for(lambda: not v._playing, 10, "paused")
+    place = next(k for k in plan.key_poses if k["name"] == "place")
+    v.keypose_box.value = v._keypose_label(place)
+    assert v.time_slider.value == pytest.approx(place["time"], abs=0.01)
+    # Scrub to the pre-place pose and look at it.
     v.set_time(middle["time"])
     time.sleep(1.5)
     screenshot(page, shots / "planned-pre-place.png")
