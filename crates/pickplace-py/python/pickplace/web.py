@@ -759,6 +759,7 @@ class WebView:
                 "/highlight", vertices, tris, color=HIGHLIGHT_COLOR, wxyz=wxyz_of(world),
                 position=world[:3, 3] + [0, 0, 0.001], flat_shading=True, side="double",
             )
+            self.highlight_node.on_click(self._on_env_click)  # it covers the surface: click through
         self.request_plan()
         return True
 
