@@ -1,26 +1,13 @@
-"""pickplace.web: the browser view (issue 21), built on viser.
-
-``pickplace-view-web SCENE.toml [--port N] [--plan PLAN.json]`` serves a page on 127.0.0.1
-showing the robot (its URDF's shapes at forward kinematics), the environment, the object at its
-start pose and, on request, the environment's clusters. A click on an environment surface sets
-the target, highlights the cluster under it, plans, and plays the plan back (timeline slider,
-play/pause, strategy, key poses); with no plan, the planner's reasons appear in the page. With
-``--plan`` the page only plays the given plan. docs/web.md describes it.
-
-viser (the ``[web]`` extra) is imported only by this module; ``import pickplace`` does not.
-"""
+"""The page: a viser server showing a scene, planning on clicks, playing plans back."""
 
 from __future__ import annotations
 
-import argparse
-import contextlib
+import colorsys
 import math
 import os
 import socket
-import sys
 import threading
 import time
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,6 +15,11 @@ from typing import Any
 import numpy as np
 
 import pickplace
+
+from .meshes import matrix_of, ray_triangles, read_mesh, transform_points, wxyz_of
+from .playback import Playback
+from .robot_shapes import resolve_package_path, robot_shapes
+from .scene_file import absolute_paths, scene_toml
 
 #: Strategies offered in the page (the planner's names).
 STRATEGIES = (
@@ -53,323 +45,6 @@ HIGHLIGHT_COLOR = (255, 200, 0)
 TARGET_COLOR = (255, 0, 255)
 
 
-# --- meshes -------------------------------------------------------------------------------
-
-
-def read_mesh(path: str | os.PathLike[str], scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """(vertices (3T, 3) float64, faces (T, 3) int) of a mesh file, triangles in file order
-    (the order `pickplace.clusters` numbers them in). STL (binary or ASCII) is read here; other
-    formats through trimesh (a dependency of viser), unprocessed."""
-    path = Path(path)
-    data = path.read_bytes()
-    if path.suffix.lower() == ".stl":
-        tris = _stl_triangles(data)
-    else:
-        import trimesh
-
-        mesh = trimesh.load(path, force="mesh", process=False)
-        tris = np.asarray(mesh.vertices, dtype=np.float64)[np.asarray(mesh.faces)]
-    vertices = tris.reshape(-1, 3) * scale
-    faces = np.arange(len(vertices)).reshape(-1, 3)
-    return vertices, faces
-
-
-def _stl_triangles(data: bytes) -> np.ndarray:
-    if len(data) >= 84:
-        count = int(np.frombuffer(data, dtype="<u4", count=1, offset=80)[0])
-        if 84 + 50 * count == len(data):
-            rec = np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
-            return np.frombuffer(data, dtype=rec, count=count, offset=84)["v"].astype(np.float64)
-    text = data.decode("ascii", errors="replace").split()
-    values = [float(text[i + 1 : i + 4][k]) for i, w in enumerate(text) if w == "vertex" for k in range(3)]
-    return np.asarray(values, dtype=np.float64).reshape(-1, 3, 3)
-
-
-def transform_points(m: np.ndarray, points: np.ndarray) -> np.ndarray:
-    return points @ m[:3, :3].T + m[:3, 3]
-
-
-def wxyz_of(m: np.ndarray) -> np.ndarray:
-    x, y, z, w = pickplace.pose_parts(m)["orientation"]
-    return np.array([w, x, y, z])
-
-
-def matrix_of(position: Any, wxyz: Any) -> np.ndarray:
-    w, x, y, z = (float(v) for v in wxyz)
-    return pickplace.pose_matrix(position, [x, y, z, w])
-
-
-def ray_triangles(origin: np.ndarray, direction: np.ndarray, tris: np.ndarray) -> tuple[int, float]:
-    """Möller–Trumbore on every triangle (T, 3, 3): (index of the nearest hit, distance along
-    the ray), or (-1, inf). Both faces count."""
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
-    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
-    p = np.cross(d, e2)
-    det = np.einsum("ij,ij->i", e1, p)
-    ok = np.abs(det) > 1e-12
-    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-    s = origin - v0
-    u = np.einsum("ij,ij->i", s, p) * inv
-    q = np.cross(s, e1)
-    v = (q @ d) * inv
-    t = np.einsum("ij,ij->i", e2, q) * inv
-    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-9)
-    if not hit.any():
-        return -1, math.inf
-    t = np.where(hit, t, np.inf)
-    i = int(np.argmin(t))
-    return i, float(t[i])
-
-
-# --- the robot's shapes -----------------------------------------------------------------------
-
-
-def _origin(el: ET.Element | None) -> np.ndarray:
-    m = np.eye(4)
-    if el is None:
-        return m
-    xyz = [float(v) for v in el.get("xyz", "0 0 0").split()]
-    r, p, y = (float(v) for v in el.get("rpy", "0 0 0").split())
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    m[:3, :3] = [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
-    m[:3, 3] = xyz
-    return m
-
-
-def _resolve(filename: str, urdf_dir: Path, package_dirs: list[str]) -> Path | None:
-    if filename.startswith("package://"):
-        rest = filename[len("package://") :]
-        dirs = list(package_dirs) + os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep)
-        for d in filter(None, dirs):
-            for candidate in (Path(d) / rest, Path(d) / rest.split("/", 1)[-1]):
-                if candidate.is_file():
-                    return candidate
-        return None
-    if filename.startswith("file://"):
-        filename = filename[len("file://") :]
-    path = urdf_dir / filename
-    return path if path.is_file() else None
-
-
-def _shape(geometry: ET.Element, urdf_dir: Path, package_dirs: list[str]):
-    import trimesh
-
-    for child in geometry:
-        tag = child.tag
-        if tag == "box":
-            return trimesh.creation.box(extents=[float(v) for v in child.get("size", "0 0 0").split()])
-        if tag == "cylinder":
-            return trimesh.creation.cylinder(
-                radius=float(child.get("radius", 0)), height=float(child.get("length", 0)), sections=24
-            )
-        if tag == "capsule":
-            return trimesh.creation.capsule(
-                radius=float(child.get("radius", 0)), height=float(child.get("length", 0)), count=[24, 12]
-            )
-        if tag == "sphere":
-            return trimesh.creation.icosphere(subdivisions=2, radius=float(child.get("radius", 0)))
-        if tag == "mesh":
-            path = _resolve(child.get("filename", ""), urdf_dir, package_dirs)
-            if path is None:
-                return None
-            try:
-                vertices, faces = read_mesh(path)
-            except Exception:  # noqa: BLE001 - an unreadable visual is skipped, not fatal
-                return None
-            scale = [float(v) for v in child.get("scale", "1 1 1").split()]
-            return trimesh.Trimesh(vertices * scale, faces, process=False)
-    return None
-
-
-@dataclass
-class LinkShape:
-    link: str
-    vertices: np.ndarray
-    faces: np.ndarray
-    link_from_shape: np.ndarray
-    color: tuple[int, int, int]
-
-
-def robot_shapes(urdf: Path, package_dirs: list[str]) -> list[LinkShape]:
-    """Every link's visual shapes (else its collision shapes), triangulated, in the link frame."""
-    root = ET.parse(urdf).getroot()
-    colors = {}
-    for mat in root.findall("material"):
-        c = mat.find("color")
-        if c is not None:
-            colors[mat.get("name")] = tuple(int(255 * float(v)) for v in c.get("rgba").split()[:3])
-    shapes = []
-    for link in root.findall("link"):
-        loaded = []
-        for tag in ("visual", "collision"):  # collision shapes when no visual can be read
-            for el in link.findall(tag):
-                geometry = el.find("geometry")
-                mesh = None if geometry is None else _shape(geometry, urdf.parent, package_dirs)
-                if mesh is not None and len(mesh.faces) > 0:
-                    loaded.append((el, mesh))
-            if loaded:
-                break
-        for el, mesh in loaded:
-            color = (200, 200, 200)
-            mat = el.find("material")
-            if mat is not None:
-                c = mat.find("color")
-                if c is not None:
-                    color = tuple(int(255 * float(v)) for v in c.get("rgba").split()[:3])
-                else:
-                    color = colors.get(mat.get("name"), color)
-            shapes.append(
-                LinkShape(
-                    link.get("name"),
-                    np.asarray(mesh.vertices, dtype=np.float64),
-                    np.asarray(mesh.faces),
-                    _origin(el.find("origin")),
-                    color,
-                )
-            )
-    return shapes
-
-
-# --- playback ---------------------------------------------------------------------------------
-
-
-class Playback:
-    """A plan made ready to show: joint positions in the robot's order and the object's pose
-    at any time (resting until a grasp, then riding on the grasping arm's tip until release)."""
-
-    def __init__(self, plan: pickplace.Plan, robot: pickplace.Robot, world_from_root: np.ndarray,
-                 object_start: np.ndarray) -> None:
-        self.plan = plan
-        self.robot = robot
-        self.world_from_root = world_from_root
-        self.times = plan.times
-        columns = {name: i for i, name in enumerate(plan.joint_names)}
-        missing = [n for n in robot.joint_names if n not in columns]
-        if missing:
-            raise pickplace.InputError(f"plan: joints {missing} of the robot are not in the plan")
-        self.positions = plan.positions[:, [columns[n] for n in robot.joint_names]]
-        groups = {a["arm"]: a["group"] for a in plan.arms}
-        # Per sample: the holding group and tip_from_object, else the object's resting pose.
-        self.held: list[tuple[str, np.ndarray] | None] = []
-        self.resting: list[np.ndarray] = []
-        events = list(plan.events)
-        pose, holder, e = object_start, None, 0
-        for i, t in enumerate(self.times):
-            while e < len(events) and events[e]["time"] <= t + 1e-9:
-                ev = events[e]
-                q = self.positions[i]
-                if holder is not None:
-                    pose = self.world_from_tip(q, holder[0]) @ holder[1]
-                if ev["kind"] == "grasp":
-                    group = groups[ev["arm"]]
-                    holder = (group, np.linalg.inv(self.world_from_tip(q, group)) @ pose)
-                elif ev["kind"] == "release":
-                    holder = None
-                e += 1
-            self.held.append(holder)
-            self.resting.append(pose)
-
-    def world_from_tip(self, q: np.ndarray, group: str) -> np.ndarray:
-        return self.world_from_root @ self.robot.tcp_pose(q, group)
-
-    @property
-    def duration(self) -> float:
-        return float(self.times[-1]) if len(self.times) else 0.0
-
-    def at(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """(joint positions, world_from_object) at time t (linear between samples)."""
-        times = self.times
-        k = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 1))
-        if k + 1 < len(times) and times[k + 1] > times[k]:
-            a = (t - times[k]) / (times[k + 1] - times[k])
-            a = min(max(a, 0.0), 1.0)
-            q = (1 - a) * self.positions[k] + a * self.positions[k + 1]
-        else:
-            q = self.positions[k]
-        held = self.held[k]
-        pose = self.world_from_tip(q, held[0]) @ held[1] if held else self.resting[k]
-        return q, pose
-
-
-# --- scene files ------------------------------------------------------------------------------
-
-
-def _absolute_paths(d: Any, keys=("urdf", "srdf", "gripper", "joint_limits", "mesh")) -> Any:
-    if isinstance(d, dict):
-        out = {}
-        for k, v in d.items():
-            if v is None:
-                continue
-            if k in keys and isinstance(v, str) and not v.startswith("package://"):
-                v = str(Path(v).resolve())
-            elif k == "package_dirs" and isinstance(v, list):
-                v = [str(Path(p).resolve()) for p in v]
-            else:
-                v = _absolute_paths(v, keys)
-            out[k] = v
-        return out
-    if isinstance(d, list):
-        return [_absolute_paths(v, keys) for v in d]
-    return d
-
-
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        return repr(v) if math.isfinite(v) else ("nan" if math.isnan(v) else ("inf" if v > 0 else "-inf"))
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{_toml_key(k)} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(f"no TOML for {v!r}")
-
-
-def _toml_key(k: str) -> str:
-    return k if k.replace("_", "").replace("-", "").isalnum() else _toml_value(k)
-
-
-def scene_toml(d: dict[str, Any]) -> str:
-    """A scene dict (`Scene.to_dict()`'s shape, paths absolute, no None) as scene-file TOML."""
-    d = dict(d)
-    robots = d.pop("robots", None)
-    lines = ["# Written by pickplace-view-web", f"format = {_toml_value(d.pop('format', 1))}"]
-    tables: list[tuple[str, dict[str, Any], bool]] = []
-    if robots is not None:
-        if len(robots) == 1 and not robots[0].get("prefix"):
-            r = {k: v for k, v in robots[0].items() if k != "prefix"}
-            tables.append(("robot", r, False))
-        else:
-            tables.extend(("robots", r, True) for r in robots)
-    for k, v in d.items():
-        if isinstance(v, dict):
-            tables.append((k, v, False))
-        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
-            tables.extend((k, x, True) for x in v)
-        else:
-            lines.append(f"{_toml_key(k)} = {_toml_value(v)}")
-    for name, table, array in tables:
-        lines.append("")
-        lines.append(f"[[{name}]]" if array else f"[{name}]")
-        for k, v in table.items():
-            if v == {} and k != "start_state":
-                continue
-            lines.append(f"{_toml_key(k)} = {_toml_value(v)}")
-    return "\n".join(lines) + "\n"
-
-
-# --- the page ---------------------------------------------------------------------------------
-
-
 @dataclass
 class EnvPart:
     name: str
@@ -388,7 +63,7 @@ class WebView:
         self.cache_dir = cache_dir
         self.out_dir = str(out_dir)
         self.scene = pickplace.Scene.load(self.scene_path, cache_dir=cache_dir)
-        self.base = _absolute_paths(self.scene.to_dict())
+        self.base = absolute_paths(self.scene.to_dict())
         robots = self.base["robots"]
         if len(robots) != 1:
             raise pickplace.InputError(f"{self.scene_path}: the browser view shows one [robot] only")
@@ -400,7 +75,7 @@ class WebView:
         def local(path: str | None) -> Path | None:
             if path is None:
                 return None
-            found = _resolve(path, Path("."), package_dirs)
+            found = resolve_package_path(path, Path("."), package_dirs)
             if found is None:
                 raise pickplace.InputError(f"{self.scene_path}: cannot find {path}")
             return found
@@ -775,7 +450,7 @@ class WebView:
 
     def scene_dict(self) -> dict[str, Any]:
         """The scene with the page's target, object start pose, seed and strategy."""
-        d = _absolute_paths(self.base)
+        d = absolute_paths(self.base)
         d["target"]["point"] = [float(v) for v in self.target]
         d["object"]["start_pose"] = pickplace.pose_parts(self.object_start)
         if not self.plan_only:
@@ -842,8 +517,6 @@ class WebView:
 
 
 def _hsv(h: float, s: float, v: float) -> tuple[float, float, float]:
-    import colorsys
-
     return colorsys.hsv_to_rgb(h, s, v)
 
 
@@ -851,34 +524,3 @@ def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
-        prog="pickplace-view-web",
-        description="Serve the browser view of a scene: click the environment to place the object.",
-    )
-    parser.add_argument("scene", help="scene file (TOML)")
-    parser.add_argument("--port", type=int, default=None, help="port (default: a free one)")
-    parser.add_argument("--plan", default=None, help="only play this plan JSON (no planner)")
-    parser.add_argument("--cache", default=None, help="cache folder (default: as pickplace)")
-    parser.add_argument("--out", default="pickplace-web", help="default save folder")
-    args = parser.parse_args(argv)
-    try:
-        view = WebView(args.scene, plan_path=args.plan, cache_dir=args.cache, out_dir=args.out)
-        with contextlib.redirect_stdout(sys.stderr):  # viser's banner: stdout is the URL alone
-            url = view.serve(args.port)
-    except (pickplace.InputError, OSError) as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    print(url, flush=True)
-    try:
-        while True:
-            time.sleep(3600)
-    except KeyboardInterrupt:
-        view.stop()
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
