@@ -183,7 +183,7 @@ def test_clusters_toggle_in_the_page(view, page, shots):
     wait_for(lambda: not any(n.visible for n in v.cluster_nodes), 10, "the clusters hidden")
 
 
-def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path):
+def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path, run_cli):
     v, _ = view
     page, camera = page
     x, y = project(camera, DENT)
@@ -226,6 +226,11 @@ def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path):
     plan_path, scene_path = v.save(tmp_path / "saved")
     again = pickplace.plan(pickplace.Scene.load(scene_path, cache_dir=v.cache_dir))
     assert again.to_json() == plan_path.read_text() == plan.to_json()
+    status, _, stderr = run_cli(
+        "plan", scene_path, "--no-timings", "--cache", v.cache_dir, "--out", tmp_path / "cli.json"
+    )
+    assert status == 0, stderr
+    assert (tmp_path / "cli.json").read_bytes() == plan_path.read_bytes()
 
 
 def test_click_out_of_reach_shows_the_reasons(view, page, shots):
