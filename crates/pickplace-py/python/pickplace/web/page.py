@@ -1,0 +1,526 @@
+"""The page: a viser server showing a scene, planning on clicks, playing plans back."""
+
+from __future__ import annotations
+
+import colorsys
+import math
+import os
+import socket
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import pickplace
+
+from .meshes import matrix_of, ray_triangles, read_mesh, transform_points, wxyz_of
+from .playback import Playback
+from .robot_shapes import resolve_package_path, robot_shapes
+from .scene_file import absolute_paths, scene_toml
+
+#: Strategies offered in the page (the planner's names).
+STRATEGIES = (
+    "auto",
+    "right-right",
+    "left-left",
+    "right-left",
+    "left-right",
+    "right-place-right",
+    "left-place-left",
+    "right-place-left",
+    "left-place-right",
+)
+
+#: The camera the page opens with (world frame, m): front-right of the robot, above the table.
+CAMERA_POSITION = (1.95, -1.55, 1.85)
+CAMERA_LOOK_AT = (0.30, -0.08, 0.85)
+CAMERA_FOV = math.radians(50.0)
+
+ENV_COLOR = (170, 150, 120)
+OBJECT_COLOR = (200, 40, 40)
+HIGHLIGHT_COLOR = (255, 200, 0)
+TARGET_COLOR = (255, 0, 255)
+
+
+@dataclass
+class EnvPart:
+    name: str
+    world_tris: np.ndarray  # (T, 3, 3)
+    cluster_of: np.ndarray  # (T,) cluster id or -1
+    clusters: list[dict[str, Any]] = field(default_factory=list)
+
+
+class WebView:
+    """The page's state and its viser server. ``WebView(scene_path).serve(port)``; with
+    ``plan_path`` it only plays that plan."""
+
+    def __init__(self, scene_path: str | os.PathLike[str], *, plan_path: str | os.PathLike[str] | None = None,
+                 cache_dir: str | os.PathLike[str] | None = None, out_dir: str | os.PathLike[str] = "pickplace-web") -> None:
+        self.scene_path = Path(scene_path)
+        self.cache_dir = cache_dir
+        self.out_dir = str(out_dir)
+        self.scene = pickplace.Scene.load(self.scene_path, cache_dir=cache_dir)
+        self.base = absolute_paths(self.scene.to_dict())
+        robots = self.base["robots"]
+        if len(robots) != 1:
+            raise pickplace.InputError(f"{self.scene_path}: the browser view shows one [robot] only")
+        r = robots[0]
+        package_dirs = list(r.get("package_dirs", [])) + [
+            d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d
+        ]
+
+        def local(path: str | None) -> Path | None:
+            if path is None:
+                return None
+            found = resolve_package_path(path, Path("."), package_dirs)
+            if found is None:
+                raise pickplace.InputError(f"{self.scene_path}: cannot find {path}")
+            return found
+
+        urdf = local(r["urdf"])
+        self.robot = pickplace.Robot.load(urdf, local(r.get("srdf")), package_dirs=package_dirs)
+        self.world_from_root = pickplace.pose_matrix(**r["base_pose"])
+        self.shapes = robot_shapes(urdf, package_dirs)
+        columns = {n: i for i, n in enumerate(self.scene.joint_names)}
+        self.start_q = self.scene.start[[columns[n] for n in self.robot.joint_names]]
+        obj = self.base["object"]
+        self.object_vertices, self.object_faces = read_mesh(obj["mesh"], obj.get("scale", 1.0))
+        self.object_start = self.scene.object_start
+        h_max = self.base["planner"].get("h_max_environment", 0.001)
+        self.env: list[EnvPart] = []
+        self.env_meshes: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        for part in self.base["environment"]:
+            vertices, faces = read_mesh(part["mesh"], part.get("scale", 1.0))
+            world = pickplace.pose_matrix(**part["pose"])
+            doc = pickplace.clusters(part["mesh"], mode="env", h_max=h_max, scale=part.get("scale", 1.0))
+            cluster_of = np.full(len(faces), -1)
+            for c in doc["clusters"]:
+                cluster_of[np.asarray(c["triangles"], dtype=int)] = c["id"]
+            self.env.append(EnvPart(part["name"], transform_points(world, vertices)[faces], cluster_of, doc["clusters"]))
+            self.env_meshes.append((vertices, faces, world))
+        self.target = np.asarray(self.scene.target, dtype=np.float64)
+        self.seed = int(self.scene.seed)
+        self.strategy = self.base["planner"].get("strategy", "auto")
+        # State the tests read.
+        self.status = "idle"  # idle | planning | planned | no-plan | error
+        self.plan: pickplace.Plan | None = None
+        self.plan_scene: pickplace.Scene | None = None
+        self.plan_dict: dict[str, Any] | None = None
+        self.reasons: list[str] = []
+        self.validation: pickplace.ValidationReport | None = None
+        self.picked: tuple[str, int, np.ndarray] | None = None  # env part, cluster id, point
+        self.playback: Playback | None = None
+        self.saved: list[Path] = []
+        self.requests = 0  # plans asked for (clicks, "Plan again")
+        self.answered = 0  # the request the page's answer (plan, reasons) is for
+        self._lock = threading.Lock()
+        self._plan_request = threading.Event()
+        self._stop = threading.Event()
+        self._playing = False
+        self._setting_time = False
+        self.plan_only = plan_path is not None
+        if plan_path is not None:
+            self.plan = pickplace.Plan.load(plan_path)
+        self.server = None
+
+    # -- serving --
+
+    def serve(self, port: int | None = None) -> str:
+        """Starts the server on 127.0.0.1 (a free port unless given); returns the URL."""
+        import viser
+
+        if port is None:
+            port = free_port()
+        self.server = server = viser.ViserServer(host="127.0.0.1", port=port, verbose=False)
+        server.scene.set_up_direction("+z")
+        server.initial_camera.position = CAMERA_POSITION
+        server.initial_camera.look_at = CAMERA_LOOK_AT
+        server.initial_camera.fov = CAMERA_FOV
+        self._build_scene()
+        self._build_gui()
+        self._show_robot(self.start_q)
+        self._threads = [threading.Thread(target=self._player, daemon=True)]
+        if not self.plan_only:
+            self._threads.append(threading.Thread(target=self._planner, daemon=True))
+        for t in self._threads:
+            t.start()
+        if self.plan is not None:
+            self._show_plan(self.plan, None)
+        return f"http://127.0.0.1:{server.get_port()}"
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._plan_request.set()
+        if self.server is not None:
+            self.server.stop()
+
+    def _build_scene(self) -> None:
+        scene = self.server.scene
+        scene.add_grid("/grid", width=3.0, height=3.0, cell_size=0.1, position=(0.3, 0.0, 0.0))
+        self.link_frames = {}
+        for name in self.robot.link_names:
+            self.link_frames[name] = scene.add_frame(f"/robot/{name}", show_axes=False)
+        for i, s in enumerate(self.shapes):
+            if s.link not in self.link_frames:
+                continue
+            scene.add_mesh_simple(
+                f"/robot/{s.link}/shape{i}", s.vertices, s.faces, color=s.color,
+                wxyz=wxyz_of(s.link_from_shape), position=s.link_from_shape[:3, 3], flat_shading=True,
+            )
+        for k, ((vertices, faces, world), part) in enumerate(zip(self.env_meshes, self.env)):
+            mesh = scene.add_mesh_simple(
+                f"/env/{part.name}", vertices, faces, color=ENV_COLOR, wxyz=wxyz_of(world),
+                position=world[:3, 3], flat_shading=True, side="double",
+            )
+            if not self.plan_only:
+                mesh.on_click(self._on_env_click)
+        self.cluster_nodes = []
+        for (vertices, faces, world), part in zip(self.env_meshes, self.env):
+            rng = np.random.default_rng(7)
+            for c in part.clusters:
+                tri = faces[np.asarray(c["triangles"], dtype=int)]
+                hue = rng.random()
+                color = tuple(int(255 * v) for v in _hsv(hue, 0.75, 0.95))
+                node = scene.add_mesh_simple(
+                    f"/clusters/{part.name}/{c['id']}", vertices, tri, color=color, wxyz=wxyz_of(world),
+                    position=world[:3, 3] + [0, 0, 0.0005], flat_shading=True, side="double", visible=False,
+                )
+                if not self.plan_only:
+                    node.on_click(self._on_env_click)
+                self.cluster_nodes.append(node)
+        self.object_node = scene.add_mesh_simple(
+            "/object", self.object_vertices, self.object_faces, color=OBJECT_COLOR,
+            wxyz=wxyz_of(self.object_start), position=self.object_start[:3, 3], flat_shading=True,
+        )
+        self.highlight_node = None
+        self.target_node = scene.add_icosphere(
+            "/target", radius=0.008, color=TARGET_COLOR, position=self.target, visible=not self.plan_only,
+        )
+        self.handle = None
+        if not self.plan_only:
+            self.handle = scene.add_transform_controls(
+                "/object_start", scale=0.15, wxyz=wxyz_of(self.object_start),
+                position=self.object_start[:3, 3], visible=False,
+            )
+
+            @self.handle.on_update
+            def _(_event) -> None:
+                self.move_object_start(matrix_of(self.handle.position, self.handle.wxyz))
+
+    def _build_gui(self) -> None:
+        gui = self.server.gui
+        self.md_status = gui.add_markdown(self._status_text())
+        self.clusters_box = gui.add_checkbox("Show clusters", initial_value=False)
+
+        @self.clusters_box.on_update
+        def _(_e) -> None:
+            for n in self.cluster_nodes:
+                n.visible = self.clusters_box.value
+
+        if not self.plan_only:
+            self.strategy_box = gui.add_dropdown("Strategy", STRATEGIES, initial_value=self.strategy)
+            self.seed_box = gui.add_number("Seed", initial_value=self.seed, min=0, step=1)
+            self.move_box = gui.add_checkbox("Move object start", initial_value=False)
+            self.replan_button = gui.add_button("Plan again")
+            self.folder_box = gui.add_text("Save folder", initial_value=self.out_dir)
+            self.save_button = gui.add_button("Save plan + scene")
+
+            @self.move_box.on_update
+            def _(_e) -> None:
+                self.handle.visible = self.move_box.value
+                if self.move_box.value:
+                    self._clear_plan()
+
+            @self.replan_button.on_click
+            def _(_e) -> None:
+                self.request_plan()
+
+            @self.save_button.on_click
+            def _(_e) -> None:
+                self.save(self.folder_box.value)
+
+        with gui.add_folder("Playback"):
+            self.time_slider = gui.add_slider("Time (s)", min=0.0, max=1.0, step=0.01, initial_value=0.0, disabled=True)
+            self.play_button = gui.add_button("Play / pause", disabled=True)
+            self.keypose_box = gui.add_dropdown("Key pose", ("-",), disabled=True)
+
+        @self.time_slider.on_update
+        def _(_e) -> None:
+            if not self._setting_time:
+                self.show_time(self.time_slider.value)
+
+        @self.play_button.on_click
+        def _(_e) -> None:
+            self._playing = not self._playing
+            if self._playing and self.time_slider.value >= self.time_slider.max - 1e-6:
+                self.set_time(0.0)
+
+        @self.keypose_box.on_update
+        def _(_e) -> None:
+            if self.playback is None:
+                return
+            for kp in self.playback.plan.key_poses:
+                if self._keypose_label(kp) == self.keypose_box.value:
+                    self._playing = False
+                    self.set_time(float(kp["time"]))
+
+        self.md_plan = gui.add_markdown("")
+
+    # -- drawing --
+
+    def _show_robot(self, q: np.ndarray) -> None:
+        world_from_link = self.world_from_root @ self.robot.fk(q)
+        with self.server.atomic():
+            for name, m in zip(self.robot.link_names, world_from_link):
+                frame = self.link_frames[name]
+                frame.position = m[:3, 3]
+                frame.wxyz = wxyz_of(m)
+
+    def _set_object(self, m: np.ndarray) -> None:
+        self.object_node.position = m[:3, 3]
+        self.object_node.wxyz = wxyz_of(m)
+
+    def move_object_start(self, world_from_object: np.ndarray) -> None:
+        """Sets the object's start pose (the transform handle calls this); the next plan
+        starts from it ("Plan again" or a click)."""
+        m = np.asarray(world_from_object, dtype=np.float64)
+        self.object_start = m
+        if self.handle is not None:
+            self.handle.position = m[:3, 3]
+            self.handle.wxyz = wxyz_of(m)
+        if self.playback is not None:
+            self._clear_plan()
+        self._set_object(m)
+
+    def set_robot_visible(self, visible: bool) -> None:
+        for frame in self.link_frames.values():
+            frame.visible = visible
+
+    def show_time(self, t: float) -> None:
+        pb = self.playback
+        if pb is None:
+            return
+        q, pose = pb.at(t)
+        self._show_robot(q)
+        self._set_object(pose)
+
+    def set_time(self, t: float) -> None:
+        self._setting_time = True
+        try:
+            self.time_slider.value = t
+        finally:
+            self._setting_time = False
+        self.show_time(t)
+
+    def play(self) -> None:
+        self._playing = True
+
+    def pause(self) -> None:
+        self._playing = False
+
+    def _player(self) -> None:
+        period = 1.0 / 30.0
+        while not self._stop.is_set():
+            time.sleep(period)
+            pb = self.playback
+            if not self._playing or pb is None:
+                continue
+            t = self.time_slider.value + period
+            if t >= pb.duration:
+                t = pb.duration
+                self._playing = False
+            self.set_time(t)
+
+    def _status_text(self) -> str:
+        if self.plan_only:
+            head = f"**Plan viewer** · `{self.scene_path.name}`"
+        else:
+            head = f"**Click the environment** to place the object · `{self.scene_path.name}`"
+        status = {
+            "idle": "",
+            "planning": "Planning…",
+            "planned": "Planned.",
+            "no-plan": "**No plan.**",
+            "error": "**Error.**",
+        }[self.status]
+        target = ", ".join(f"{v:.3f}" for v in self.target)
+        lines = [head, f"Target: ({target}) m", status]
+        if self.picked is not None:
+            lines.append(f"Surface: {self.picked[0]}, cluster {self.picked[1]}")
+        if self.saved:
+            lines.append("Saved: " + ", ".join(f"`{p}`" for p in self.saved))
+        return "\n\n".join(line for line in lines if line)
+
+    def _refresh_status(self) -> None:
+        self.md_status.content = self._status_text()
+
+    @staticmethod
+    def _keypose_label(kp: dict[str, Any]) -> str:
+        return f"{kp['time']:.2f} s {kp['name']} ({kp['arm']})"
+
+    def _clear_plan(self) -> None:
+        self._playing = False
+        self.playback = None
+        self._show_robot(self.start_q)
+        self._set_object(self.object_start)
+        self.set_time(0.0)
+        self.time_slider.disabled = True
+        self.play_button.disabled = True
+        self.keypose_box.disabled = True
+
+    def _show_plan(self, plan: pickplace.Plan, report: pickplace.ValidationReport | None) -> None:
+        self._playing = False
+        start = pickplace.pose_matrix(**plan.object["start_pose"])
+        self.playback = pb = Playback(plan, self.robot, self.world_from_root, start)
+        self.time_slider.max = max(pb.duration, 0.01)
+        self.time_slider.disabled = False
+        self.play_button.disabled = False
+        labels = tuple(self._keypose_label(kp) for kp in plan.key_poses) or ("-",)
+        self.keypose_box.options = labels
+        self.keypose_box.disabled = False
+        self.set_time(0.0)
+        lines = [f"### Plan: {plan.strategy}", f"Duration {pb.duration:.2f} s, {len(pb.times)} samples, seed {plan.seed}"]
+        if report is not None:
+            lines.append("Validated: ok" if report.ok else "Validation: " + "; ".join(report.problems[:5]))
+        lines.append("| time (s) | key pose | arm |\n|---|---|---|\n" + "\n".join(
+            f"| {kp['time']:.2f} | {kp['name']} | {kp['arm']} |" for kp in plan.key_poses))
+        events = ", ".join(f"{e['kind']} {e['arm']} at {e['time']:.2f} s" for e in plan.events)
+        if events:
+            lines.append("Events: " + events)
+        self.md_plan.content = "\n\n".join(lines)
+        self._playing = True
+
+    def _show_reasons(self, reasons: list[str], heading: str = "No plan") -> None:
+        self.md_plan.content = f"### {heading}\n\n" + "\n".join(f"- {r}" for r in reasons)
+
+    # -- clicking and planning --
+
+    def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, int, np.ndarray] | None:
+        """The environment surface under a ray: (part index, triangle index, point), nearest."""
+        best = None
+        for k, part in enumerate(self.env):
+            i, t = ray_triangles(origin, direction, part.world_tris)
+            if i >= 0 and (best is None or t < best[2]):
+                best = (k, i, t)
+        if best is None:
+            return None
+        d = np.asarray(direction, dtype=np.float64)
+        return best[0], best[1], np.asarray(origin, dtype=np.float64) + best[2] * d / np.linalg.norm(d)
+
+    def _on_env_click(self, event) -> None:
+        self.click(np.asarray(event.ray_origin), np.asarray(event.ray_direction))
+
+    def click(self, origin: np.ndarray, direction: np.ndarray) -> bool:
+        hit = self.pick(origin, direction)
+        if hit is None:
+            return False
+        k, tri, point = hit
+        part = self.env[k]
+        cluster_id = int(part.cluster_of[tri])
+        self.picked = (part.name, cluster_id, point)
+        self.target = point
+        self.target_node.position = point
+        self.target_node.visible = True
+        if self.highlight_node is not None:
+            self.highlight_node.remove()
+            self.highlight_node = None
+        if cluster_id >= 0:
+            vertices, faces, world = self.env_meshes[k]
+            tris = faces[np.asarray(part.clusters[cluster_id]["triangles"], dtype=int)]
+            self.highlight_node = self.server.scene.add_mesh_simple(
+                "/highlight", vertices, tris, color=HIGHLIGHT_COLOR, wxyz=wxyz_of(world),
+                position=world[:3, 3] + [0, 0, 0.001], flat_shading=True, side="double",
+            )
+            self.highlight_node.on_click(self._on_env_click)  # it covers the surface: click through
+        self.request_plan()
+        return True
+
+    def request_plan(self) -> None:
+        with self._lock:
+            self.requests += 1
+            self.status = "planning"
+            self.plan = None
+        self._clear_plan()
+        self.md_plan.content = ""
+        self._refresh_status()
+        self._plan_request.set()
+
+    def scene_dict(self) -> dict[str, Any]:
+        """The scene with the page's target, object start pose, seed and strategy."""
+        d = absolute_paths(self.base)
+        d["target"]["point"] = [float(v) for v in self.target]
+        d["object"]["start_pose"] = pickplace.pose_parts(self.object_start)
+        if not self.plan_only:
+            self.seed = int(self.seed_box.value)
+            self.strategy = str(self.strategy_box.value)
+        d["planner"]["seed"] = int(self.seed)
+        d["planner"]["strategy"] = self.strategy
+        return d
+
+    def _planner(self) -> None:
+        while True:
+            self._plan_request.wait()
+            if self._stop.is_set():
+                return
+            self._plan_request.clear()
+            request = self.requests
+            d = self.scene_dict()
+            try:
+                scene = pickplace.Scene.from_dict(d, name=str(self.scene_path), cache_dir=self.cache_dir)
+                plan = pickplace.plan(scene)
+                report = pickplace.validate(scene, plan)
+            except pickplace.NoPlanError as e:
+                if self._plan_request.is_set():
+                    continue
+                self.reasons = list(e.reasons)
+                self.status = "no-plan"
+                self._show_reasons(self.reasons)
+                self._refresh_status()
+                self.answered = request
+                continue
+            except Exception as e:  # noqa: BLE001 - shown in the page
+                if self._plan_request.is_set():
+                    continue
+                self.reasons = [str(e)]
+                self.status = "error"
+                self._show_reasons(self.reasons, "Error")
+                self._refresh_status()
+                self.answered = request
+                continue
+            if self._plan_request.is_set():
+                continue  # a newer request supersedes this plan
+            self.plan, self.plan_scene, self.plan_dict, self.validation = plan, scene, d, report
+            self.reasons = []
+            self._show_plan(plan, report)
+            self.status = "planned"
+            self._refresh_status()
+            self.answered = request
+
+    def save(self, folder: str | os.PathLike[str]) -> list[Path]:
+        """Writes FOLDER/plan.json and FOLDER/scene.toml (the scene with the chosen target, seed
+        and strategy: `pickplace plan FOLDER/scene.toml --no-timings` gives plan.json)."""
+        if self.plan is None or self.plan_dict is None:
+            return []
+        out = Path(folder)
+        out.mkdir(parents=True, exist_ok=True)
+        paths = [out / "plan.json", out / "scene.toml"]
+        for path, text in zip(paths, (self.plan.to_json(), scene_toml(self.plan_dict))):
+            tmp = path.with_name(path.name + ".tmp")
+            tmp.write_text(text)
+            tmp.replace(path)
+        self.saved = paths
+        self._refresh_status()
+        return paths
+
+
+def _hsv(h: float, s: float, v: float) -> tuple[float, float, float]:
+    return colorsys.hsv_to_rgb(h, s, v)
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
