@@ -64,8 +64,9 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      xtask suite run, torture, the toppra comparison and pytest\n  \
      pytest       [PYTEST_ARGS…]: build the Python package (crates/pickplace-py) into a \
      wheel with maturin build --release, install it into $PICKPLACE_PY_VENV or \
-     target/py-venv (created with maturin, pytest, numpy and ray when missing) and run its \
-     pytest suite (Ray's tests on a local 2-CPU Ray cluster)\n  \
+     target/py-venv (created with maturin, pytest, numpy, ray, viser and playwright when \
+     missing) and run its pytest suite (Ray's tests on a local 2-CPU Ray cluster, the \
+     browser view's in headless Chromium)\n  \
      torture      hostile and careless use of the release CLI (FIFOs, devices, huge, \
      truncated, NaN and nested inputs, kill -9 during writes, concurrent runs on one cache, \
      unusable cache folders, closed pipes): every case's exit status, message and files \

@@ -1,7 +1,9 @@
 //! `cargo xtask pytest [PYTEST_ARGS…]` (also the last step of `cargo xtask test`): builds the
 //! Python package `pickplace` (crates/pickplace-py) in release with maturin into a wheel,
 //! installs the wheel into a virtual environment (as `pip install` of a user would), and runs
-//! its pytest suite against the release CLI, Ray's tests on a local Ray cluster included.
+//! its pytest suite against the release CLI, Ray's tests on a local Ray cluster and the browser
+//! view's in headless Chromium (Debian's `chromium`; skipped with a message when it is
+//! missing, unless `PICKPLACE_REQUIRE_WEB=1`, which `.ci/run` sets) included.
 //!
 //! The environment is `$PICKPLACE_PY_VENV`, else `target/py-venv`; it is created with
 //! `$PYTHON` (else `python3`) and the pinned tools below when it lacks them, and kept between
@@ -13,13 +15,17 @@ use anyhow::{Context, bail};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// What the environment needs, pinned: the build backend, the test runner, numpy, and Ray
-/// (the `[ray]` extra of the package, for `pickplace.ray`'s tests).
-pub const PY_TOOLS: [&str; 4] = [
+/// What the environment needs, pinned: the build backend, the test runner, numpy, Ray (the
+/// `[ray]` extra of the package, for `pickplace.ray`'s tests), viser (the `[web]` extra, for
+/// the browser view) and Playwright (which drives the system's Chromium in its tests; no
+/// browser of its own is downloaded).
+pub const PY_TOOLS: [&str; 6] = [
     "maturin==1.16.0",
     "pytest==9.2.0",
     "numpy==2.4.6",
     "ray==2.60.0",
+    "viser==1.1.1",
+    "playwright==1.65.2",
 ];
 
 /// Builds the package into its environment and runs `pytest` on its tests, with the
@@ -90,6 +96,20 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
             bail!("cargo build --release -p pickplace-cli failed ({status})");
         }
     }
+    let chromium = std::env::var_os("PICKPLACE_CHROMIUM")
+        .map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
+    if !chromium.is_file() {
+        eprintln!(
+            "xtask pytest: no Chromium at {} (Debian: apt-get install chromium; or set \
+             PICKPLACE_CHROMIUM): the browser view's tests are skipped{}",
+            chromium.display(),
+            if std::env::var_os("PICKPLACE_REQUIRE_WEB").is_some_and(|v| v == "1") {
+                ", and fail as PICKPLACE_REQUIRE_WEB=1 asks"
+            } else {
+                ""
+            }
+        );
+    }
     eprintln!("xtask pytest: pytest crates/pickplace-py/tests");
     let status = Command::new(venv.join("bin/python"))
         .current_dir(&crate_dir)
@@ -116,7 +136,7 @@ fn is_our_wheel(path: &Path) -> bool {
 fn ensure_venv(venv: &Path) -> anyhow::Result<()> {
     let ready = venv.join("bin/maturin").is_file()
         && Command::new(venv.join("bin/python"))
-            .args(["-c", "import numpy, pytest, ray"])
+            .args(["-c", "import numpy, pytest, ray, viser, playwright"])
             .status()
             .is_ok_and(|s| s.success());
     if ready {
