@@ -231,6 +231,16 @@ def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path, run_cli)
     )
     assert status == 0, stderr
     assert (tmp_path / "cli.json").read_bytes() == plan_path.read_bytes()
+    # A save never writes through a symlink: refused, what the link names untouched.
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    linked = tmp_path / "linked"
+    linked.mkdir()
+    (linked / "plan.json").symlink_to(victim)
+    with pytest.raises(ValueError, match="symbolic link"):
+        v.save(linked)
+    assert victim.read_text() == "keep me"
+    assert sorted(p.name for p in linked.iterdir()) == ["plan.json"]
 
 
 def test_click_out_of_reach_shows_the_reasons(view, page, shots):

@@ -19,7 +19,7 @@ import pickplace
 from .meshes import matrix_of, ray_triangles, read_mesh, transform_points, wxyz_of
 from .playback import Playback
 from .robot_shapes import resolve_package_path, robot_shapes
-from .scene_file import absolute_paths, scene_toml
+from .scene_file import absolute_paths, scene_toml, write_atomic
 
 #: Strategies offered in the page (the planner's names).
 STRATEGIES = (
@@ -114,6 +114,7 @@ class WebView:
         self.picked: tuple[str, int, np.ndarray] | None = None  # env part, cluster id, point
         self.playback: Playback | None = None
         self.saved: list[Path] = []
+        self.save_error: str | None = None
         self.requests = 0  # plans asked for (clicks, "Plan again")
         self.answered = 0  # the request the page's answer (plan, reasons) is for
         self._lock = threading.Lock()
@@ -240,7 +241,11 @@ class WebView:
 
             @self.save_button.on_click
             def _(_e) -> None:
-                self.save(self.folder_box.value)
+                try:
+                    self.save(self.folder_box.value)
+                except (ValueError, OSError) as e:
+                    self.save_error = str(e)
+                    self._refresh_status()
 
         with gui.add_folder("Playback"):
             self.time_slider = gui.add_slider("Time (s)", min=0.0, max=1.0, step=0.01, initial_value=0.0, disabled=True)
@@ -352,6 +357,8 @@ class WebView:
             lines.append(f"Surface: {self.picked[0]}, cluster {self.picked[1]}")
         if self.saved:
             lines.append("Saved: " + ", ".join(f"`{p}`" for p in self.saved))
+        if self.save_error:
+            lines.append(f"**Not saved:** {self.save_error}")
         return "\n\n".join(line for line in lines if line)
 
     def _refresh_status(self) -> None:
@@ -508,10 +515,9 @@ class WebView:
         out.mkdir(parents=True, exist_ok=True)
         paths = [out / "plan.json", out / "scene.toml"]
         for path, text in zip(paths, (self.plan.to_json(), scene_toml(self.plan_dict))):
-            tmp = path.with_name(path.name + ".tmp")
-            tmp.write_text(text)
-            tmp.replace(path)
+            write_atomic(path, text)
         self.saved = paths
+        self.save_error = None
         self._refresh_status()
         return paths
 

@@ -3,8 +3,38 @@
 from __future__ import annotations
 
 import math
+import os
+import stat
+import tempfile
 from pathlib import Path
 from typing import Any
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Writes `text` to `path` as the CLI writes its outputs: into an exclusive temporary
+    file beside it (an unpredictable name, never through a symlink), then renamed over
+    `path`; a `path` that is a symlink, a folder or not a regular file is refused with
+    ValueError, and a failure leaves `path` as it was."""
+    try:
+        kind = os.lstat(path).st_mode
+    except FileNotFoundError:
+        kind = None
+    if kind is not None and not stat.S_ISREG(kind):
+        what = "a symbolic link" if stat.S_ISLNK(kind) else "not a regular file"
+        raise ValueError(f"{path}: is {what}; the page writes regular files only")
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
 
 
 def absolute_paths(d: Any, keys=("urdf", "srdf", "gripper", "joint_limits", "mesh")) -> Any:
