@@ -466,17 +466,13 @@ pub fn scenes() -> Vec<Spec> {
     s.push(sc);
     let mut sc = base(
         "mug-upside-down",
-        "a mug standing upside down on its rim: its 8 cm body leaves no room in NX-HIRO's 8 cm opening, and the rim its fingers pinch is against the table, so no grasp can take it",
+        "a mug standing upside down on its rim: its 8 cm body leaves no room in NX-HIRO's 8 cm opening and the rim is against the table, so the hand pinches its handle across the tube (the pads wrap the curved tube)",
         "mug",
         [0.40, -0.18],
         on_table(0.47, -0.03),
     );
     sc.tilt = Tilt::UpsideDown;
-    sc.expect = Expect::Infeasible {
-        stage: "pick",
-        reason: "gripper hits table",
-    };
-    sc.tags = vec!["table", "upside-down", "no-solution"];
+    sc.tags = vec!["table", "upside-down", "curved"];
     s.push(sc);
     let mut sc = base(
         "scanned-box-on-side",
@@ -761,9 +757,6 @@ pub fn scenes() -> Vec<Spec> {
         on_table(0.44, -0.34),
     );
     sc.tags = vec!["handover", "curved"];
-    sc.open = Some(
-        "only the 3 grasps on the head clear the table (NX-HIRO's palm reaches at least 35 mm below the tool point of a grasp from the side; the body grasps hold it 23 mm up), so a handover leaves the placing hand no grasp, and of 31 intermediate poses tried (4 points on the way, 8 yaws each) the left hand puts it down on 9, the right picks it up from 6, never the same one",
-    );
     s.push(sc);
     let (p, dents) = pallet(0.48, -0.22);
     let mut sc = base(

@@ -100,6 +100,13 @@ impl ObjectCollider {
         })
     }
 
+    /// The triangles whose bounding boxes meet the axis-aligned box `[lo, hi]` (object frame),
+    /// through the BVH.
+    pub(crate) fn triangles_near(&self, lo: &Point3, hi: &Point3) -> Vec<u32> {
+        let aabb = Aabb::new(parry::point(lo), parry::point(hi));
+        self.shape.bvh().intersect_aabb(&aabb).collect()
+    }
+
     /// Whether `p` (object frame) is inside the object (by the pseudo-normal of its closest
     /// surface point).
     pub fn contains(&self, p: &Point3) -> bool {

@@ -398,78 +398,218 @@ struct Footprint {
     half: (Real, Real),
 }
 
+/// What a pad touches: how far the surface under it rises above the grasp line's crossing,
+/// and the area it touches once pressed home.
+#[derive(Debug, Clone, Copy)]
+struct PadContact {
+    /// Height of the highest point under the pad above the contact point, towards the pad (m).
+    rise: Real,
+    /// Area of the surface under the pad within `h_max` of that highest point, projected onto
+    /// the pad (m²).
+    area: Real,
+    /// Height of the highest point under the rest of the finger's inner face, from the pad to
+    /// the finger's root (m): where it exceeds `rise` the rigid finger, not the pad, touches
+    /// first (a bottle's lip above the neck the pad holds).
+    face_rise: Real,
+}
+
 impl GraspPlanner {
-    /// How far the triangles `triangles` rise above `contact` towards `toward` (unit, the
-    /// direction from the surface to the pad) within the pad's rectangle centred on `contact`
-    /// (0 when nothing rises). Each triangle is projected onto the pad plane and clipped to the
-    /// rectangle; the height is affine over a triangle, so its maximum over the clipped
-    /// polygon is at one of the polygon's corners. Triangles seen edge-on do not count.
-    fn rise(
+    /// The triangles facing `toward` (unit, from the surface to a pad) whose bounding boxes
+    /// meet the ball of radius `radius` about `contact`, widened by `h_max`: every triangle
+    /// that can lie under a pad centred on `contact`, whatever the approach direction.
+    ///
+    /// Returns their corners relative to `contact`, in triangle order; triangles lying wholly
+    /// more than `h_max` below `contact` or more than `ceiling` above it (beyond the back of
+    /// the open finger: never touched) are left out.
+    fn facing_near(
         &self,
         contact: &Point3,
         toward: &Vector3,
+        radius: Real,
+        (h_max, ceiling): (Real, Real),
+    ) -> Vec<[Vector3; 3]> {
+        let reach = Vector3::repeat(radius);
+        let mut near = self
+            .collider
+            .triangles_near(&(contact - reach), &(contact + reach));
+        near.sort_unstable();
+        near.iter()
+            .filter_map(|&t| {
+                let tri = self.triangles.get(t as usize)?;
+                let [a, b, c] = tri.map(|v| self.vertices[v as usize]);
+                let facing = (b - a).cross(&(c - a)).dot(toward) > 0.0;
+                let d = [a - contact, b - contact, c - contact];
+                let heights = d.map(|d| d.dot(toward));
+                let reached =
+                    heights.iter().any(|&h| h >= -h_max) && heights.iter().any(|&h| h <= ceiling);
+                (facing && reached).then_some(d)
+            })
+            .collect()
+    }
+
+    /// The contact of a pad centred on `contact` (a point of the surface), facing the surface
+    /// from `toward` (unit, from the surface to the pad), with the rectangle `footprint`.
+    ///
+    /// The rigid pad first touches the highest point of the surface under it; its flexible
+    /// sheet of depth `h_max` (§III-A, Fig. 2; the paper's ref. \[15\]) then reaches every part
+    /// of the surface within `h_max` below that point. The touched area is that part, measured
+    /// on the mesh itself (every triangle facing the pad, not only the clusters'), so a pad on
+    /// a curved body (a duck, a fruit, a bottle's neck) touches the cap the sheet wraps, and a
+    /// pad on a flat face touches the face under it. Triangles facing away (the far side of a
+    /// thin wall) are not touched. Each triangle is projected onto the pad plane, clipped to
+    /// the rectangle and to the sheet's depth; the height is affine over a triangle, so the
+    /// highest point is at a corner of a clipped polygon.
+    ///
+    /// The rest of the finger's inner face (from the pad back to the finger's root, `root` m
+    /// behind the pad's centre along the approach axis) is scanned too, for
+    /// [`PadContact::face_rise`].
+    ///
+    /// `near` lists the triangles facing the pad that may lie under it, their corners relative
+    /// to the contact point ([`Self::facing_near`]).
+    fn pad_contact(
+        &self,
+        toward: &Vector3,
         footprint: &Footprint,
-        triangles: &[u32],
-    ) -> Real {
+        root: Real,
+        (h_max, ceiling): (Real, Real),
+        near: &[[Vector3; 3]],
+    ) -> PadContact {
         let (hw, hd) = footprint.half;
-        let mut best: Real = 0.0;
-        for &t in triangles {
-            let Some(tri) = self.triangles.get(t as usize) else {
-                continue;
-            };
-            let corners = tri.map(|v| {
-                let d = self.vertices[v as usize] - contact;
+        let root = root.max(hd);
+        let mut face_rise: Real = 0.0;
+        let mut patches: Vec<Poly> = Vec::new();
+        let mut rise: Real = 0.0;
+        for tri in near {
+            let corners = tri.map(|d| {
                 [
                     d.dot(&footprint.lateral),
                     d.dot(&footprint.approach),
                     d.dot(toward),
                 ]
             });
-            // Quick exits: entirely outside the rectangle, or nowhere above the best so far.
+            // Quick exits: entirely beside the face, or below the sheet's reach.
             if corners.iter().all(|q| q[0] > hw)
                 || corners.iter().all(|q| q[0] < -hw)
                 || corners.iter().all(|q| q[1] > hd)
-                || corners.iter().all(|q| q[1] < -hd)
-                || corners.iter().all(|q| q[2] <= best)
+                || corners.iter().all(|q| q[1] < -root)
+                || corners.iter().all(|q| q[2] < -h_max)
             {
                 continue;
             }
-            let mut poly: Vec<[Real; 3]> = corners.to_vec();
-            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, hd)] {
-                poly = clip(&poly, axis, sign, limit);
-                if poly.is_empty() {
+            let mut poly = Poly::triangle(corners);
+            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, root)]
+            {
+                clip(&mut poly, axis, sign, limit);
+                if poly.len == 0 {
                     break;
                 }
             }
-            for q in &poly {
-                best = best.max(q[2]);
+            // Below the sheet's reach from the contact point (never touched, whatever the rise),
+            // or beyond the back of the open finger.
+            clip(&mut poly, 2, -1.0, h_max);
+            clip(&mut poly, 2, 1.0, ceiling);
+            if poly.len < 3 {
+                continue;
+            }
+            for q in poly.points() {
+                face_rise = face_rise.max(q[2]);
+            }
+            // The pad's part of the face.
+            clip(&mut poly, 1, -1.0, hd);
+            if poly.len < 3 {
+                continue;
+            }
+            for q in poly.points() {
+                rise = rise.max(q[2]);
+            }
+            patches.push(poly);
+        }
+        let level = rise - h_max;
+        let mut area = 0.0;
+        for poly in &mut patches {
+            clip(poly, 2, -1.0, -level);
+            if poly.len >= 3 {
+                area += poly.area();
             }
         }
-        best
+        PadContact {
+            rise,
+            area: area.min(4.0 * hw * hd),
+            face_rise,
+        }
+    }
+}
+
+/// A convex polygon of at most [`Poly::CAPACITY`] points `[x, y, height]`, on the stack: a
+/// triangle clipped by up to 8 half-planes (4 sides of the finger's face, the sheet's reach
+/// from the contact point and from the highest point, the finger's back, the pad's end).
+#[derive(Debug, Clone, Copy)]
+struct Poly {
+    points: [[Real; 3]; Poly::CAPACITY],
+    len: usize,
+}
+
+impl Poly {
+    const CAPACITY: usize = 11;
+
+    fn triangle(corners: [[Real; 3]; 3]) -> Self {
+        let mut points = [[0.0; 3]; Self::CAPACITY];
+        points[..3].copy_from_slice(&corners);
+        Self { points, len: 3 }
+    }
+
+    fn points(&self) -> &[[Real; 3]] {
+        &self.points[..self.len]
+    }
+
+    /// Twice the signed area of the projection onto `(x, y)`.
+    fn area(&self) -> Real {
+        let p = self.points();
+        let mut twice = 0.0;
+        for (i, a) in p.iter().enumerate() {
+            let b = &p[(i + 1) % p.len()];
+            twice += a[0] * b[1] - b[0] * a[1];
+        }
+        0.5 * twice.abs()
     }
 }
 
 /// Sutherland–Hodgman: the part of a polygon (points `[x, y, height]`) where
 /// `sign · p[axis] ≤ limit`, the height interpolated along the cut edges.
-fn clip(poly: &[[Real; 3]], axis: usize, sign: Real, limit: Real) -> Vec<[Real; 3]> {
+fn clip(poly: &mut Poly, axis: usize, sign: Real, limit: Real) {
     let inside = |p: &[Real; 3]| sign * p[axis] <= limit;
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for (i, p) in poly.iter().enumerate() {
-        let q = &poly[(i + 1) % poly.len()];
+    let points = poly.points();
+    if points.iter().all(inside) {
+        return;
+    }
+    let mut out = Poly {
+        points: [[0.0; 3]; Poly::CAPACITY],
+        len: 0,
+    };
+    let mut push = |q: [Real; 3]| {
+        // A convex polygon gains one point per cut: the capacity is never reached by the
+        // clips made here; a degenerate sliver past it only loses points.
+        if out.len < Poly::CAPACITY {
+            out.points[out.len] = q;
+            out.len += 1;
+        }
+    };
+    for (i, p) in points.iter().enumerate() {
+        let q = &points[(i + 1) % points.len()];
         if inside(p) {
-            out.push(*p);
+            push(*p);
         }
         if inside(p) != inside(q) {
             let (a, b) = (sign * p[axis] - limit, sign * q[axis] - limit);
             let t = a / (a - b);
-            out.push([
+            push([
                 p[0] + (q[0] - p[0]) * t,
                 p[1] + (q[1] - p[1]) * t,
                 p[2] + (q[2] - p[2]) * t,
             ]);
         }
     }
-    out
+    *poly = out;
 }
 
 /// Möller–Trumbore line/triangle intersection (two-sided, either direction along the line):
@@ -498,6 +638,10 @@ fn line_triangle(o: &Point3, d: &Vector3, a: &Point3, b: &Point3, c: &Point3) ->
     let t = e2.dot(&q) * inv;
     t.is_finite().then_some(t)
 }
+
+/// How far the rest of a finger's inner face may reach nearer the object than its pad (m):
+/// a tenth of a millimetre, well within the pads' squeeze.
+const FACE_TOLERANCE: Real = 1e-4;
 
 /// Most grid nodes scanned over one pair's overlap region.
 pub const MAX_GRID_NODES: u64 = 1_000_000;
@@ -580,6 +724,32 @@ impl Context<'_> {
         } else {
             &[1.0]
         };
+        // The triangles under either pad, whatever the approach direction: within the finger
+        // face's half diagonal (and the sheet's depth, and the largest rise) of its contact point.
+        let (g, h_max) = (self.gripper, self.clustering.params.h_max);
+        let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
+        let radius = hw.hypot(hd.max(g.finger_length - hd)) + 2.0 * h_max + 1e-6;
+        // Beyond the back of the open finger nothing is touched (a wall across a tube, whose
+        // outer face looks the pad's way from behind its inner face).
+        let ceiling = g.finger_thickness + self.options.clearance;
+        let near = if width.is_finite() {
+            [
+                self.planner.facing_near(
+                    &(tcp + n1 * (0.5 * width)),
+                    &n1,
+                    radius,
+                    (h_max, ceiling),
+                ),
+                self.planner.facing_near(
+                    &(tcp - n1 * (0.5 * width)),
+                    &(-n1),
+                    radius,
+                    (h_max, ceiling),
+                ),
+            ]
+        } else {
+            [Vec::new(), Vec::new()]
+        };
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
             let angle = TAU * k as Real / self.options.approach_count as Real;
@@ -592,7 +762,7 @@ impl Context<'_> {
                 width,
                 angle,
             };
-            match self.shared_checks(&mut candidate) {
+            match self.shared_checks(&mut candidate, [&near[0], &near[1]]) {
                 Ok((contact_area, pad_depth)) => out.extend(
                     flips
                         .iter()
@@ -608,7 +778,11 @@ impl Context<'_> {
     /// are symmetric under it): local width, pad tilt and depth, contact area, finger collision.
     /// Moves the pads (the candidate's TCP and width) out to where they first touch the mesh.
     /// Returns the contact area and the pad depth.
-    fn shared_checks(&self, c: &mut Candidate<'_>) -> std::result::Result<(Real, Real), Rejection> {
+    fn shared_checks(
+        &self,
+        c: &mut Candidate<'_>,
+        near: [&[[Vector3; 3]]; 2],
+    ) -> std::result::Result<(Real, Real), Rejection> {
         let (g, o) = (self.gripper, self.options);
         if !(c.width.is_finite()
             && c.width >= g.opening_min
@@ -621,7 +795,6 @@ impl Context<'_> {
         // corners must stay within h_max of the plane through that point parallel to S2: the
         // pads are parallel enough to the second patch for the flexible sheet to conform.
         let h_max = self.clustering.params.h_max;
-        let pad2 = c.tcp - c.first.normal * (0.5 * c.width);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
         for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
             let offset = lateral * (a * hw) + approach * (b * hd);
@@ -629,36 +802,45 @@ impl Context<'_> {
                 return Err(Rejection::PadTilt);
             }
         }
-        // The patch under each pad may rise towards the pad above the grasp line's crossing (a
-        // curved or concave patch): the rigid pad first touches the highest point under it, and
-        // the flexible sheet of depth h_max reaches the rest of the patch only if the rise stays
-        // within h_max (§III-A, Fig. 2). The width is the distance between the pads there.
-        let pad1 = c.tcp + c.first.normal * (0.5 * c.width);
+        // The surface under each pad may rise towards the pad above the grasp line's crossing
+        // (a curved or concave patch): the rigid pad first touches the highest point under it,
+        // and the flexible sheet of depth h_max reaches the rest only within h_max of it
+        // (§III-A, Fig. 2). The width is the distance between the pads there. The pads' contact
+        // points `tcp ± n1·w/2` are those of `near`.
         let footprint = Footprint {
             lateral,
             approach,
             half: (hw, hd),
         };
-        let rise1 = self
-            .planner
-            .rise(&pad1, &c.first.normal, &footprint, &c.first.triangles);
-        let rise2 = self
-            .planner
-            .rise(&pad2, &(-c.first.normal), &footprint, &c.second.triangles);
-        let depth = rise1.max(rise2);
+        let root = g.finger_length - hd;
+        let ceiling = g.finger_thickness + o.clearance;
+        let touch1 =
+            self.planner
+                .pad_contact(&c.first.normal, &footprint, root, (h_max, ceiling), near[0]);
+        let touch2 = self.planner.pad_contact(
+            &(-c.first.normal),
+            &footprint,
+            root,
+            (h_max, ceiling),
+            near[1],
+        );
+        let depth = touch1.rise.max(touch2.rise);
         if depth > h_max + 1e-9 {
             return Err(Rejection::PadTilt);
         }
-        c.width += rise1 + rise2;
-        c.tcp += c.first.normal * (0.5 * (rise1 - rise2));
+        // The rigid rest of a finger must not reach the surface before its pad does.
+        if touch1.face_rise > touch1.rise + FACE_TOLERANCE
+            || touch2.face_rise > touch2.rise + FACE_TOLERANCE
+        {
+            return Err(Rejection::Finger);
+        }
+        c.width += touch1.rise + touch2.rise;
+        c.tcp += c.first.normal * (0.5 * (touch1.rise - touch2.rise));
         if c.width > g.opening_max - 2.0 * o.clearance {
             return Err(Rejection::Width);
         }
-        // Contact: the pad (on S1, in the first frame) against the overlap region.
-        let approach_2d = Vector2::new(c.angle.cos(), c.angle.sin());
-        let lateral_2d = Vector2::new(lateral.dot(&c.first.frame.u), lateral.dot(&c.first.frame.v));
-        let window = quality::rectangle(c.site.on_first, lateral_2d, approach_2d, hw, hd);
-        let contact_area = quality::clipped_area(&window, &c.pair.overlap);
+        // Contact: the surface both pads touch, measured on the mesh (issue 17).
+        let contact_area = touch1.area.min(touch2.area);
         if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
             return Err(Rejection::Contact);
         }

@@ -50,9 +50,12 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
         for (sign, id) in [(1.0, g.positive_cluster), (-1.0, g.negative_cluster)] {
             let c = &clustering.clusters[id as usize];
             let pad = support::pad_points(g, gripper, sign);
-            // The pad centre is on the patch (width measured on the mesh); the pad stays
-            // within the sheet's depth of the patch's plane beyond the patch's own thickness.
-            if c.plane_distance(&pad[0]) > 1e-9 || c.plane_distance(&pad[0]) < -c.h - 1e-9 {
+            // The pad centre is on the patch (width measured on the mesh), or above it by at
+            // most the pad's depth when the surface under the pad rises beside the patch (the
+            // pad touches the highest point under it); the pad stays within the sheet's depth
+            // of the patch's plane beyond the patch's own thickness.
+            let above = g.quality.pad_depth + 1e-9;
+            if c.plane_distance(&pad[0]) > above || c.plane_distance(&pad[0]) < -c.h - 1e-9 {
                 return Err(format!(
                     "grasp {i}: pad centre {} m off cluster {id}'s plane (h = {})",
                     c.plane_distance(&pad[0]),
