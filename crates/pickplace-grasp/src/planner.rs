@@ -407,10 +407,6 @@ struct PadContact {
     /// Area of the surface under the pad within `h_max` of that highest point, projected onto
     /// the pad (m²).
     area: Real,
-    /// Height of the highest point under the rest of the finger's inner face, from the pad to
-    /// the finger's root (m): where it exceeds `rise` the rigid finger, not the pad, touches
-    /// first (a bottle's lip above the neck the pad holds).
-    face_rise: Real,
 }
 
 impl GraspPlanner {
@@ -460,23 +456,16 @@ impl GraspPlanner {
     /// the rectangle and to the sheet's depth; the height is affine over a triangle, so the
     /// highest point is at a corner of a clipped polygon.
     ///
-    /// The rest of the finger's inner face (from the pad back to the finger's root, `root` m
-    /// behind the pad's centre along the approach axis) is scanned too, for
-    /// [`PadContact::face_rise`].
-    ///
     /// `near` lists the triangles facing the pad that may lie under it, their corners relative
     /// to the contact point ([`Self::facing_near`]).
     fn pad_contact(
         &self,
         toward: &Vector3,
         footprint: &Footprint,
-        root: Real,
         (h_max, ceiling): (Real, Real),
         near: &[[Vector3; 3]],
     ) -> PadContact {
         let (hw, hd) = footprint.half;
-        let root = root.max(hd);
-        let mut face_rise: Real = 0.0;
         let mut patches: Vec<Poly> = Vec::new();
         let mut rise: Real = 0.0;
         for tri in near {
@@ -491,14 +480,13 @@ impl GraspPlanner {
             if corners.iter().all(|q| q[0] > hw)
                 || corners.iter().all(|q| q[0] < -hw)
                 || corners.iter().all(|q| q[1] > hd)
-                || corners.iter().all(|q| q[1] < -root)
+                || corners.iter().all(|q| q[1] < -hd)
                 || corners.iter().all(|q| q[2] < -h_max)
             {
                 continue;
             }
             let mut poly = Poly::triangle(corners);
-            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, root)]
-            {
+            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, hd)] {
                 clip(&mut poly, axis, sign, limit);
                 if poly.len == 0 {
                     break;
@@ -508,14 +496,6 @@ impl GraspPlanner {
             // or beyond the back of the open finger.
             clip(&mut poly, 2, -1.0, h_max);
             clip(&mut poly, 2, 1.0, ceiling);
-            if poly.len < 3 {
-                continue;
-            }
-            for q in poly.points() {
-                face_rise = face_rise.max(q[2]);
-            }
-            // The pad's part of the face.
-            clip(&mut poly, 1, -1.0, hd);
             if poly.len < 3 {
                 continue;
             }
@@ -535,14 +515,13 @@ impl GraspPlanner {
         PadContact {
             rise,
             area: area.min(4.0 * hw * hd),
-            face_rise,
         }
     }
 }
 
 /// A convex polygon of at most [`Poly::CAPACITY`] points `[x, y, height]`, on the stack: a
-/// triangle clipped by up to 8 half-planes (4 sides of the finger's face, the sheet's reach
-/// from the contact point and from the highest point, the finger's back, the pad's end).
+/// triangle clipped by up to 7 half-planes (4 sides of the pad, the sheet's reach from the
+/// contact point and from the highest point, the back of the open finger).
 #[derive(Debug, Clone, Copy)]
 struct Poly {
     points: [[Real; 3]; Poly::CAPACITY],
@@ -550,7 +529,7 @@ struct Poly {
 }
 
 impl Poly {
-    const CAPACITY: usize = 11;
+    const CAPACITY: usize = 10;
 
     fn triangle(corners: [[Real; 3]; 3]) -> Self {
         let mut points = [[0.0; 3]; Self::CAPACITY];
@@ -724,11 +703,11 @@ impl Context<'_> {
         } else {
             &[1.0]
         };
-        // The triangles under either pad, whatever the approach direction: within the finger
-        // face's half diagonal (and the sheet's depth, and the largest rise) of its contact point.
+        // The triangles under either pad, whatever the approach direction: within the pad's half
+        // diagonal (and the sheet's depth, and the largest rise) of its contact point.
         let (g, h_max) = (self.gripper, self.clustering.params.h_max);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
-        let radius = hw.hypot(hd.max(g.finger_length - hd)) + 2.0 * h_max + 1e-6;
+        let radius = hw.hypot(hd) + 2.0 * h_max + 1e-6;
         // Beyond the back of the open finger nothing is touched (a wall across a tube, whose
         // outer face looks the pad's way from behind its inner face).
         let ceiling = g.finger_thickness + self.options.clearance;
@@ -812,27 +791,16 @@ impl Context<'_> {
             approach,
             half: (hw, hd),
         };
-        let root = g.finger_length - hd;
         let ceiling = g.finger_thickness + o.clearance;
         let touch1 =
             self.planner
-                .pad_contact(&c.first.normal, &footprint, root, (h_max, ceiling), near[0]);
-        let touch2 = self.planner.pad_contact(
-            &(-c.first.normal),
-            &footprint,
-            root,
-            (h_max, ceiling),
-            near[1],
-        );
+                .pad_contact(&c.first.normal, &footprint, (h_max, ceiling), near[0]);
+        let touch2 =
+            self.planner
+                .pad_contact(&(-c.first.normal), &footprint, (h_max, ceiling), near[1]);
         let depth = touch1.rise.max(touch2.rise);
         if depth > h_max + 1e-9 {
             return Err(Rejection::PadTilt);
-        }
-        // The rigid rest of a finger must not reach the surface before its pad does.
-        if touch1.face_rise > touch1.rise + FACE_TOLERANCE
-            || touch2.face_rise > touch2.rise + FACE_TOLERANCE
-        {
-            return Err(Rejection::Finger);
         }
         c.width += touch1.rise + touch2.rise;
         c.tcp += c.first.normal * (0.5 * (touch1.rise - touch2.rise));
@@ -844,8 +812,16 @@ impl Context<'_> {
         if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
             return Err(Rejection::Contact);
         }
-        // Fingers open by the clearance on each side and grown by it along their other axes.
+        // The rigid finger, pad and all, must not reach the object before the pad's surface does
+        // (a bottle's lip 2 mm proud of the neck the pad holds): the fingers closed to FACE_TOLERANCE
+        // off the width touch nothing along their whole length.
         let object_from_tcp = self.pose(c, 1.0);
+        for finger in g.fingers(c.width + 2.0 * FACE_TOLERANCE) {
+            if self.planner.collider.hits(&object_from_tcp, &finger, 0.0) {
+                return Err(Rejection::Finger);
+            }
+        }
+        // Fingers open by the clearance on each side and grown by it along their other axes.
         for mut finger in g.fingers(c.width + 2.0 * o.clearance) {
             finger.half_extents += Vector3::new(o.clearance, 0.0, o.clearance);
             if self.planner.collider.hits(&object_from_tcp, &finger, 0.0) {
