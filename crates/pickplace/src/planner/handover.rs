@@ -5,10 +5,10 @@
 //! ([`handover_candidates`]) and each feasible one is scored by both arms' reach margin and
 //! the robot's clearance, so that the handover works for any object and grasp pair.
 
-use super::Ctx;
 use super::keypose::{Pick, Place};
 use super::reason::{Attempt, Rejection, Role, Step, split};
 use super::world::with_scratch;
+use super::{Ctx, Memo};
 use crate::plan::StageCount;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
@@ -17,6 +17,7 @@ use pickplace_geometry::math::{
 };
 use pickplace_geometry::obb::Obb;
 use pickplace_grasp::{Grasp, GripperParams};
+use std::collections::BTreeMap;
 
 /// Clearance kept between the two hands' gripper boxes in the cheap pre-test
 /// ([`hands_overlap`]) (m); the real link geometry is then held to
@@ -38,11 +39,24 @@ pub(super) struct Handover {
     pub retreat: Vec<Vec<Real>>,
 }
 
+/// Memo of the picking arm at a handover: per (picking arm, handover candidate, first
+/// grasp), its configuration there or why it has none.
+pub(super) type HandoverArmMemo = BTreeMap<(Arm, usize, usize), Memo<Vec<Real>>>;
+
+/// Memo of a second grasp at a handover: per (picking arm, handover candidate, first grasp,
+/// second grasp), the scored handover or the reason the second grasp fails there.
+pub(super) type SecondGraspMemo =
+    BTreeMap<(Arm, usize, usize, usize), std::result::Result<(Real, Handover), String>>;
+
 impl Ctx<'_> {
     /// Tests a handover at object pose `world_from_object` (the `hi`-th candidate) with pick
     /// grasp `g1` of arm A; looks for a grasp of arm B among `places` (the grasps that place
     /// the object) that regrasps there. Returns the score (clearance and reach margin, higher
     /// is better) and the handover; each second grasp tried is counted in `regrasp`.
+    ///
+    /// Neither arm's result at a handover depends on the placement being searched: the
+    /// picking arm's per (hi, g1) and each second grasp's per (hi, g1, g2) are computed once
+    /// and replayed for the next placements (same result, same counts).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn handover_at(
         &self,
@@ -64,111 +78,146 @@ impl Ctx<'_> {
         let lifted = super::end_of(&pick.lift)?;
         let salt = (hi as u64) << 24 | (g1 as u64) << 8 | 0x40;
         let holding_a = self.world_holding(a, &grasp1.object_from_tcp, &[])?;
-        let q_a = self
-            .free_ik(a, &pose_a, lifted, salt, &holding_a)
-            .map_err(|f| f.at(Step::PickingArm))?;
-        let arm_b = self.setup.arm(b);
+        let memo = self
+            .memo_lock(&self.handover_arm_memo)
+            .get(&(a, hi, g1))
+            .cloned();
+        let q_a = match memo {
+            Some(r) => r?,
+            None => {
+                let r = split(
+                    self.free_ik(a, &pose_a, lifted, salt, &holding_a)
+                        .map_err(|f| f.at(Step::PickingArm)),
+                )?;
+                self.memo_lock(&self.handover_arm_memo)
+                    .insert((a, hi, g1), r.clone());
+                r?
+            }
+        };
         // The second grasps the reachability map expects IK for here first, each group in
         // the order given.
         let mut places: Vec<&(usize, Place)> = places.iter().collect();
         places.sort_by_key(|(g2, _)| !self.reachable(b, *g2, world_from_object));
-        for (g2, _) in places {
-            let grasp2 = &self.grasps[*g2];
-            let pose_b = world_from_object * grasp2.object_from_tcp;
-            if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
-                regrasp.reject(Rejection::ArmOutOfReach(Role::Placing).to_string());
-                continue;
-            }
-            // The two hands must not overlap: the second grasp's gripper against the first.
-            if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
-                regrasp.reject(Rejection::HandsOverlap.to_string());
-                continue;
-            }
-            let seed = self.opened(b, &q_a);
-            let q_b = match split(self.free_ik(
-                b,
-                &pose_b,
-                &seed,
-                salt ^ (*g2 as u64) << 40,
-                &holding_a,
-            ))? {
-                Ok(q) => q,
-                Err(r) => {
-                    regrasp.reject(r.at(Step::Regrasp).to_string());
-                    continue;
+        for &&(g2, _) in &places {
+            let key = (a, hi, g1, g2);
+            let memo = self.memo_lock(&self.second_grasp_memo).get(&key).cloned();
+            let outcome = match memo {
+                Some(r) => r,
+                None => {
+                    let r = self.second_grasp_at(
+                        strategy,
+                        world_from_object,
+                        (g1, g2),
+                        (&q_a, salt),
+                        &holding_a,
+                    )?;
+                    self.memo_lock(&self.second_grasp_memo)
+                        .insert(key, r.clone());
+                    r
                 }
             };
-            let pre_pose =
-                pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
-            let approach =
-                match split(self.cartesian(b, &q_b, &pre_pose, &|_, _| &holding_a, salt ^ 0x55))? {
-                    Ok(mut p) => {
-                        p.reverse();
-                        p
-                    }
-                    Err(r) => {
-                        regrasp.reject(r.at(Step::RegraspApproach).to_string());
-                        continue;
-                    }
-                };
-            // Both hold: B closes, then A opens and retreats with B holding.
-            let both = self.gripping(b, &q_b, grasp2.width);
-            // The two hands, as posed, keep the stated clearance on their real geometry.
-            // (B open at its grasp, both closed, A open: the fingers sweep between them).
-            if self.hands_too_close(&q_b)?
-                || self.hands_too_close(&both)?
-                || self.hands_too_close(&self.opened(a, &both))?
-            {
-                regrasp.reject(Rejection::HandsTooClose.to_string());
-                continue;
-            }
-            let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
-            let a_open = self.opened(a, &both);
-            if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
-                regrasp.reject(
-                    Rejection::Collision(c)
-                        .at(Step::FirstHandRelease)
-                        .to_string(),
-                );
-                continue;
-            }
-            let retreat_pose =
-                pose_a * Translation3::from(-self.approach_axis() * self.options.approach_distance);
-            let retreat = match split(self.cartesian(
-                a,
-                &a_open,
-                &retreat_pose,
-                &|_, _| &holding_b,
-                salt ^ 0x66,
-            ))? {
-                Ok(p) => p,
-                Err(r) => {
-                    regrasp.reject(r.at(Step::FirstHandRetreat).to_string());
-                    continue;
+            match outcome {
+                Ok(found) => {
+                    regrasp.accept();
+                    return Ok(found);
                 }
-            };
-            // Score: clearance of the handover configuration (both arms at the object).
-            let clearance = with_scratch(|scratch| {
-                holding_a.min_distance(&self.setup.model, &approach[0], scratch)
-            })
-            .map_err(crate::error::internal("clearance"))?
-            .map_or(1.0, |d| d.distance);
-            let reach_margin = (arm_a.reach
-                - (pose_a.translation.vector - arm_a.shoulder.coords).norm())
-            .min(arm_b.reach - (pose_b.translation.vector - arm_b.shoulder.coords).norm());
-            regrasp.accept();
-            return Ok((
-                clearance.min(0.1) + reach_margin,
-                Handover {
-                    g1,
-                    g2: *g2,
-                    q_a,
-                    approach,
-                    retreat,
-                },
-            ));
+                Err(reason) => regrasp.reject(reason),
+            }
         }
         Err(Rejection::NoRegrasp.into())
+    }
+
+    /// Second grasp `g2` of arm B at the handover where arm A holds the object with `g1` at
+    /// `world_from_object` in configuration `q_a`: the scored handover, or why `g2` fails
+    /// there (the rejection as counted).
+    ///
+    /// # Errors
+    /// [`crate::Error`] when a lower layer fails.
+    fn second_grasp_at(
+        &self,
+        strategy: Strategy,
+        world_from_object: &Isometry3,
+        (g1, g2): (usize, usize),
+        (q_a, salt): (&[Real], u64),
+        holding_a: &pickplace_robot::collision::CollisionWorld,
+    ) -> crate::Result<std::result::Result<(Real, Handover), String>> {
+        let (a, b) = (strategy.pick_arm(), strategy.place_arm());
+        let grasp1 = &self.grasps[g1];
+        let pose_a = world_from_object * grasp1.object_from_tcp;
+        let (arm_a, arm_b) = (self.setup.arm(a), self.setup.arm(b));
+        let grasp2 = &self.grasps[g2];
+        let pose_b = world_from_object * grasp2.object_from_tcp;
+        if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
+            return Ok(Err(Rejection::ArmOutOfReach(Role::Placing).to_string()));
+        }
+        // The two hands must not overlap: the second grasp's gripper against the first.
+        if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
+            return Ok(Err(Rejection::HandsOverlap.to_string()));
+        }
+        let seed = self.opened(b, q_a);
+        let q_b = match split(self.free_ik(b, &pose_b, &seed, salt ^ (g2 as u64) << 40, holding_a))?
+        {
+            Ok(q) => q,
+            Err(r) => return Ok(Err(r.at(Step::Regrasp).to_string())),
+        };
+        let pre_pose =
+            pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let approach =
+            match split(self.cartesian(b, &q_b, &pre_pose, &|_, _| holding_a, salt ^ 0x55))? {
+                Ok(mut p) => {
+                    p.reverse();
+                    p
+                }
+                Err(r) => return Ok(Err(r.at(Step::RegraspApproach).to_string())),
+            };
+        // Both hold: B closes, then A opens and retreats with B holding.
+        let both = self.gripping(b, &q_b, grasp2.width);
+        // The two hands, as posed, keep the stated clearance on their real geometry.
+        // (B open at its grasp, both closed, A open: the fingers sweep between them).
+        if self.hands_too_close(&q_b)?
+            || self.hands_too_close(&both)?
+            || self.hands_too_close(&self.opened(a, &both))?
+        {
+            return Ok(Err(Rejection::HandsTooClose.to_string()));
+        }
+        let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
+        let a_open = self.opened(a, &both);
+        if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
+            return Ok(Err(Rejection::Collision(c)
+                .at(Step::FirstHandRelease)
+                .to_string()));
+        }
+        let retreat_pose =
+            pose_a * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let retreat = match split(self.cartesian(
+            a,
+            &a_open,
+            &retreat_pose,
+            &|_, _| &holding_b,
+            salt ^ 0x66,
+        ))? {
+            Ok(p) => p,
+            Err(r) => return Ok(Err(r.at(Step::FirstHandRetreat).to_string())),
+        };
+        // Score: clearance of the handover configuration (both arms at the object).
+        let clearance = with_scratch(|scratch| {
+            holding_a.min_distance(&self.setup.model, &approach[0], scratch)
+        })
+        .map_err(crate::error::internal("clearance"))?
+        .map_or(1.0, |d| d.distance);
+        let reach_margin = (arm_a.reach
+            - (pose_a.translation.vector - arm_a.shoulder.coords).norm())
+        .min(arm_b.reach - (pose_b.translation.vector - arm_b.shoulder.coords).norm());
+        Ok(Ok((
+            clearance.min(0.1) + reach_margin,
+            Handover {
+                g1,
+                g2,
+                q_a: q_a.to_vec(),
+                approach,
+                retreat,
+            },
+        )))
     }
 }
 

@@ -364,7 +364,7 @@ impl Ctx<'_> {
 
     /// The memo behind `mutex` (a poisoned lock still holds valid entries: each is inserted
     /// whole).
-    fn memo_lock<'m, T>(&self, mutex: &'m Mutex<T>) -> MutexGuard<'m, T> {
+    pub(super) fn memo_lock<'m, T>(&self, mutex: &'m Mutex<T>) -> MutexGuard<'m, T> {
         mutex
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)

@@ -216,6 +216,10 @@ struct Ctx<'a> {
     pick_memo: Mutex<BTreeMap<(Arm, usize), Memo<keypose::Pick>>>,
     /// Places per (arm, placement, grasp), shared by the strategies.
     place_memo: Mutex<BTreeMap<(Arm, usize, usize), Memo<keypose::Place>>>,
+    /// The picking arm at each handover candidate per first grasp, shared by the placements.
+    handover_arm_memo: Mutex<handover::HandoverArmMemo>,
+    /// Each second grasp at each handover candidate per first grasp, shared by the placements.
+    second_grasp_memo: Mutex<handover::SecondGraspMemo>,
     /// The hands' clearance check, built once (`Ctx::hands_too_close`).
     hand_clearance: OnceLock<std::result::Result<Option<crate::validate::HandClearance>, String>>,
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
@@ -347,6 +351,8 @@ impl<'a> Ctx<'a> {
             },
             pick_memo: Mutex::new(BTreeMap::new()),
             place_memo: Mutex::new(BTreeMap::new()),
+            handover_arm_memo: Mutex::new(BTreeMap::new()),
+            second_grasp_memo: Mutex::new(BTreeMap::new()),
             setup,
             options,
             grasps: grasp_set
