@@ -36,6 +36,7 @@
 #![warn(missing_docs)]
 
 pub mod collide;
+pub mod db;
 pub mod error;
 pub mod gripper;
 pub mod json;

@@ -21,8 +21,8 @@ use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
 use pickplace_geometry::hash::mesh_hash;
 use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_geometry::mesh::{MassProperties, MeshOptions, TriMesh};
-use pickplace_grasp::GripperParams;
 use pickplace_grasp::collide::ObjectCollider;
+use pickplace_grasp::{GraspOptions, GraspPlanner, GraspSet, GripperParams};
 use pickplace_placement::{EnvironmentModel, ObjectModel};
 use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
@@ -159,6 +159,9 @@ pub struct Setup {
     pub object_env: Clustering,
     /// The object's finger-contact clusters and pairs.
     pub object_finger: Clustering,
+    /// The object's grasps for [`Setup::gripper`] (§III-B.1, default
+    /// [`pickplace_grasp::GraspOptions`]), ranked; read from the cache when planned before.
+    pub grasp_set: GraspSet,
     /// Its centre of gravity (object frame).
     pub cog: Point3,
     /// `world_from_object` at the start.
@@ -415,6 +418,14 @@ impl Setup {
             options,
             &mut log,
         )?;
+        let grasp_set = grasps(
+            &object_mesh,
+            &scene.object.mesh,
+            (&finger_params, &object_finger),
+            &gripper,
+            &mut cache,
+            &mut log,
+        )?;
         let cog = scene
             .object
             .center_of_gravity
@@ -484,6 +495,7 @@ impl Setup {
             object_mesh,
             object_env,
             object_finger,
+            grasp_set,
             cog,
             object_start,
             placement_object,
@@ -601,6 +613,63 @@ fn clusters(
         ms(t)
     ));
     Ok(db.clustering)
+}
+
+/// The object's grasps: read from the cache when an entry for this mesh, clustering, gripper
+/// and planner version is there and sound, planned otherwise (and written there when the
+/// cache is still in use).
+fn grasps(
+    mesh: &TriMesh,
+    mesh_path: &Path,
+    (params, finger): (&ClusterParams, &Clustering),
+    gripper: &GripperParams,
+    cache: &mut Cache,
+    log: &mut Vec<String>,
+) -> Result<GraspSet> {
+    let t = Instant::now();
+    let options = GraspOptions::default();
+    let key = pickplace_grasp::db::key(mesh_hash(mesh), params, gripper, &options);
+    let path = cache.dir().map(|dir| {
+        let stem = mesh_path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .filter(|s| !s.is_empty())
+            .unwrap_or_else(|| "mesh".to_owned());
+        dir.join(format!(
+            "{stem}.grasps.{key:016x}.{}",
+            pickplace_grasp::db::EXTENSION
+        ))
+    });
+    let mut loaded = None;
+    if let Some(path) = &path {
+        match pickplace_geometry::io::read_bytes(path, pickplace_geometry::io::FileKind::CacheEntry)
+        {
+            // Another key or a damaged entry: planned again and written over.
+            Ok(bytes) => loaded = pickplace_grasp::db::decode(&bytes, key).ok(),
+            Err(e)
+                if e.kind() == std::io::ErrorKind::NotFound
+                    || pickplace_geometry::io::is_refused(&e) => {}
+            Err(e) => cache.unreadable(path, crate::cache::os_reason(&e)),
+        }
+    }
+    let (set, status) = match loaded {
+        Some(set) => (set, "loaded from the cache"),
+        None => {
+            let set = GraspPlanner::new(mesh)
+                .and_then(|p| p.plan(finger, gripper, &options))
+                .map_err(crate::error::internal("grasp planning"))?;
+            if let Some(path) = &path {
+                cache.write(path, &pickplace_grasp::db::encode(key, &set));
+            }
+            (set, "planned")
+        }
+    };
+    log.push(format!(
+        "object grasps ({}): {status} in {:.1} ms",
+        set.grasps.len(),
+        ms(t)
+    ));
+    Ok(set)
 }
 
 fn arm_setup(

@@ -37,7 +37,7 @@ use crate::scene::StrategyChoice;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
 use pickplace_geometry::math::Real;
-use pickplace_grasp::{Grasp, GraspOptions, GraspPlanner, GraspSet};
+use pickplace_grasp::{Grasp, GraspSet};
 use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
 use std::collections::BTreeMap;
 use std::sync::{Mutex, OnceLock};
@@ -304,15 +304,8 @@ fn candidates(
     let far = before - placement_set.placements.len();
     timings.insert("placement".to_owned(), t.elapsed().as_secs_f64());
     let t = Instant::now();
-    let grasp_set = GraspPlanner::new(&setup.object_mesh)
-        .and_then(|p| {
-            p.plan(
-                &setup.object_finger,
-                &setup.gripper,
-                &GraspOptions::default(),
-            )
-        })
-        .map_err(crate::error::internal("grasp planning"))?;
+    // Planned (or read from the cache) by the setup, once per object and gripper.
+    let grasp_set = setup.grasp_set.clone();
     timings.insert("grasp".to_owned(), t.elapsed().as_secs_f64());
     Ok((placement_set, grasp_set, far))
 }
