@@ -594,10 +594,11 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         let seeds: Vec<String> = args.seeds.iter().map(u64::to_string).collect();
         let text = format!(
             "`cargo xtask suite run --seeds {} --write-doc` ({} scenes, {:.0} s in all, cluster \
-             databases and roadmaps from the cache), release build, on {}. Planning time: the \
-             wall-clock of the planning call that `pickplace plan` prints (setup and cache \
-             loading excluded), over every run of a feasible scene. ✗ marks a run whose outcome \
-             is not the manifest's expectation.\n\n{table}",
+             databases, grasp sets and roadmaps from the cache), release build, on {}. Planning \
+             time: the wall-clock of the planning call that `pickplace plan` prints (setup and \
+             cache loading excluded; the setup plans the object's grasp set, 1–50 ms once per \
+             object and gripper, as it clusters the object's surface), over every run of a feasible scene. ✗ marks a run whose outcome is not the manifest's \
+             expectation.\n\n{table}",
             seeds.join(","),
             entries.len(),
             start.elapsed().as_secs_f64(),

@@ -398,21 +398,47 @@ struct Footprint {
     half: (Real, Real),
 }
 
-/// What a pad touches: how far the surface under it rises above the grasp line's crossing,
-/// and the area it touches once pressed home.
-#[derive(Debug, Clone, Copy)]
-struct PadContact {
-    /// Height of the highest point under the pad above the contact point, towards the pad (m).
-    rise: Real,
-    /// Area of the surface under the pad within `h_max` of that highest point, projected onto
-    /// the pad (m²).
-    area: Real,
+/// The triangles that may lie under a pad ([`GraspPlanner::facing_near`]): their corners
+/// relative to the contact point, in triangle order, with each one's highest corner along the
+/// direction to the pad, and their indices from the highest down.
+struct Near {
+    triangles: Vec<[Vector3; 3]>,
+    top: Vec<Real>,
+    by_top: Vec<usize>,
+    toward: Vector3,
+}
+
+impl Near {
+    fn new(triangles: Vec<[Vector3; 3]>, toward: Vector3) -> Self {
+        let top: Vec<Real> = triangles
+            .iter()
+            .map(|d| {
+                d.iter()
+                    .map(|d| d.dot(&toward))
+                    .fold(Real::NEG_INFINITY, Real::max)
+            })
+            .collect();
+        let mut by_top: Vec<usize> = (0..triangles.len()).collect();
+        by_top.sort_unstable_by(|&i, &j| top[j].total_cmp(&top[i]).then(i.cmp(&j)));
+        Self {
+            triangles,
+            top,
+            by_top,
+            toward,
+        }
+    }
+
+    fn empty() -> Self {
+        Self::new(Vec::new(), Vector3::z())
+    }
 }
 
 impl GraspPlanner {
-    /// The triangles facing `toward` (unit, from the surface to a pad) whose bounding boxes
-    /// meet the ball of radius `radius` about `contact`, widened by `h_max`: every triangle
-    /// that can lie under a pad centred on `contact`, whatever the approach direction.
+    /// The triangles facing `toward` (unit, from the surface to a pad) that meet the cylinder
+    /// of radius `radius` about `contact` along `toward`, from `h_max` below it to `ceiling`
+    /// above it (conservatively: through the BVH, then the square about the disc): every
+    /// triangle that can lie under a pad centred on `contact`, whatever the approach
+    /// direction.
     ///
     /// Returns their corners relative to `contact`, in triangle order; triangles lying wholly
     /// more than `h_max` below `contact` or more than `ceiling` above it (beyond the back of
@@ -423,28 +449,45 @@ impl GraspPlanner {
         toward: &Vector3,
         radius: Real,
         (h_max, ceiling): (Real, Real),
-    ) -> Vec<[Vector3; 3]> {
-        let reach = Vector3::repeat(radius);
-        let mut near = self
+    ) -> Near {
+        let reach = Vector3::repeat(radius + h_max.max(ceiling));
+        let near = self
             .collider
             .triangles_near(&(contact - reach), &(contact + reach));
-        near.sort_unstable();
-        near.iter()
+        // Any in-plane basis: the pad's rectangle turns about the contact point, inside the
+        // disc of `radius`, so a triangle wholly beside the disc's square is never under it.
+        let u = toward.cross(&Vector3::x());
+        let u = if u.norm_squared() > 1e-6 {
+            u.normalize()
+        } else {
+            toward.cross(&Vector3::y()).normalize()
+        };
+        let v = toward.cross(&u);
+        let triangles = near
+            .iter()
             .filter_map(|&t| {
                 let tri = self.triangles.get(t as usize)?;
                 let [a, b, c] = tri.map(|v| self.vertices[v as usize]);
-                let facing = (b - a).cross(&(c - a)).dot(toward) > 0.0;
+                if (b - a).cross(&(c - a)).dot(toward) <= 0.0 {
+                    return None;
+                }
                 let d = [a - contact, b - contact, c - contact];
+                let beside = |axis: &Vector3| {
+                    d.iter().all(|d| d.dot(axis) > radius)
+                        || d.iter().all(|d| d.dot(axis) < -radius)
+                };
                 let heights = d.map(|d| d.dot(toward));
                 let reached =
                     heights.iter().any(|&h| h >= -h_max) && heights.iter().any(|&h| h <= ceiling);
-                (facing && reached).then_some(d)
+                (reached && !beside(&u) && !beside(&v)).then_some(d)
             })
-            .collect()
+            .collect::<Vec<_>>();
+        Near::new(triangles, *toward)
     }
 
-    /// The contact of a pad centred on `contact` (a point of the surface), facing the surface
-    /// from `toward` (unit, from the surface to the pad), with the rectangle `footprint`.
+    /// The rise under a pad (its first pass) or the area it touches (its second): what a
+    /// pad centred on a contact point of the surface, facing the surface from `toward` (unit,
+    /// from the surface to the pad), with the rectangle `footprint`, meets.
     ///
     /// The rigid pad first touches the highest point of the surface under it; its flexible
     /// sheet of depth `h_max` (§III-A, Fig. 2; the paper's ref. \[15\]) then reaches every part
@@ -453,75 +496,105 @@ impl GraspPlanner {
     /// a curved body (a duck, a fruit, a bottle's neck) touches the cap the sheet wraps, and a
     /// pad on a flat face touches the face under it. Triangles facing away (the far side of a
     /// thin wall) are not touched. Each triangle is projected onto the pad plane, clipped to
-    /// the rectangle and to the sheet's depth; the height is affine over a triangle, so the
-    /// highest point is at a corner of a clipped polygon.
+    /// the rectangle, to the sheet's reach below the contact point and to the back of the open
+    /// finger (`ceiling`); the height is affine over a triangle, so the highest point is at a
+    /// corner of a clipped polygon.
+    ///
+    /// With `level = None` returns the rise: the height of the highest point above the contact
+    /// point (m, at least 0). With `level = Some(l)` returns the area (m², projected onto the
+    /// pad, at most the pad's) of the parts at height `l` or more: with `l = rise − h_max`,
+    /// what the pressed sheet touches. Two passes, so that a candidate whose rise is already
+    /// too deep costs no area.
     ///
     /// `near` lists the triangles facing the pad that may lie under it, their corners relative
     /// to the contact point ([`Self::facing_near`]).
-    fn pad_contact(
-        &self,
-        toward: &Vector3,
+    fn pad_scan(
         footprint: &Footprint,
         (h_max, ceiling): (Real, Real),
-        near: &[[Vector3; 3]],
-    ) -> PadContact {
+        near: &Near,
+        level: Option<Real>,
+    ) -> Real {
         let (hw, hd) = footprint.half;
-        let mut patches: Vec<Poly> = Vec::new();
-        let mut rise: Real = 0.0;
-        for tri in near {
-            let corners = tri.map(|d| {
+        let floor = level.unwrap_or(-h_max).max(-h_max);
+        // The part of triangle `i` under the pad, between `floor` and `ceiling`.
+        let clipped = |i: usize| -> Option<Poly> {
+            let corners = near.triangles[i].map(|d| {
                 [
                     d.dot(&footprint.lateral),
                     d.dot(&footprint.approach),
-                    d.dot(toward),
+                    d.dot(&near.toward),
                 ]
             });
-            // Quick exits: entirely beside the face, or below the sheet's reach.
+            // Quick exits: entirely beside the pad, below the reach, above the finger's back.
             if corners.iter().all(|q| q[0] > hw)
                 || corners.iter().all(|q| q[0] < -hw)
                 || corners.iter().all(|q| q[1] > hd)
                 || corners.iter().all(|q| q[1] < -hd)
-                || corners.iter().all(|q| q[2] < -h_max)
+                || corners.iter().all(|q| q[2] < floor)
+                || corners.iter().all(|q| q[2] > ceiling)
             {
-                continue;
+                return None;
             }
-            let mut poly = Poly::triangle(corners);
-            for (axis, sign, limit) in [(0, 1.0, hw), (0, -1.0, hw), (1, 1.0, hd), (1, -1.0, hd)] {
-                clip(&mut poly, axis, sign, limit);
-                if poly.len == 0 {
-                    break;
+            // Two buffers in turn: a cut writes the other one, no copy.
+            let mut buffers = [Poly::triangle(corners), Poly::EMPTY];
+            let mut current = 0;
+            for (axis, sign, limit) in [
+                (0, 1.0, hw),
+                (0, -1.0, hw),
+                (1, 1.0, hd),
+                (1, -1.0, hd),
+                (2, -1.0, -floor),
+                (2, 1.0, ceiling),
+            ] {
+                let [a, b] = &mut buffers;
+                let (src, dst) = if current == 0 { (a, b) } else { (b, a) };
+                if clip_into(src, dst, axis, sign, limit) {
+                    current = 1 - current;
+                }
+                if buffers[current].len < 3 {
+                    return None;
                 }
             }
-            // Below the sheet's reach from the contact point (never touched, whatever the rise),
-            // or beyond the back of the open finger.
-            clip(&mut poly, 2, -1.0, h_max);
-            clip(&mut poly, 2, 1.0, ceiling);
-            if poly.len < 3 {
-                continue;
+            Some(buffers[current])
+        };
+        match level {
+            None => {
+                // From the highest triangle down: once a triangle's highest corner is no
+                // higher than the rise found, no later one can raise it.
+                let mut rise: Real = 0.0;
+                for &i in &near.by_top {
+                    if near.top[i].min(ceiling) <= rise {
+                        break;
+                    }
+                    if let Some(poly) = clipped(i) {
+                        for q in poly.points() {
+                            rise = rise.max(q[2]);
+                        }
+                    }
+                }
+                rise
             }
-            for q in poly.points() {
-                rise = rise.max(q[2]);
+            Some(_) => {
+                // In triangle order (the sum's order); a triangle wholly below the level
+                // touches nothing.
+                let mut area = 0.0;
+                for i in 0..near.triangles.len() {
+                    if near.top[i] < floor {
+                        continue;
+                    }
+                    if let Some(poly) = clipped(i) {
+                        area += poly.area();
+                    }
+                }
+                area.min(4.0 * hw * hd)
             }
-            patches.push(poly);
-        }
-        let level = rise - h_max;
-        let mut area = 0.0;
-        for poly in &mut patches {
-            clip(poly, 2, -1.0, -level);
-            if poly.len >= 3 {
-                area += poly.area();
-            }
-        }
-        PadContact {
-            rise,
-            area: area.min(4.0 * hw * hd),
         }
     }
 }
 
 /// A convex polygon of at most [`Poly::CAPACITY`] points `[x, y, height]`, on the stack: a
-/// triangle clipped by up to 7 half-planes (4 sides of the pad, the sheet's reach from the
-/// contact point and from the highest point, the back of the open finger).
+/// triangle clipped by up to 6 half-planes (4 sides of the pad, the sheet's reach, the back of
+/// the open finger).
 #[derive(Debug, Clone, Copy)]
 struct Poly {
     points: [[Real; 3]; Poly::CAPACITY],
@@ -529,7 +602,11 @@ struct Poly {
 }
 
 impl Poly {
-    const CAPACITY: usize = 10;
+    const CAPACITY: usize = 9;
+    const EMPTY: Self = Self {
+        points: [[0.0; 3]; Self::CAPACITY],
+        len: 0,
+    };
 
     fn triangle(corners: [[Real; 3]; 3]) -> Self {
         let mut points = [[0.0; 3]; Self::CAPACITY];
@@ -555,22 +632,22 @@ impl Poly {
 
 /// Sutherland–Hodgman: the part of a polygon (points `[x, y, height]`) where
 /// `sign · p[axis] ≤ limit`, the height interpolated along the cut edges.
-fn clip(poly: &mut Poly, axis: usize, sign: Real, limit: Real) {
+/// Sutherland–Hodgman from `src` into `dst`: the part of a polygon (points
+/// `[x, y, height]`) where `sign · p[axis] ≤ limit`, the height interpolated along the cut
+/// edges; `false` (and `dst` untouched) when nothing is cut off.
+fn clip_into(src: &Poly, dst: &mut Poly, axis: usize, sign: Real, limit: Real) -> bool {
     let inside = |p: &[Real; 3]| sign * p[axis] <= limit;
-    let points = poly.points();
+    let points = src.points();
     if points.iter().all(inside) {
-        return;
+        return false;
     }
-    let mut out = Poly {
-        points: [[0.0; 3]; Poly::CAPACITY],
-        len: 0,
-    };
+    dst.len = 0;
     let mut push = |q: [Real; 3]| {
         // A convex polygon gains one point per cut: the capacity is never reached by the
         // clips made here; a degenerate sliver past it only loses points.
-        if out.len < Poly::CAPACITY {
-            out.points[out.len] = q;
-            out.len += 1;
+        if dst.len < Poly::CAPACITY {
+            dst.points[dst.len] = q;
+            dst.len += 1;
         }
     };
     for (i, p) in points.iter().enumerate() {
@@ -588,7 +665,7 @@ fn clip(poly: &mut Poly, axis: usize, sign: Real, limit: Real) {
             ]);
         }
     }
-    *poly = out;
+    true
 }
 
 /// Möller–Trumbore line/triangle intersection (two-sided, either direction along the line):
@@ -704,10 +781,11 @@ impl Context<'_> {
             &[1.0]
         };
         // The triangles under either pad, whatever the approach direction: within the pad's half
-        // diagonal (and the sheet's depth, and the largest rise) of its contact point.
+        // diagonal of its contact point in the pad's plane, between the sheet's reach below it
+        // and the open finger's back above it.
         let (g, h_max) = (self.gripper, self.clustering.params.h_max);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
-        let radius = hw.hypot(hd) + 2.0 * h_max + 1e-6;
+        let radius = hw.hypot(hd) + 1e-6;
         // Beyond the back of the open finger nothing is touched (a wall across a tube, whose
         // outer face looks the pad's way from behind its inner face).
         let ceiling = g.finger_thickness + self.options.clearance;
@@ -727,7 +805,7 @@ impl Context<'_> {
                 ),
             ]
         } else {
-            [Vec::new(), Vec::new()]
+            [Near::empty(), Near::empty()]
         };
         let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
         for k in 0..self.options.approach_count {
@@ -760,7 +838,7 @@ impl Context<'_> {
     fn shared_checks(
         &self,
         c: &mut Candidate<'_>,
-        near: [&[[Vector3; 3]]; 2],
+        near: [&Near; 2],
     ) -> std::result::Result<(Real, Real), Rejection> {
         let (g, o) = (self.gripper, self.options);
         if !(c.width.is_finite()
@@ -792,23 +870,26 @@ impl Context<'_> {
             half: (hw, hd),
         };
         let ceiling = g.finger_thickness + o.clearance;
-        let touch1 =
-            self.planner
-                .pad_contact(&c.first.normal, &footprint, (h_max, ceiling), near[0]);
-        let touch2 =
-            self.planner
-                .pad_contact(&(-c.first.normal), &footprint, (h_max, ceiling), near[1]);
-        let depth = touch1.rise.max(touch2.rise);
+        let limits = (h_max, ceiling);
+        let rise1 = GraspPlanner::pad_scan(&footprint, limits, near[0], None);
+        if rise1 > h_max + 1e-9 {
+            return Err(Rejection::PadTilt);
+        }
+        let rise2 = GraspPlanner::pad_scan(&footprint, limits, near[1], None);
+        let depth = rise1.max(rise2);
         if depth > h_max + 1e-9 {
             return Err(Rejection::PadTilt);
         }
-        c.width += touch1.rise + touch2.rise;
-        c.tcp += c.first.normal * (0.5 * (touch1.rise - touch2.rise));
+        c.width += rise1 + rise2;
+        c.tcp += c.first.normal * (0.5 * (rise1 - rise2));
         if c.width > g.opening_max - 2.0 * o.clearance {
             return Err(Rejection::Width);
         }
         // Contact: the surface both pads touch, measured on the mesh (issue 17).
-        let contact_area = touch1.area.min(touch2.area);
+        let area = |near: &Near, rise: Real| {
+            GraspPlanner::pad_scan(&footprint, limits, near, Some(rise - h_max))
+        };
+        let contact_area = area(near[0], rise1).min(area(near[1], rise2));
         if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
             return Err(Rejection::Contact);
         }
