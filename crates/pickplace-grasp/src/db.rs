@@ -136,17 +136,10 @@ pub fn decode(bytes: &[u8], key: u64) -> Result<GraspSet, DbError> {
 mod tests {
     use super::*;
     use crate::planner::GraspPlanner;
+    use crate::planner::tests::gripper;
     use pickplace_geometry::cluster::cluster_surface;
     use pickplace_geometry::hash::mesh_hash;
     use pickplace_geometry::shapes;
-
-    fn gripper() -> GripperParams {
-        GripperParams::from_toml_str(
-            include_str!("../tests/data/gripper.toml"),
-            std::path::Path::new("gripper.toml"),
-        )
-        .expect("valid fixture")
-    }
 
     #[test]
     fn an_entry_gives_back_its_set_and_refuses_other_keys_and_damage() {

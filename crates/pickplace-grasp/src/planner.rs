@@ -993,12 +993,13 @@ impl Candidate<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
     use pickplace_geometry::shapes;
 
-    fn gripper() -> GripperParams {
+    /// NX-HIRO's gripper, from the crate's test fixture.
+    pub(crate) fn gripper() -> GripperParams {
         GripperParams::from_toml_str(
             include_str!("../tests/data/gripper.toml"),
             std::path::Path::new("gripper.toml"),
