@@ -538,11 +538,29 @@ impl Plan {
                 self.strategy.place_arm()
             ));
         }
-        let two = self.strategy.has_handover() || self.strategy.has_regrasp();
-        let expected = if two { 2 } else { 1 };
-        if self.grasps.len() != expected {
+        // A regrasp by placing takes one more grasp than it has rests (one per transfer).
+        let expected = if self.strategy.has_regrasp() {
+            self.rests.len() + 1
+        } else if self.strategy.has_handover() {
+            2
+        } else {
+            1
+        };
+        if self.strategy.has_regrasp() && !(1..=2).contains(&self.rests.len()) {
             return Err(format!(
-                "grasps: {} given, the strategy {} uses {expected}",
+                "rests: {} given; a regrasp by placing has one or two (strategy {})",
+                self.rests.len(),
+                self.strategy
+            ));
+        }
+        if self.grasps.len() != expected {
+            let with = if self.strategy.has_regrasp() {
+                format!(" with {} rest(s)", self.rests.len())
+            } else {
+                String::new()
+            };
+            return Err(format!(
+                "grasps: {} given, the strategy {}{with} uses {expected}",
                 self.grasps.len(),
                 self.strategy
             ));

@@ -96,6 +96,9 @@ pub struct PlanOptions {
     /// Fraction of every joint's acceleration limit the trajectory uses, in (0, 1] (default:
     /// the scene's `trajectory.acceleration_scaling`, else 1).
     pub acceleration_scaling: Real,
+    /// Fewest and most intermediate resting poses of a regrasp by placing, searched in that
+    /// order, fewest first: the shortest sequence of the regrasp graph (default: 1 and 2).
+    pub regrasp_rests: (usize, usize),
 }
 
 impl PlanOptions {
@@ -161,6 +164,7 @@ impl Default for PlanOptions {
             blend_tolerance: 0.1,
             velocity_scaling: 1.0,
             acceleration_scaling: 1.0,
+            regrasp_rests: (1, 2),
         }
     }
 }

@@ -427,60 +427,156 @@ impl Ctx<'_> {
             | (legs.g1 as u64) << 8
             | (legs.g2 as u64) << 32
             | (legs.k as u64) << 48;
-        let mut segments = Vec::new();
-        let open_start = self.opened(b, &self.opened(a, start));
-        if open_start != start {
-            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
-        }
-        // Arm A: from the start to the rest.
-        let mut current = self.transfer(
-            &mut segments,
-            Transfer {
-                arm: a,
-                gi: legs.g1,
-                pick: legs.pick,
-                place: legs.down,
-                from: (&self.setup.object_start, &self.start_supports),
-                to: at_rest,
-                keys: PUT_DOWN,
-                salts: (salt ^ 1, salt ^ 2),
-            },
-            &open_start,
-        )?;
-        let resting = Arc::new(self.world_with_object_at(&rest));
-        if a != b
-            && let Some(back) = self.back_to_start(a, &resting, &current, start, salt ^ 3)?
-        {
-            current = super::end_of(&back.path)?.clone();
-            segments.push(Segment {
-                key: Some(("home-first", a)),
-                ..back
-            });
-        }
-        // Arm B: from the rest to the placement.
         let placed = (
             &self.placements[legs.pi].world_from_object,
             self.placement_supports(legs.pi),
         );
-        let retreated = self.transfer(
-            &mut segments,
-            Transfer {
-                arm: b,
-                gi: legs.g2,
-                pick: legs.up,
-                place: legs.place,
-                from: at_rest,
-                to: placed,
-                keys: PICK_UP,
-                salts: (salt ^ 4, salt ^ 5),
-            },
-            &current,
-        )?;
-        let left = Arc::new(self.world_with_object_at(placed.0));
-        if let Some(back) = self.back_to_start(b, &left, &retreated, start, salt ^ 6)? {
-            segments.push(back);
+        self.rest_chain(
+            start,
+            [
+                Transfer {
+                    arm: a,
+                    gi: legs.g1,
+                    pick: legs.pick,
+                    place: legs.down,
+                    from: (&self.setup.object_start, &self.start_supports),
+                    to: at_rest,
+                    keys: PUT_DOWN,
+                    salts: (salt ^ 1, salt ^ 2),
+                },
+                Transfer {
+                    arm: b,
+                    gi: legs.g2,
+                    pick: legs.up,
+                    place: legs.place,
+                    from: at_rest,
+                    to: placed,
+                    keys: PICK_UP,
+                    salts: (salt ^ 4, salt ^ 5),
+                },
+            ],
+            (salt ^ 3, salt ^ 6),
+        )
+    }
+
+    /// The segments of a chain of transfers through intermediate rests: both hands open, the
+    /// first transfer by arm A (which goes home when the next transfer is by the other arm),
+    /// the next ones in turn, and the last arm home. `home_salts` seed A's and the last arm's
+    /// motions home.
+    fn rest_chain<const N: usize>(
+        &self,
+        start: &[Real],
+        transfers: [Transfer<'_>; N],
+        home_salts: (u64, u64),
+    ) -> Attempt<Vec<Segment>> {
+        let mut segments = Vec::new();
+        let arms: Vec<Arm> = transfers.iter().map(|t| t.arm).collect();
+        let mut open_start = start.to_vec();
+        for &arm in &arms {
+            open_start = self.opened(arm, &open_start);
+        }
+        if open_start != start {
+            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
+        }
+        let mut current = open_start;
+        let mut last = None;
+        for (i, t) in transfers.into_iter().enumerate() {
+            let (arm, to) = (t.arm, *t.to.0);
+            current = self.transfer(&mut segments, t, &current)?;
+            // The first arm goes home before the other takes over.
+            if i == 0
+                && arms.get(1).is_some_and(|&next| next != arm)
+                && let Some(back) = self.back_to_start(
+                    arm,
+                    &Arc::new(self.world_with_object_at(&to)),
+                    &current,
+                    start,
+                    home_salts.0,
+                )?
+            {
+                current = super::end_of(&back.path)?.clone();
+                segments.push(Segment {
+                    key: Some(("home-first", arm)),
+                    ..back
+                });
+            }
+            last = Some((arm, to));
+        }
+        if let Some((arm, placed)) = last {
+            let left = Arc::new(self.world_with_object_at(&placed));
+            if let Some(back) = self.back_to_start(arm, &left, &current, start, home_salts.1)? {
+                segments.push(back);
+            }
         }
         Ok(segments)
+    }
+}
+
+impl Ctx<'_> {
+    /// The segments of a regrasp through two rests: arm A carries the object from the start
+    /// to rest k₁ (and goes home when B is the other arm), B carries it from k₁ to rest k₂,
+    /// then from k₂ to the placement, and goes home.
+    pub(super) fn two_rest_motions(
+        &self,
+        start: &[Real],
+        legs: &super::regrasp::TwoRestLegs<'_>,
+    ) -> Attempt<Vec<Segment>> {
+        let (a, b) = (legs.strategy.pick_arm(), legs.strategy.place_arm());
+        let (k1, k2) = legs.rests;
+        let (g1, g2, g3) = legs.grasps;
+        let (rest1, rest2) = (
+            self.rests()[k1].world_from_object,
+            self.rests()[k2].world_from_object,
+        );
+        let at1 = (&rest1, self.rest_supports(k1));
+        let at2 = (&rest2, self.rest_supports(k2));
+        let salt = 1 << 62
+            | (legs.pi as u64) << 20
+            | (g1 as u64) << 8
+            | (g2 as u64) << 28
+            | (g3 as u64) << 40
+            | (k1 as u64) << 50
+            | (k2 as u64) << 56;
+        let placed = (
+            &self.placements[legs.pi].world_from_object,
+            self.placement_supports(legs.pi),
+        );
+        self.rest_chain(
+            start,
+            [
+                Transfer {
+                    arm: a,
+                    gi: g1,
+                    pick: legs.pick,
+                    place: legs.down,
+                    from: (&self.setup.object_start, &self.start_supports),
+                    to: at1,
+                    keys: PUT_DOWN,
+                    salts: (salt ^ 1, salt ^ 2),
+                },
+                Transfer {
+                    arm: b,
+                    gi: g2,
+                    pick: legs.up,
+                    place: legs.moved,
+                    from: at1,
+                    to: at2,
+                    keys: MOVE,
+                    salts: (salt ^ 4, salt ^ 5),
+                },
+                Transfer {
+                    arm: b,
+                    gi: g3,
+                    pick: legs.up_again,
+                    place: legs.place,
+                    from: at2,
+                    to: placed,
+                    keys: PICK_UP,
+                    salts: (salt ^ 6, salt ^ 7),
+                },
+            ],
+            (salt ^ 3, salt ^ 8),
+        )
     }
 }
 
@@ -537,6 +633,21 @@ const PUT_DOWN: TransferKeys = TransferKeys {
         "retreat-rest",
     ],
     to_pick: Step::ToPreGrasp,
+    to_place: Step::ToRest,
+};
+
+/// A pick-up at one intermediate rest and a put-down at the next.
+const MOVE: TransferKeys = TransferKeys {
+    names: [
+        "pre-regrasp",
+        "regrasp",
+        "lift-again",
+        "pre-rest",
+        "rest",
+        "release-rest",
+        "retreat-rest",
+    ],
+    to_pick: Step::ToPreRegrasp,
     to_place: Step::ToRest,
 };
 

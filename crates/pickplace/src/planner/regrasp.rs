@@ -211,7 +211,13 @@ impl Ctx<'_> {
             BTreeMap::new();
         // Per rest: whether A can put the object down there with some grasp.
         let mut alive: BTreeMap<usize, bool> = BTreeMap::new();
-        for (pi, fit_final, _) in &finals {
+        let (fewest, most) = self.options.regrasp_rests;
+        let one_rest = if fewest <= 1 && most >= 1 {
+            finals.as_slice()
+        } else {
+            &[]
+        };
+        for (pi, fit_final, _) in one_rest {
             let pi = *pi;
             // The most constrained leg first: B's places at the target, seeded from the
             // start, in parallel chunks; then the rests where B can pick up with that grasp,
@@ -242,20 +248,8 @@ impl Ctx<'_> {
                         if up.binary_search(&g2).is_err() || alive.contains_key(k) {
                             continue;
                         }
-                        let mut any = false;
-                        for chunk in down.chunks(super::search::PARALLEL_CHUNK) {
-                            if self.out_of_time() {
-                                break;
-                            }
-                            self.put_downs(a, *k, chunk, (&mut picks, &mut downs), report)?;
-                            if chunk
-                                .iter()
-                                .any(|g1| matches!(downs.get(&(*k, *g1)), Some(Ok(_))))
-                            {
-                                any = true;
-                                break;
-                            }
-                        }
+                        let any =
+                            self.can_put_down(a, *k, down, (&mut picks, &mut downs), report)?;
                         alive.insert(*k, any);
                     }
                     // B's pick-ups of `g2` at every such rest where it fits, on the thread
@@ -355,8 +349,225 @@ impl Ctx<'_> {
             }
             count(report, Stage::Placement).reject(Rejection::NoRegraspSequence.to_string());
         }
+        if most < 2 || self.out_of_time() {
+            return Ok(None);
+        }
+        let search = TwoRests {
+            strategy,
+            start: &start,
+            open_start: &open_start,
+            finals: &finals,
+            rest_edges: &rest_edges,
+        };
+        self.regrasp_two_rests(
+            &search,
+            (&mut picks, &mut downs),
+            &mut ups,
+            &mut alive,
+            report,
+        )
+    }
+
+    /// The next shortest sequences of the regrasp graph, through two intermediate rests:
+    /// start →(A, g₁)→ rest k₁ →(B, g₂)→ rest k₂ →(B, g₃)→ placement, searched when no
+    /// sequence through one rest works (or when asked for, [`super::PlanOptions::regrasp_rests`]).
+    /// B's places at the target first (the most constrained leg), then the rests k₂ where B
+    /// picks up with g₃, the rests k₁ where A puts the object down, B's grasps g₂ that pick it
+    /// up at k₁ and put it down at k₂, and last A's grasps g₁ and the motions. Every key pose is
+    /// computed once; the search stops at the first sequence whose motions join, or when the
+    /// strategy's share of the time budget is spent.
+    fn regrasp_two_rests(
+        &self,
+        search: &TwoRests<'_>,
+        (picks, downs): PutDownMemos<'_>,
+        ups: &mut BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>>,
+        alive: &mut BTreeMap<usize, bool>,
+        report: &mut StrategyReport,
+    ) -> Result<Option<Found>> {
+        let strategy = search.strategy;
+        let (a, b) = (strategy.pick_arm(), strategy.place_arm());
+        let mut moves: BTreeMap<(usize, usize, usize), std::result::Result<Place, Rejection>> =
+            BTreeMap::new();
+        for (pi, fit_final, _) in search.finals {
+            let pi = *pi;
+            for &g3 in fit_final {
+                if self.out_of_time() {
+                    count(report, Stage::Placement).reject(Rejection::TimeBudgetSpent.to_string());
+                    return Ok(None);
+                }
+                // Computed (and counted) by the one-rest search when it ran.
+                let Ok(place) = split(self.place(b, pi, g3))? else {
+                    continue;
+                };
+                for (k2, _, up2) in search.rest_edges {
+                    let k2 = *k2;
+                    if up2.binary_search(&g3).is_err() {
+                        continue;
+                    }
+                    let Some(last_up) = self.pick_up(b, k2, g3, search.open_start, ups, report)?
+                    else {
+                        continue;
+                    };
+                    let rest2 = self.rests()[k2].world_from_object;
+                    for (k1, down1, up1) in search.rest_edges {
+                        let k1 = *k1;
+                        if k1 == k2 || self.out_of_time() {
+                            continue;
+                        }
+                        if let Entry::Vacant(slot) = alive.entry(k1) {
+                            slot.insert(self.can_put_down(
+                                a,
+                                k1,
+                                down1,
+                                (&mut *picks, &mut *downs),
+                                report,
+                            )?);
+                        }
+                        if alive.get(&k1) != Some(&true) {
+                            continue;
+                        }
+                        for &g2 in up1 {
+                            // The same hand with the same grasp gains nothing; g₂ must put the
+                            // object down at k₂ with the gripper clear there.
+                            if g2 == g3 || self.grasp_fits(b, g2, &rest2, false).is_err() {
+                                continue;
+                            }
+                            if self.out_of_time() {
+                                break;
+                            }
+                            let Some(first_up) =
+                                self.pick_up(b, k1, g2, search.open_start, ups, report)?
+                            else {
+                                continue;
+                            };
+                            let moved = match moves.entry((k1, k2, g2)) {
+                                Entry::Occupied(e) => e.get().clone(),
+                                Entry::Vacant(slot) => {
+                                    let lifted = super::end_of(&first_up.lift)?;
+                                    let r = split(self.place_at(
+                                        b,
+                                        g2,
+                                        &rest2,
+                                        self.rest_supports(k2),
+                                        lifted,
+                                        REST_SALT | 1 << 61 | (k2 as u64) << 20 | (k1 as u64) << 36,
+                                    ))?;
+                                    tally(report, Stage::Rest, &r);
+                                    slot.insert(r).clone()
+                                }
+                            };
+                            let Ok(moved) = moved else {
+                                continue;
+                            };
+                            let firsts: Vec<usize> = down1
+                                .iter()
+                                .copied()
+                                .filter(|&g1| !(a == b && g1 == g2))
+                                .collect();
+                            for chunk in firsts.chunks(super::search::PARALLEL_CHUNK) {
+                                if self.out_of_time() {
+                                    break;
+                                }
+                                self.put_downs(a, k1, chunk, (&mut *picks, &mut *downs), report)?;
+                                for &g1 in chunk {
+                                    let (Some(Ok(pick)), Some(Ok(down))) =
+                                        (picks.get(&g1), downs.get(&(k1, g1)))
+                                    else {
+                                        continue;
+                                    };
+                                    let legs = TwoRestLegs {
+                                        strategy,
+                                        pi,
+                                        rests: (k1, k2),
+                                        grasps: (g1, g2, g3),
+                                        pick,
+                                        down,
+                                        up: &first_up,
+                                        moved: &moved,
+                                        up_again: &last_up,
+                                        place: &place,
+                                    };
+                                    match split(self.two_rest_motions(search.start, &legs))? {
+                                        Ok(segments) => {
+                                            count(report, Stage::Motion).accept();
+                                            count(report, Stage::Placement).accept();
+                                            return Ok(Some(Found {
+                                                segments,
+                                                grasps: vec![(a, g1), (b, g2), (b, g3)],
+                                                placement: pi,
+                                                rests: vec![k1, k2],
+                                            }));
+                                        }
+                                        Err(r) => {
+                                            count(report, Stage::Motion).reject(r.to_string())
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            count(report, Stage::Placement).reject(Rejection::NoRegraspSequence.to_string());
+        }
         Ok(None)
     }
+
+    /// B's pick-up of the object at rest `k` with grasp `g` (computed once, counted under
+    /// the regrasp stage); `None` when it fails.
+    fn pick_up(
+        &self,
+        b: Arm,
+        k: usize,
+        g: usize,
+        open_start: &[Real],
+        ups: &mut BTreeMap<(usize, usize), std::result::Result<Pick, Rejection>>,
+        report: &mut StrategyReport,
+    ) -> Result<Option<Pick>> {
+        if let Some(r) = ups.get(&(k, g)) {
+            return Ok(r.as_ref().ok().cloned());
+        }
+        let rest_pose = self.rests()[k].world_from_object;
+        let r = split(self.pick_at(
+            b,
+            g,
+            &rest_pose,
+            self.rest_supports(k),
+            open_start,
+            1 + k as u64,
+        ))?;
+        tally(report, Stage::Regrasp, &r);
+        let out = r.as_ref().ok().cloned();
+        ups.insert((k, g), r);
+        Ok(out)
+    }
+}
+
+/// What the two-rest search works on: the strategy, the start (and with both hands open),
+/// the placements in B's order with the grasps that fit there, and per rest the grasps A puts
+/// the object down with and those B picks it up with.
+struct TwoRests<'s> {
+    strategy: Strategy,
+    start: &'s [Real],
+    open_start: &'s [Real],
+    finals: &'s [(usize, Vec<usize>, usize)],
+    rest_edges: &'s [(usize, Vec<usize>, Vec<usize>)],
+}
+
+/// The key poses of a sequence through two rests, checked: A's pick at the start and put-down
+/// at rest k₁ with g₁; B's pick-up at k₁ and put-down at k₂ with g₂; B's pick-up at k₂ and
+/// place at placement `pi` with g₃.
+pub(super) struct TwoRestLegs<'l> {
+    pub strategy: Strategy,
+    pub pi: usize,
+    pub rests: (usize, usize),
+    pub grasps: (usize, usize, usize),
+    pub pick: &'l Pick,
+    pub down: &'l Place,
+    pub up: &'l Pick,
+    pub moved: &'l Place,
+    pub up_again: &'l Pick,
+    pub place: &'l Place,
 }
 
 /// Memos of a regrasp search: A's picks at the start per grasp, and A's put-downs per
@@ -367,6 +578,31 @@ type PutDownMemos<'m> = (
 );
 
 impl Ctx<'_> {
+    /// Whether A can put the object down at rest `k` with one of the grasps `down` (A's picks
+    /// and put-downs computed a chunk at a time, until one works or the time is spent).
+    fn can_put_down(
+        &self,
+        a: Arm,
+        k: usize,
+        down: &[usize],
+        (picks, downs): PutDownMemos<'_>,
+        report: &mut StrategyReport,
+    ) -> Result<bool> {
+        for chunk in down.chunks(super::search::PARALLEL_CHUNK) {
+            if self.out_of_time() {
+                break;
+            }
+            self.put_downs(a, k, chunk, (&mut *picks, &mut *downs), report)?;
+            if chunk
+                .iter()
+                .any(|g1| matches!(downs.get(&(k, *g1)), Some(Ok(_))))
+            {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
     /// A's picks and put-downs at rest `k` with the grasps of `chunk` not computed yet, on
     /// the thread pool; each result counted once, under its stage.
     fn put_downs(
@@ -549,5 +785,53 @@ mod tests {
             .expect("a release at the rest");
         let there = released.world_from_object.to_isometry().expect("a pose");
         assert!((there.translation.vector - rest.translation.vector).norm() < 1e-3);
+    }
+
+    /// The regrasp graph's next shortest sequences: through two rests, when asked for (the
+    /// planner searches them when no sequence through one rest works). The plan lists both
+    /// rests and three grasps, and the validator checks every release and resting pose.
+    #[test]
+    fn a_sequence_through_two_rests_passes_the_validator() {
+        let setup = crate::testing::setup("fig9-near.toml");
+        let options = super::super::PlanOptions {
+            strategy: crate::scene::StrategyChoice::RightPlaceRight,
+            timings: false,
+            regrasp_rests: (2, 2),
+            ..super::super::PlanOptions::for_setup(setup)
+        };
+        let super::super::Outcome::Planned(plan) =
+            super::super::plan(setup, &options).expect("no defect")
+        else {
+            panic!("the right hand puts the can down twice")
+        };
+        assert_eq!(plan.strategy, Strategy::RightPlaceRight);
+        assert_eq!(plan.rests.len(), 2);
+        assert_eq!(plan.grasps.len(), 3);
+        assert!(plan.grasps.iter().all(|g| g.arm == Arm::Right));
+        let report = crate::validate::validate(setup, &plan, std::path::Path::new("plan.json"))
+            .expect("checks");
+        assert!(report.problems.is_empty(), "{:?}", report.problems);
+        // Three grasps and three releases, alternating, and the object at each rest between.
+        use crate::plan::EventKind::{Grasp, Release};
+        let kinds: Vec<_> = plan.events.iter().map(|e| e.kind).collect();
+        assert_eq!(kinds, [Grasp, Release, Grasp, Release, Grasp, Release]);
+        let released: Vec<_> = plan
+            .key_poses
+            .iter()
+            .filter(|k| k.name == "release-rest")
+            .collect();
+        assert_eq!(released.len(), 2);
+        for (k, rest) in released.iter().zip(&plan.rests) {
+            let there = k.world_from_object.to_isometry().expect("a pose");
+            let rest = rest.world_from_object.to_isometry().expect("a pose");
+            assert!((there.translation.vector - rest.translation.vector).norm() < 1e-3);
+        }
+        // Same seed, same plan.
+        let super::super::Outcome::Planned(again) =
+            super::super::plan(setup, &options).expect("no defect")
+        else {
+            panic!("plans again")
+        };
+        assert_eq!(again, plan);
     }
 }
