@@ -9,7 +9,9 @@
 //!
 //! Sequences with no intermediate pose are the direct strategies (RIGHT-RIGHT, LEFT-LEFT,
 //! [`super::search`]); this module searches the next shortest, with one intermediate pose:
-//! start →(arm A, grasp g₁)→ rest k →(arm B, grasp g₂)→ placement. The graph is evaluated
+//! start →(arm A, grasp g₁)→ rest k →(arm B, grasp g₂)→ placement, and when none works, those
+//! with two: start →(A, g₁)→ rest k₁ →(B, g₂)→ rest k₂ →(B, g₃)→ placement
+//! ([`super::PlanOptions::regrasp_rests`]). The graph is evaluated
 //! lazily, cheapest test first, as the paper's planner does for its key poses: edges are first
 //! kept by the cheap tests of [`Ctx::grasp_fits`] (reach, gripper against the environment),
 //! then checked by IK and collision (pick, put down, pick again, place), and last joined by
