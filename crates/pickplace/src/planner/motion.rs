@@ -185,32 +185,21 @@ impl Ctx<'_> {
         pick: &Pick,
         place: &Place,
     ) -> Attempt<Vec<Segment>> {
-        let p = &self.placements[pi];
         let salt = (pi as u64) << 20 | (gi as u64) << 8 | arm.index() as u64;
-        let mut segments = Vec::new();
-        let open_start = self.opened(arm, start);
-        if open_start != start {
-            segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
-        }
-        let retreated = self.transfer(
-            &mut segments,
-            Transfer {
+        self.rest_chain(
+            start,
+            [Transfer {
                 arm,
                 gi,
                 pick,
                 place,
-                from: (&self.setup.object_start, &self.start_supports),
-                to: (&p.world_from_object, self.placement_supports(pi)),
+                from: self.at_start(),
+                to: self.at_placement(pi),
                 keys: DIRECT,
                 salts: (salt ^ 1, salt ^ 2),
-            },
-            &open_start,
-        )?;
-        let left = Arc::new(self.world_with_object_at(&p.world_from_object));
-        if let Some(back) = self.back_to_start(arm, &left, &retreated, start, salt ^ 3)? {
-            segments.push(back);
-        }
-        Ok(segments)
+            }],
+            (salt ^ 3, salt ^ 3),
+        )
     }
 
     /// One transfer of the object by one arm and grasp, appended to `segments` from the full
@@ -396,11 +385,7 @@ impl Ctx<'_> {
             .iter()
             .map(|qb| self.arm_from(b, &opened, qb))
             .collect();
-        let placed = (
-            &self.placements[pi].world_from_object,
-            self.placement_supports(pi),
-        );
-        self.check_place(b, h.g2, placed, &lower, &retreat)?;
+        self.check_place(b, h.g2, self.at_placement(pi), &lower, &retreat)?;
         segments.push(Segment::reach("retreat", b, retreat.clone()));
         let left = Arc::new(self.world_with_object_at(&self.placements[pi].world_from_object));
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
@@ -421,16 +406,11 @@ impl Ctx<'_> {
         legs: &super::regrasp::RegraspLegs<'_>,
     ) -> Attempt<Vec<Segment>> {
         let (a, b) = (legs.strategy.pick_arm(), legs.strategy.place_arm());
-        let rest = self.rests()[legs.k].world_from_object;
-        let at_rest = (&rest, self.rest_supports(legs.k));
+        let at_rest = self.at_rest(legs.k);
         let salt = (legs.pi as u64) << 20
             | (legs.g1 as u64) << 8
             | (legs.g2 as u64) << 32
             | (legs.k as u64) << 48;
-        let placed = (
-            &self.placements[legs.pi].world_from_object,
-            self.placement_supports(legs.pi),
-        );
         self.rest_chain(
             start,
             [
@@ -439,7 +419,7 @@ impl Ctx<'_> {
                     gi: legs.g1,
                     pick: legs.pick,
                     place: legs.down,
-                    from: (&self.setup.object_start, &self.start_supports),
+                    from: self.at_start(),
                     to: at_rest,
                     keys: PUT_DOWN,
                     salts: (salt ^ 1, salt ^ 2),
@@ -450,7 +430,7 @@ impl Ctx<'_> {
                     pick: legs.up,
                     place: legs.place,
                     from: at_rest,
-                    to: placed,
+                    to: self.at_placement(legs.pi),
                     keys: PICK_UP,
                     salts: (salt ^ 4, salt ^ 5),
                 },
@@ -459,9 +439,27 @@ impl Ctx<'_> {
         )
     }
 
-    /// The segments of a chain of transfers through intermediate rests: both hands open, the
-    /// first transfer by arm A (which goes home when the next transfer is by the other arm),
-    /// the next ones in turn, and the last arm home. `home_salts` seed A's and the last arm's
+    /// The object at its start, and the bodies it rests on there.
+    fn at_start(&self) -> Rest<'_> {
+        (&self.setup.object_start, &self.start_supports)
+    }
+
+    /// The object at intermediate rest `k`, and the bodies it rests on there.
+    fn at_rest(&self, k: usize) -> Rest<'_> {
+        (&self.rests()[k].world_from_object, self.rest_supports(k))
+    }
+
+    /// The object at placement `pi`, and the bodies it rests on there.
+    fn at_placement(&self, pi: usize) -> Rest<'_> {
+        (
+            &self.placements[pi].world_from_object,
+            self.placement_supports(pi),
+        )
+    }
+
+    /// The segments of a chain of transfers (one for a single-arm plan, more through
+    /// intermediate rests): both hands open, the first transfer by arm A (which goes home when
+    /// the next transfer is by the other arm), the next ones in turn, and the last arm home. `home_salts` seed A's and the last arm's
     /// motions home.
     fn rest_chain<const N: usize>(
         &self,
@@ -524,12 +522,7 @@ impl Ctx<'_> {
         let (a, b) = (legs.strategy.pick_arm(), legs.strategy.place_arm());
         let (k1, k2) = legs.rests;
         let (g1, g2, g3) = legs.grasps;
-        let (rest1, rest2) = (
-            self.rests()[k1].world_from_object,
-            self.rests()[k2].world_from_object,
-        );
-        let at1 = (&rest1, self.rest_supports(k1));
-        let at2 = (&rest2, self.rest_supports(k2));
+        let (at1, at2) = (self.at_rest(k1), self.at_rest(k2));
         let salt = 1 << 62
             | (legs.pi as u64) << 20
             | (g1 as u64) << 8
@@ -537,10 +530,6 @@ impl Ctx<'_> {
             | (g3 as u64) << 40
             | (k1 as u64) << 50
             | (k2 as u64) << 56;
-        let placed = (
-            &self.placements[legs.pi].world_from_object,
-            self.placement_supports(legs.pi),
-        );
         self.rest_chain(
             start,
             [
@@ -549,7 +538,7 @@ impl Ctx<'_> {
                     gi: g1,
                     pick: legs.pick,
                     place: legs.down,
-                    from: (&self.setup.object_start, &self.start_supports),
+                    from: self.at_start(),
                     to: at1,
                     keys: PUT_DOWN,
                     salts: (salt ^ 1, salt ^ 2),
@@ -570,7 +559,7 @@ impl Ctx<'_> {
                     pick: legs.up_again,
                     place: legs.place,
                     from: at2,
-                    to: placed,
+                    to: self.at_placement(legs.pi),
                     keys: PICK_UP,
                     salts: (salt ^ 6, salt ^ 7),
                 },
