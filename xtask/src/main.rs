@@ -7,6 +7,7 @@ mod gen_meshes;
 mod precompute;
 mod python;
 mod roadmaps;
+mod stability;
 mod suite;
 mod suite_run;
 mod test;
@@ -26,6 +27,7 @@ fn main() -> anyhow::Result<()> {
         Some("test") => test::run(&repo_root(), &rest_args()),
         Some("pytest") => python::run(&repo_root(), &rest_args()),
         Some("torture") => torture::run(&repo_root(), &rest_args()),
+        Some("stability") => stability::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -70,7 +72,12 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      torture      hostile and careless use of the release CLI (FIFOs, devices, huge, \
      truncated, NaN and nested inputs, kill -9 during writes, concurrent runs on one cache, \
      unusable cache folders, closed pipes): every case's exit status, message and files \
-     left; target/torture/report.txt";
+     left; target/torture/report.txt\n  \
+     stability    [--objects GLOB] [--drops N] [--random N] [--write-doc]: check \
+     pickplace_placement::resting_poses on ~150 objects (pybullet_data's, fetched pinned into \
+     target/objects, and generated scanned-like meshes): rapier drop test of every offered \
+     pose, recall against pybullet drops and trimesh's stable poses; \
+     target/objects/report.json, docs/stability.md; exit 1 when a goal is missed";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {

@@ -37,6 +37,8 @@ pub mod json;
 pub mod region;
 pub mod rest;
 pub mod resting;
+#[cfg(feature = "physics")]
+pub mod simulate;
 pub mod stability;
 
 pub use candidates::{
