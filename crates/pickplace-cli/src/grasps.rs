@@ -13,8 +13,11 @@ use std::process::ExitCode;
 /// Arguments of `pickplace grasps`.
 #[derive(Debug, clap::Args)]
 pub struct GraspsArgs {
-    /// Object mesh (.stl, .obj, .ply), in metres.
+    /// Object mesh (.stl, .obj, .ply), in metres unless --scale is given.
     pub mesh: PathBuf,
+    /// Scale applied to the mesh on loading (0.001 for a file in millimetres).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
     /// The robot directory (its `gripper.toml` is read) or a gripper configuration file.
     #[arg(long, value_name = "DIR_OR_CONFIG")]
     pub robot: PathBuf,
@@ -48,7 +51,19 @@ fn gripper_path(robot: &Path) -> PathBuf {
 pub fn run(args: &GraspsArgs) -> anyhow::Result<ExitCode> {
     let gripper_file = gripper_path(&args.robot);
     let gripper = GripperParams::load(&gripper_file)?;
-    let mesh = pickplace_geometry::mesh::load(&args.mesh, &Default::default())?;
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        anyhow::bail!("--scale {}: must be a positive number", args.scale);
+    }
+    let mesh = pickplace_geometry::mesh::load(
+        &args.mesh,
+        &pickplace_geometry::mesh::MeshOptions {
+            scale: args.scale,
+            ..Default::default()
+        },
+    )?;
+    for w in pickplace::mesh_warning::check(&mesh, "object", &args.mesh, Some("--scale")) {
+        note!("warning: {w}");
+    }
     let params = ClusterParams {
         h_max: args.h_max,
         ..ClusterParams::finger()

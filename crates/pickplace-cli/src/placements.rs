@@ -77,6 +77,9 @@ pub fn run(args: &PlacementsArgs) -> anyhow::Result<ExitCode> {
         crate::args::check_output_file(png, "--png", &inputs)?;
     }
     let object_mesh = mesh::load(&args.object, &options)?;
+    for w in pickplace::mesh_warning::check(&object_mesh, "object", &args.object, Some("--scale")) {
+        note!("warning: {w}");
+    }
     let mass = MassProperties::of(&object_mesh);
     let cog = mass.center_of_mass;
     let object_name = args.object.display().to_string();
@@ -249,6 +252,14 @@ fn print(out: &PlacementsJson, json: bool) -> anyhow::Result<ExitCode> {
         crate::output::print(&text)?;
     }
     if out.placements.is_empty() {
+        if out.rejections.is_empty() {
+            note!(
+                "no stable placement found: no face of the object holds it with a margin of {:.1} mm and a tipping angle of {:.1}° (the placement minimums; docs/placement.md)",
+                pickplace_placement::DEFAULT_MIN_MARGIN * 1e3,
+                pickplace_placement::DEFAULT_MIN_TIPPING_ANGLE.to_degrees()
+            );
+            return Ok(ExitCode::from(1));
+        }
         note!("no stable placement found:");
         for r in &out.rejections {
             note!(

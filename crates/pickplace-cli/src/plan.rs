@@ -157,6 +157,9 @@ pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyh
     for warning in &setup.warnings {
         note!("warning: {warning}");
     }
+    for warning in &setup.mesh_warnings {
+        note!("warning: {warning}");
+    }
     for line in &setup.log {
         note!("  {line}");
     }

@@ -165,21 +165,48 @@ pub struct Placement {
 /// The object as the placement planner sees it.
 #[derive(Debug)]
 pub struct ObjectModel {
-    /// Contact regions (environment-contact clusters) in the object frame.
+    /// Contact regions (environment-contact clusters) in the object frame; a region the object
+    /// can rest on lies on the plane of its resting facet, its support under the contact model
+    /// ([`ObjectModel::new`]).
     pub regions: Vec<Region>,
+    /// For each region, the object's tipping angle (rad) resting on it, as its convex hull
+    /// decides it ([`stability::hull_tipping_angle`]): it caps the tipping angle of the
+    /// stability test, which a tolerance support alone would overstate on a curved surface.
+    pub tipping_limits: Vec<Real>,
     /// Centre of gravity (object frame).
     pub cog: Point3,
+    /// Vertices of the object's convex hull (object frame).
+    pub hull: Vec<Point3>,
+    /// For each region, the rigid part of its support: the 2D hull (region plane coordinates)
+    /// of the object's points within [`RIGID_TOLERANCE`] of its plane. An edge-face contact
+    /// (Fig. 6(d)) lays an edge of it on the environment: an edge is rigid, a tolerance band
+    /// of a curved surface is not.
+    pub rigid_supports: Vec<Vec<Point2>>,
     /// Collision mesh (object frame).
     pub collision: CollisionMesh,
 }
 
-/// Vertices of an object cluster this close to its contact plane S (m) carry the object when
-/// S lies on the environment; the rest of a curved cluster hangs above (0.1 mm).
-pub const CONTACT_TOLERANCE: Real = 1e-4;
+/// The contact model's tolerance (m) for the object's supports:
+/// [`stability::CONTACT_TOLERANCE`].
+pub const CONTACT_TOLERANCE: Real = stability::CONTACT_TOLERANCE;
+
+/// Points this close (m) to a plane lie on it rigidly: the edges of edge-face contacts and their
+/// second contacts (0.1 mm).
+pub const RIGID_TOLERANCE: Real = 1e-4;
+
+/// A region whose plane is within this angle (rad) of a resting facet's is moved onto it
+/// (10°, the resting poses' duplicate angle).
+const SNAP_ANGLE: Real = 0.174_532_925_199_432_95;
 
 impl ObjectModel {
     /// The object of `mesh` with its environment-contact clustering (paper §III-A, h_max
     /// 1 mm by default) and its centre of gravity, all in the object frame.
+    ///
+    /// The contact model (issue 31): an object on a plane touches it where its convex hull
+    /// does. Each region within 10° of a facet the object rests on ([`crate::resting_poses`]
+    /// with no minimums) is moved onto that facet's plane, and its support is the hull of the
+    /// object's points within [`CONTACT_TOLERANCE`] of the plane; the stability minimums are
+    /// applied by the searches.
     ///
     /// # Errors
     /// [`crate::Error::NonFiniteCog`] for a CoG that is not finite.
@@ -192,16 +219,95 @@ impl ObjectModel {
             });
         }
         let identity = Isometry3::identity();
-        let regions = clustering
+        let hull = crate::resting::hull_points(mesh.vertices()).unwrap_or_default();
+        let rests = crate::resting_poses(
+            mesh,
+            &cog,
+            &crate::RestingOptions {
+                min_margin: 0.0,
+                min_tipping_angle: 0.0,
+                include_rolling: false,
+                ..Default::default()
+            },
+        )
+        .unwrap_or_default();
+        // Each cluster's region and the resting facet it lies on, if any; of several regions on
+        // one facet (the patches of a scanned base) the largest stands for it.
+        let snapped: Vec<(Region, Option<usize>)> = clustering
             .clusters
             .iter()
             .filter_map(|c| Region::from_cluster_on_mesh(c, mesh, &identity, CONTACT_TOLERANCE))
+            .map(|region| {
+                let n = region.normal();
+                let rest = (0..rests.len())
+                    .filter(|&r| rests[r].support_normal.dot(&n) > SNAP_ANGLE.cos())
+                    .max_by(|&a, &b| {
+                        rests[a]
+                            .support_normal
+                            .dot(&n)
+                            .total_cmp(&rests[b].support_normal.dot(&n))
+                    });
+                (region, rest)
+            })
             .collect();
+        let mut largest = std::collections::BTreeMap::<usize, usize>::new();
+        for (i, (region, rest)) in snapped.iter().enumerate() {
+            if let Some(r) = rest {
+                let best = largest.entry(*r).or_insert(i);
+                if region.area > snapped[*best].0.area {
+                    *best = i;
+                }
+            }
+        }
+        let mut regions = Vec::new();
+        let mut tipping_limits = Vec::new();
+        let mut rigid_supports = Vec::new();
+        for (i, (region, rest)) in snapped.into_iter().enumerate() {
+            let region = match rest {
+                Some(r) if largest.get(&r) != Some(&i) => continue,
+                Some(r) if rests[r].support_normal.dot(&region.normal()) < 1.0 - 1e-12 => {
+                    let rest = &rests[r];
+                    let offset = rest.support_normal.dot(&cog.coords) + rest.cog_height;
+                    region
+                        .on_plane(&rest.support_normal, offset, &hull, CONTACT_TOLERANCE)
+                        .unwrap_or(region)
+                }
+                _ => region,
+            };
+            // Only a plane that no hull point crosses by more than the tolerance can carry it.
+            let n = region.normal();
+            let offset = n.dot(&region.parent_from_plane.translation.vector);
+            let supports = hull
+                .iter()
+                .all(|p| n.dot(&p.coords) - offset <= CONTACT_TOLERANCE);
+            let rigid: Vec<Point2> = hull
+                .iter()
+                .filter(|p| offset - n.dot(&p.coords) <= RIGID_TOLERANCE)
+                .map(|p| region.to_plane(p).0)
+                .collect();
+            rigid_supports.push(pickplace_geometry::polygon::convex_hull(&rigid));
+            tipping_limits.push(if supports {
+                stability::hull_tipping_angle(&hull, &cog, &n)
+            } else {
+                0.0
+            });
+            regions.push(region);
+        }
         Ok(Self {
             regions,
+            tipping_limits,
             cog,
+            hull,
+            rigid_supports,
             collision: CollisionMesh::new(mesh)?,
         })
+    }
+
+    /// The stability margin (m) of a face-face contact on object region `index` with support
+    /// `margin`, capped by the region's hull tipping angle at CoG height `height`.
+    pub fn capped_margin(&self, index: usize, margin: Real, height: Real) -> Real {
+        let limit = self.tipping_limits.get(index).copied().unwrap_or(0.0);
+        margin.min(height.max(1e-9) * limit.tan())
     }
 }
 
@@ -438,13 +544,14 @@ pub fn candidates(
             let pair = RegionPair {
                 object,
                 o: object_region,
+                o_index: o,
                 env,
                 e: env_region,
                 target,
                 options,
             };
             let found = if include_bounding_box(object_region, env_region) {
-                if !face_face_can_be_stable(object, object_region, options) {
+                if !face_face_can_be_stable(object, o, options) {
                     // No pose of this region can pass the stability test (Fig. 7): its support
                     // is too narrow for the margin (a strip of a tessellated cylinder).
                     counts.unstable += 1;
@@ -591,16 +698,18 @@ pub(crate) fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
 /// larger than half the support's width (half the short side of its minimum-area rectangle,
 /// which is at least the width). The CoG's height above the contact plane is the same for
 /// every face-face pose, so the tipping-angle bound follows.
+/// The bound is capped by the region's hull tipping angle ([`ObjectModel::tipping_limits`]).
 pub(crate) fn face_face_can_be_stable(
     object: &ObjectModel,
-    o: &Region,
+    index: usize,
     options: &PlacementOptions,
 ) -> bool {
+    let o = &object.regions[index];
     let Some(rect) = pickplace_geometry::polygon::min_area_rect(&o.support) else {
         return false;
     };
-    let bound = 0.5 * rect.sorted_sides().0 + 1e-9;
     let height = -o.to_plane(&object.cog).1;
+    let bound = object.capped_margin(index, 0.5 * rect.sorted_sides().0, height) + 1e-9;
     stable(bound, height, options)
 }
 
@@ -706,6 +815,8 @@ struct RegionPair<'a> {
     object: &'a ObjectModel,
     /// The object's region.
     o: &'a Region,
+    /// Its index in [`ObjectModel::regions`].
+    o_index: usize,
     env: &'a EnvironmentModel,
     /// The environment's region.
     e: &'a Region,
@@ -718,6 +829,7 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
     let RegionPair {
         object,
         o,
+        o_index,
         env,
         e,
         target,
@@ -772,8 +884,8 @@ fn search_face_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                 counts.unstable += 1;
                 continue;
             };
-            let margin = hull.cog_margin(&foot);
             let height = e.to_plane(&cog_world).1;
+            let margin = object.capped_margin(o_index, hull.cog_margin(&foot), height);
             if !stable(margin, height, options) {
                 counts.unstable += 1;
                 continue;
@@ -822,13 +934,14 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
     let RegionPair {
         object,
         o,
+        o_index,
         env,
         e,
         target,
         options,
     } = *pair;
     // The segments are those of the hull of the points really on the contact plane.
-    let hull = &o.support;
+    let hull = &object.rigid_supports[o_index];
     if hull.len() < 3 {
         return Vec::new();
     }
@@ -971,7 +1084,7 @@ fn search_edge_face(pair: &RegionPair<'_>, counts: &mut Rejections) -> Vec<Place
                 // the object meets the environment again.
                 let a_w = e.parent_from_plane * e_point(p, yaw, -len * 0.5);
                 let b_w = e.parent_from_plane * e_point(p, yaw, len * 0.5);
-                let second = second_contacts(object, o, env, &world_from_object, options);
+                let second = second_contacts(object, (o, hull), env, &world_from_object, options);
                 let horizontal = |q: &Point3| Point2::new(q.x, q.y);
                 let mut support: Vec<Point2> = vec![horizontal(&a_w), horizontal(&b_w)];
                 support.extend(second.iter().map(horizontal));
@@ -1049,13 +1162,13 @@ fn e_point(p: &Point2, yaw: Real, along: Real) -> Point3 {
 /// the sideways bound of [`search_edge_face`] holds.
 fn second_contacts(
     object: &ObjectModel,
-    o: &Region,
+    (o, support): (&Region, &[Point2]),
     env: &EnvironmentModel,
     pose: &Isometry3,
     options: &PlacementOptions,
 ) -> Vec<Point3> {
     let reach = options.clearance * 0.5;
-    let slack = reach + CONTACT_TOLERANCE;
+    let slack = reach + RIGID_TOLERANCE;
     let object_from_world = pose.inverse();
     let mut out: Vec<Point3> = env
         .collision
@@ -1063,7 +1176,7 @@ fn second_contacts(
         .into_iter()
         .filter(|w| {
             let (q, h) = o.to_plane(&(object_from_world * w));
-            h.abs() <= slack && signed_margin(&q, &o.support) >= -slack
+            h.abs() <= slack && signed_margin(&q, support) >= -slack
         })
         .collect();
     out.sort_by(|a, b| {

@@ -93,6 +93,51 @@ impl Region {
         Some(region)
     }
 
+    /// The region moved onto the plane with outward unit normal `normal` at `offset`
+    /// (`normal · p = offset`, parent frame) that the object really rests on (the contact
+    /// model, [`crate::stability::CONTACT_TOLERANCE`]): a cluster's fitted plane is tilted from
+    /// its resting facet by the unevenness of a scanned base, and placed on its fitted plane the
+    /// object would rock onto the facet. The boundary is projected onto the new plane; the
+    /// support becomes the hull of `points` (parent frame) within `tolerance` of it.
+    pub fn on_plane(
+        &self,
+        normal: &Vector3,
+        offset: Real,
+        points: &[Point3],
+        tolerance: Real,
+    ) -> Option<Self> {
+        let turn = crate::resting::rotation_taking(&self.normal(), normal);
+        let rotation = turn * self.parent_from_plane.rotation;
+        let o = Point3::from(self.parent_from_plane.translation.vector);
+        let origin = o - normal * (normal.dot(&o.coords) - offset);
+        let parent_from_plane = Isometry3::from_parts(Translation3::from(origin.coords), rotation);
+        let project = |q: &Point2| {
+            let p = self.parent_from_plane * Point3::new(q.x, q.y, 0.0);
+            let r = parent_from_plane.inverse_transform_point(&p);
+            Point2::new(r.x, r.y)
+        };
+        let polygon = Polygon {
+            outer: self.polygon.outer.iter().map(project).collect(),
+            holes: self
+                .polygon
+                .holes
+                .iter()
+                .map(|h| h.iter().map(project).collect())
+                .collect(),
+        };
+        let mut region = Self::new(self.cluster_id, parent_from_plane, polygon)?;
+        let on: Vec<Point2> = points
+            .iter()
+            .filter(|p| offset - normal.dot(&p.coords) <= tolerance)
+            .map(|p| {
+                let r = parent_from_plane.inverse_transform_point(p);
+                Point2::new(r.x, r.y)
+            })
+            .collect();
+        region.support = convex_hull(&on);
+        Some(region)
+    }
+
     /// Outward unit normal in the parent frame.
     pub fn normal(&self) -> Vector3 {
         self.parent_from_plane.rotation * Vector3::z()

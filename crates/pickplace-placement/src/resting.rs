@@ -47,6 +47,10 @@ pub struct RestingOptions {
     /// them (their margin is the best facet's, their CoG must project inside it). A planner
     /// that needs placements it can rely on sets this to `false` (default: `true`).
     pub include_rolling: bool,
+    /// The contact model's tolerance (m): points of the object within this distance of the
+    /// supporting plane carry it ([`crate::stability::CONTACT_TOLERANCE`], 1 mm, the
+    /// clustering's h_max). 0 is the rigid model: only the hull facet itself carries it.
+    pub contact_tolerance: Real,
 }
 
 impl Default for RestingOptions {
@@ -57,6 +61,7 @@ impl Default for RestingOptions {
             min_margin: crate::candidates::DEFAULT_MIN_MARGIN,
             min_tipping_angle: crate::candidates::DEFAULT_MIN_TIPPING_ANGLE,
             include_rolling: true,
+            contact_tolerance: crate::stability::CONTACT_TOLERANCE,
         }
     }
 }
@@ -130,27 +135,26 @@ pub fn resting_poses(
     )?;
     check_option("min_margin", options.min_margin, 0.0, Real::INFINITY)?;
     check_option(
+        "contact_tolerance",
+        options.contact_tolerance,
+        0.0,
+        Real::INFINITY,
+    )?;
+    check_option(
         "min_tipping_angle",
         options.min_tipping_angle,
         0.0,
         std::f64::consts::FRAC_PI_2,
     )?;
 
-    let (facets, facet_neighbours) = hull_facets(mesh.vertices())?;
+    let (facets, facet_neighbours, hull) = hull_facets(mesh.vertices())?;
     let heights: Vec<Real> = facets
         .iter()
         .map(|f| f.offset - f.normal.dot(&cog.coords))
         .collect();
-    let margins: Vec<Real> = facets.iter().map(|f| facet_margin(f, cog)).collect();
-    // The stability test with both minimums (Fig. 7, made robust).
-    let stable = |f: usize| {
-        crate::stability::is_stable(
-            margins[f],
-            heights[f],
-            options.min_margin,
-            options.min_tipping_angle,
-        )
-    };
+    // The CoG's foot inside the facet itself: the facet is an equilibrium, a local minimum of
+    // the CoG's height (a rigid body on a plane rests on a facet of its hull).
+    let exact_margins: Vec<Real> = facets.iter().map(|f| facet_margin(f, cog)).collect();
 
     // Smooth patches: union-find over facet adjacencies with a small dihedral angle.
     let mut parent: Vec<usize> = (0..facets.len()).collect();
@@ -169,53 +173,122 @@ pub fn resting_poses(
     }
 
     let mut out = Vec::new();
+    let mut equilibria: Vec<usize> = Vec::new();
     for members in patches.values() {
-        if members.len() == 1 {
-            let f = members[0];
-            if stable(f) {
-                out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
-            }
-            continue;
-        }
         let (lo, hi) = members
             .iter()
             .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), &f| {
                 (lo.min(heights[f]), hi.max(heights[f]))
             });
-        if hi - lo <= options.neutral_height {
+        if members.len() > 1 && hi - lo <= options.neutral_height {
             if !options.include_rolling {
                 continue;
             }
             if let Some(axis) = common_axis(members.iter().map(|&f| facets[f].normal)) {
                 // Rolling class: the facet with the largest margin represents it (ties: lowest index).
                 let best = members.iter().copied().fold(members[0], |b, f| {
-                    if margins[f] > margins[b] + 1e-12 {
+                    if exact_margins[f] > exact_margins[b] + 1e-12 {
                         f
                     } else {
                         b
                     }
                 });
-                if margins[best] > 0.0 {
+                if exact_margins[best] > 0.0 {
+                    let support = tolerance_support(&facets[best], &facets[best].points, 1e-9);
                     out.push(make_pose(
                         &facets[best],
                         cog,
-                        margins[best],
-                        heights[best],
+                        (exact_margins[best], heights[best]),
                         Some(axis),
                         members.len(),
+                        &support,
                     ));
                 }
             }
             continue;
         }
-        for &f in members {
-            let is_minimum = facet_neighbours[f]
-                .iter()
-                .filter(|&&g| members.contains(&g))
-                .all(|&g| heights[f] <= heights[g]);
-            if is_minimum && stable(f) {
-                out.push(make_pose(&facets[f], cog, margins[f], heights[f], None, 1));
+        equilibria.extend(members.iter().copied().filter(|&f| exact_margins[f] > 0.0));
+    }
+
+    // The contact model (crate::stability::CONTACT_TOLERANCE): each equilibrium rests on the
+    // hull of the points within the tolerance of its plane, and the hull's tipping angle keeps
+    // that support honest on curved surfaces. Lowest equilibria first, so that of several
+    // resting on the same points within the tolerance the lowest one stands for them.
+    equilibria.sort_by(|&a, &b| heights[a].total_cmp(&heights[b]).then(a.cmp(&b)));
+    let tolerance = options.contact_tolerance;
+    // Basins: an equilibrium the hull scan sees sink into a lower pose by more than a
+    // significant rise ([`crate::stability::MIN_BARRIER_RISE`]) before any barrier belongs to
+    // the nearest lower equilibrium (a scanned base or a low-poly curve rocks between such
+    // minima); the lowest of a basin stands for it, on the supports of all its members.
+    let tips: Vec<Real> = equilibria
+        .iter()
+        .map(|&f| crate::stability::hull_tipping_angle(&hull, cog, &facets[f].normal))
+        .collect();
+    let mut owner: Vec<usize> = (0..equilibria.len()).collect();
+    for i in 0..equilibria.len() {
+        // Within its barrier-free cone the body rocks to any lower equilibrium: one basin.
+        let reach = if tips[i] > 0.0 {
+            tips[i].min(MERGE_ANGLE)
+        } else {
+            MERGE_ANGLE
+        };
+        let n = facets[equilibria[i]].normal;
+        let nearest = (0..i)
+            .filter(|&j| heights[equilibria[j]] < heights[equilibria[i]])
+            .map(|j| (facets[equilibria[j]].normal.dot(&n), j))
+            .filter(|&(dot, _)| dot > reach.cos())
+            .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
+        if let Some((_, j)) = nearest {
+            owner[i] = owner[j];
+        }
+    }
+    let mut accepted: Vec<usize> = Vec::new();
+    for (i, &f) in equilibria.iter().enumerate() {
+        if owner[i] != i {
+            continue;
+        }
+        let facet = &facets[f];
+        let same_contact = accepted.iter().any(|&g| {
+            facets[g].normal.dot(&facet.normal) > DUPLICATE_ANGLE.cos()
+                && facet
+                    .points
+                    .iter()
+                    .all(|p| facets[g].offset - facets[g].normal.dot(&p.coords) <= 2.0 * tolerance)
+        });
+        if same_contact {
+            continue;
+        }
+        // The points within the tolerance of any member's plane, seen on this one's.
+        let mut points: Vec<Point3> = Vec::new();
+        for (k, &m) in equilibria.iter().enumerate() {
+            if owner[k] == i {
+                let g = &facets[m];
+                points.extend(
+                    hull.iter()
+                        .filter(|p| g.offset - g.normal.dot(&p.coords) <= tolerance),
+                );
             }
+        }
+        let support = tolerance_support(facet, &points, Real::INFINITY);
+        let on_support = support.cog_margin_convex(&support_foot(facet, cog));
+        let height = heights[f];
+        let margin = on_support.min(height.max(1e-9) * tips[i].tan());
+        if crate::stability::is_stable(
+            margin,
+            height,
+            options.min_margin,
+            options.min_tipping_angle,
+        ) {
+            accepted.push(f);
+            let members = owner.iter().filter(|&&o| o == i).count();
+            out.push(make_pose(
+                facet,
+                cog,
+                (margin, height),
+                None,
+                members,
+                &support,
+            ));
         }
     }
     out.sort_by(|a, b| {
@@ -225,6 +298,27 @@ pub fn resting_poses(
             .then(b.stability_margin.total_cmp(&a.stability_margin))
     });
     Ok(out)
+}
+
+/// An equilibrium that sinks into a lower pose, or sees a lower one inside its barrier-free
+/// cone, joins the nearest lower one whose normal is within this angle (rad) of its own (30°).
+const MERGE_ANGLE: Real = 0.523_598_775_598_298_8;
+
+/// Two equilibria whose facets lie within twice the contact tolerance of each other's planes
+/// and whose normals differ by less than this (rad) rest on the same contact: one pose (10°).
+const DUPLICATE_ANGLE: Real = 0.174_532_925_199_432_95;
+
+/// The support of the body resting on `facet` under the contact model: the hull, in the
+/// facet's plane basis, of the `points` within `tolerance` of its plane.
+fn tolerance_support(facet: &Facet, points: &[Point3], tolerance: Real) -> SupportHull {
+    let (u, v) = plane_basis(&facet.normal);
+    crate::stability::tolerance_support(points, &facet.normal, facet.offset, (&u, &v), tolerance)
+}
+
+/// The CoG's foot on the facet's plane, in the facet's plane basis.
+fn support_foot(facet: &Facet, cog: &Point3) -> Point2 {
+    let (u, v) = plane_basis(&facet.normal);
+    Point2::new(cog.coords.dot(&u), cog.coords.dot(&v))
 }
 
 fn check_option(name: &'static str, value: Real, lo: Real, hi: Real) -> Result<()> {
@@ -265,20 +359,28 @@ fn common_axis(normals: impl Iterator<Item = Vector3> + Clone) -> Option<Vector3
 fn make_pose(
     facet: &Facet,
     cog: &Point3,
-    margin: Real,
-    height: Real,
+    (margin, height): (Real, Real),
     rolling_axis: Option<Vector3>,
     facet_count: usize,
+    support: &SupportHull,
 ) -> RestingPose {
     let rotation = rotation_taking(&facet.normal, &-Vector3::z());
     let projected = cog - facet.normal * (facet.normal.dot(&cog.coords) - facet.offset);
     // Put the CoG's foot point at the origin; the facet plane maps to z = 0.
     let foot = rotation * projected;
     let world_from_object = Isometry3::from_parts((-foot.coords).into(), rotation);
-    let mut polygon: Vec<Point3> = facet.points.iter().map(|p| world_from_object * p).collect();
-    for p in &mut polygon {
-        p.z = 0.0;
-    }
+    let (u, v) = plane_basis(&facet.normal);
+    let on_plane = |q: &Point2| u * q.x + v * q.y + facet.normal * facet.offset;
+    let polygon: Vec<Point3> = support
+        .points()
+        .iter()
+        .map(|q| {
+            let mut p = world_from_object * Point3::from(on_plane(q));
+            p.z = 0.0;
+            p
+        })
+        .rev() // the plane's basis is right-handed about the downward normal
+        .collect();
     RestingPose {
         world_from_object,
         support_normal: facet.normal,
@@ -333,7 +435,19 @@ pub(crate) fn plane_basis(n: &Vector3) -> (Vector3, Vector3) {
 
 /// Builds the convex hull and merges coplanar hull triangles into facets. Returns the facets
 /// and, for each, the facets sharing a hull edge with it (sorted).
-fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
+/// The vertices of the convex hull of `vertices`.
+pub(crate) fn hull_points(vertices: &[Point3]) -> Result<Vec<Point3>> {
+    let points: Vec<_> = vertices.iter().map(parry::point).collect();
+    let (hull_points, _) = parry3d_f64::transformation::try_convex_hull(&points).map_err(|e| {
+        Error::DegenerateHull {
+            reason: format!("{e:?}"),
+        }
+    })?;
+    Ok(hull_points.into_iter().map(parry::to_point).collect())
+}
+
+#[allow(clippy::type_complexity)] // facets, their neighbours, the hull's vertices
+fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>, Vec<Point3>)> {
     let points: Vec<_> = vertices.iter().map(parry::point).collect();
     let (hull_points, hull_triangles) = parry3d_f64::transformation::try_convex_hull(&points)
         .map_err(|e| Error::DegenerateHull {
@@ -425,7 +539,7 @@ fn hull_facets(vertices: &[Point3]) -> Result<(Vec<Facet>, Vec<Vec<usize>>)> {
         list.sort_unstable();
         list.dedup();
     }
-    Ok((facets, neighbours))
+    Ok((facets, neighbours, hp))
 }
 
 fn find(parent: &mut [usize], mut x: usize) -> usize {

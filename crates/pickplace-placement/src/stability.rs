@@ -135,6 +135,166 @@ pub fn cog_foot(env: &Region, cog_in_world: &Point3) -> Option<Point2> {
     Some(Point2::new(c.x + s * g.x, c.y + s * g.y))
 }
 
+/// The contact model (issue 31): points of a body within this distance (m) of a supporting
+/// plane touch it. An object on a plane touches it where its convex hull does; a scanned or
+/// generated base is flat only to about a millimetre, so the support is the hull of every
+/// point within this tolerance of the plane, not of the few points exactly on it. The default
+/// is the paper's h_max of the environment-contact clustering (§III-A, 1 mm): the flatness a
+/// cluster the paper calls a contact region is allowed to have.
+pub const CONTACT_TOLERANCE: Real = 1e-3;
+
+/// A rise of the centre of gravity smaller than this (m) while the body tips is not a barrier
+/// ([`hull_tipping_angle`]): it is a bump of the tessellation or of scan noise, which a body
+/// rocks over. A 64-sided can on its side rises 0.04 mm between two facets, a cylinder
+/// scanned with 1 mm of noise up to a few tenths of a millimetre (measured with
+/// `cargo xtask stability`: with 0.02 mm such cylinders were offered on their side and rolled
+/// 4-13° in rapier). A body released 1 mm above its pose (the drop test) must not be able to
+/// roll over its barrier; 0.25 mm asks a 19 mm high CoG for a 3.1 mm margin at least.
+pub const MIN_BARRIER_RISE: Real = 2.5e-4;
+
+/// Azimuths at which [`hull_tipping_angle`] tips the body (every 7.5°).
+const TIP_AZIMUTHS: usize = 48;
+/// Tilt steps of [`hull_tipping_angle`] between 0 and 90° (every 0.5°).
+const TIP_STEPS: usize = 180;
+
+/// The tipping angle (rad) of a rigid body resting with its `down` direction (unit, body frame)
+/// towards gravity, as its convex hull decides it: the least tilt, over every direction, at
+/// which the CoG passes over the point it pivots on, the body rolling on its hull as a rigid
+/// body does on a plane. Bumps lower than [`MIN_BARRIER_RISE`] do not count; a body whose CoG
+/// never rises by that much (a sphere, a cylinder on its side), or first sinks by that much
+/// (it rests beside a lower pose), has a tipping angle of 0.
+///
+/// This is the paper's Fig. 7 test seen from the hull: on a flat support it is
+/// `atan(margin / height)` ([`tipping_angle`]) up to the 7.5° azimuth sampling (which can only
+/// make it larger), and it is what keeps a tolerance support ([`CONTACT_TOLERANCE`]) honest on
+/// a curved surface, where the points within the tolerance carry nothing against rolling.
+/// `hull` may hold any points of the body (its convex hull's vertices are enough).
+pub fn hull_tipping_angle(hull: &[Point3], cog: &Point3, down: &Vector3) -> Real {
+    let Some(d) = down.try_normalize(1e-12) else {
+        return 0.0;
+    };
+    let helper = if d.x.abs() < 0.6 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    let u0 = d.cross(&helper).normalize();
+    let v0 = d.cross(&u0);
+    // (height below the CoG along `down`, horizontal offset), sorted by height, deepest first:
+    // the same order serves every azimuth.
+    let mut rel: Vec<(Real, Real, Real)> = hull
+        .iter()
+        .map(|p| {
+            let w = p - cog;
+            (w.dot(&d), w.dot(&u0), w.dot(&v0))
+        })
+        .filter(|(a, x, y)| a.is_finite() && x.is_finite() && y.is_finite())
+        .collect();
+    if rel.is_empty() {
+        return 0.0;
+    }
+    rel.sort_by(|p, q| q.0.total_cmp(&p.0));
+    let trig: Vec<(Real, Real)> = (0..=TIP_STEPS)
+        .map(|i| {
+            let a = std::f64::consts::FRAC_PI_2 * i as Real / TIP_STEPS as Real;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    let mut best = Real::INFINITY;
+    let mut front: Vec<(Real, Real)> = Vec::new();
+    for k in 0..TIP_AZIMUTHS {
+        let phi = std::f64::consts::TAU * k as Real / TIP_AZIMUTHS as Real;
+        let (c, s) = (phi.cos(), phi.sin());
+        // Tilting towards `u`, the contact maximises a·cos α + b·sin α with cos, sin ≥ 0: only
+        // the points that no other point beats in both a and b (the staircase) can be it.
+        front.clear();
+        let mut b_max = Real::NEG_INFINITY;
+        for &(a, x, y) in &rel {
+            let b = x * c + y * s;
+            if b > b_max {
+                b_max = b;
+                front.push((a, b));
+            }
+        }
+        let height = |i: usize| {
+            let (ca, sa) = trig[i];
+            front
+                .iter()
+                .map(|(a, b)| a * ca + b * sa)
+                .fold(Real::NEG_INFINITY, Real::max)
+        };
+        let angle = first_barrier(height, &front, &trig);
+        best = best.min(angle);
+        if best <= 0.0 {
+            return 0.0;
+        }
+    }
+    best
+}
+
+/// The first significant barrier of a tilt profile (see [`hull_tipping_angle`]): `height(i)` is
+/// the CoG's height at tilt step `i`; the peak's angle is exact, the angle at which the CoG is
+/// over the contact point that makes the peak.
+fn first_barrier(
+    height: impl Fn(usize) -> Real,
+    front: &[(Real, Real)],
+    trig: &[(Real, Real)],
+) -> Real {
+    let h0 = height(0);
+    let mut low = h0;
+    let mut peak: Option<(usize, Real)> = None;
+    for i in 1..trig.len() {
+        let h = height(i);
+        match peak {
+            None => {
+                if h < low {
+                    low = h;
+                    if h0 - low > MIN_BARRIER_RISE {
+                        return 0.0;
+                    }
+                } else if h - low >= MIN_BARRIER_RISE {
+                    peak = Some((i, h));
+                }
+            }
+            Some((_, top)) if h > top => peak = Some((i, h)),
+            Some((_, top)) if top - h >= MIN_BARRIER_RISE => break,
+            Some(_) => {}
+        }
+    }
+    let Some((i, _)) = peak else {
+        return 0.0;
+    };
+    // The contact at the peak sample; the CoG is over it at atan2(b, a).
+    let (ca, sa) = trig[i];
+    let (a, b, _) = front.iter().fold(
+        (0.0, 0.0, Real::NEG_INFINITY),
+        |best: (Real, Real, Real), &(a, b)| {
+            let h = a * ca + b * sa;
+            if h > best.2 { (a, b, h) } else { best }
+        },
+    );
+    b.atan2(a).clamp(0.0, std::f64::consts::FRAC_PI_2)
+}
+
+/// The support of a body on a plane under the contact model ([`CONTACT_TOLERANCE`]): the 2D
+/// convex hull, in the plane's coordinates `(u, v)`, of the `points` (body frame) lying within
+/// `tolerance` of the supporting plane with outward normal `normal` (unit, pointing into the
+/// support) at `offset` (`normal · p ≤ offset` for every point of the body).
+pub fn tolerance_support(
+    points: &[Point3],
+    normal: &Vector3,
+    offset: Real,
+    basis: (&Vector3, &Vector3),
+    tolerance: Real,
+) -> SupportHull {
+    let on: Vec<Point2> = points
+        .iter()
+        .filter(|p| offset - normal.dot(&p.coords) <= tolerance)
+        .map(|p| Point2::new(p.coords.dot(basis.0), p.coords.dot(basis.1)))
+        .collect();
+    SupportHull::of_points(&on)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -64,6 +64,7 @@ impl Scene {
         let setup = py.detach(|| load(&options)).map_err(|e| facade(py, &e))?;
         let mut warnings: Vec<String> = warning.into_iter().collect();
         warnings.extend(setup.warnings.iter().map(ToString::to_string));
+        warnings.extend(setup.mesh_warnings.iter().map(ToString::to_string));
         Ok(Self {
             setup: Arc::new(setup),
             warnings,

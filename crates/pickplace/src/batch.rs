@@ -702,7 +702,12 @@ fn plan_into(scene_path: &Path, plan_path: &Path, options: &BatchOptions, s: &mu
             return;
         }
     };
-    s.warnings = setup.warnings.iter().map(ToString::to_string).collect();
+    s.warnings = setup
+        .warnings
+        .iter()
+        .map(ToString::to_string)
+        .chain(setup.mesh_warnings.iter().map(ToString::to_string))
+        .collect();
     let plan_options = options.plan_options(&setup);
     if options.resume {
         match kept_plan(&setup, &plan_options, plan_path) {

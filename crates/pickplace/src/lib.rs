@@ -46,6 +46,7 @@ pub mod contact;
 pub mod error;
 pub mod export;
 pub mod joint_limits;
+pub mod mesh_warning;
 pub mod plan;
 pub mod planner;
 pub mod precompute;

@@ -187,6 +187,9 @@ pub struct Setup {
     /// Why the cache could not be used, or only in part (at most one warning: the setup went
     /// on in memory, with the same result). For the caller to show; the library prints nothing.
     pub warnings: Vec<CacheWarning>,
+    /// What the scene's meshes look like they got wrong (stored twice, in millimetres): the
+    /// setup went on. For the caller to show.
+    pub mesh_warnings: Vec<crate::mesh_warning::MeshWarning>,
 }
 
 fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
@@ -364,10 +367,12 @@ impl Setup {
             ..ClusterParams::finger()
         };
         let mut cache = Cache::open(options.cache_dir.as_deref());
+        let mut mesh_warnings = Vec::new();
         let mut environment = Vec::new();
         for (i, env) in scene.environment.iter().enumerate() {
             let what = format!("environment[{i}] {:?}", env.name);
             let mesh = load_mesh(&env.mesh, env.scale, &what)?;
+            mesh_warnings.extend(crate::mesh_warning::check(&mesh, &what, &env.mesh, None));
             let clustering = clusters(
                 &mesh,
                 &env.mesh,
@@ -400,6 +405,12 @@ impl Setup {
 
         // The object.
         let object_mesh = load_mesh(&scene.object.mesh, scene.object.scale, "object.mesh")?;
+        mesh_warnings.extend(crate::mesh_warning::check(
+            &object_mesh,
+            "object.mesh",
+            &scene.object.mesh,
+            Some("object.scale"),
+        ));
         let object_env = clusters(
             &object_mesh,
             &scene.object.mesh,
@@ -507,6 +518,7 @@ impl Setup {
             scaling,
             log,
             warnings: cache.into_warnings(),
+            mesh_warnings,
         })
     }
 

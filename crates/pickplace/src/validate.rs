@@ -65,8 +65,10 @@ pub const HAND_CLEARANCE_SLACK: Real = 0.001;
 /// Largest lift (m) under which the resting object must not intersect the environment: a
 /// pose this much deep into its support penetrates it.
 pub const PENETRATION_LIFT: Real = 1e-3;
-/// Reach (m) of the contact points that make a resting object's support hull.
-pub const REST_CONTACT_REACH: Real = 1.5e-3;
+/// Reach (m) of the contact points that make a resting object's support hull: the contact
+/// model's tolerance ([`pickplace_placement::stability::CONTACT_TOLERANCE`], 1 mm) above the
+/// 0.5 mm clearance placements are lifted by.
+pub const REST_CONTACT_REACH: Real = pickplace_placement::stability::CONTACT_TOLERANCE + 5e-4;
 
 /// `value` with 4 decimals, or in scientific notation from 1e6 on (1e300 is not 301 digits).
 fn short_number(value: Real) -> String {

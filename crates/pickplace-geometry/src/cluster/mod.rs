@@ -61,8 +61,9 @@ use grow::{Engine, Limits};
 /// Version of what [`cluster_surface`] computes. Bump it whenever the clusters or pairs of
 /// some mesh change (a new rule in the growth, the merge pass, the pairing, the plane fit):
 /// it is part of every cluster database's name ([`crate::db::cache_path`]) and header, so a
-/// newer build never reuses the clusters an older algorithm computed.
-pub const ALGORITHM_VERSION: u32 = 1;
+/// newer build never reuses the clusters an older algorithm computed (2: triangles stored twice
+/// are welded when a mesh is built, issue 31, so a mesh's triangle indices can change).
+pub const ALGORITHM_VERSION: u32 = 2;
 
 /// Units of work [`cluster_surface_with_progress`] reports: `done` runs from 0 to this total.
 pub const PROGRESS_TOTAL: usize = 1000;

@@ -98,6 +98,9 @@ pub struct MeshReport {
     /// Triangles dropped because their area was below [`MeshOptions::degenerate_area`]
     /// (or two of their corners welded together).
     pub degenerate_triangles: usize,
+    /// Triangles dropped because an earlier triangle has the same corners in the same
+    /// winding order (a mesh exported twice into one file): the copy is welded into the first.
+    pub duplicate_triangles: usize,
     /// Edges used by one triangle only (open boundary).
     pub boundary_edges: usize,
     /// Edges shared by more than two triangles.
@@ -178,9 +181,18 @@ impl TriMesh {
 
         let mut kept = Vec::with_capacity(triangles.len());
         let mut source_triangles = Vec::with_capacity(triangles.len());
+        let mut seen = std::collections::HashSet::with_capacity(triangles.len());
+        let mut duplicates = 0;
         for (i, t) in triangles.iter().enumerate() {
             let w = t.map(|v| remap[v as usize]);
             if w[0] == w[1] || w[1] == w[2] || w[0] == w[2] {
+                continue;
+            }
+            // The same corners in the same winding, whichever corner comes first.
+            let first = (0..3).min_by_key(|&k| w[k]).unwrap_or(0);
+            let key = [w[first], w[(first + 1) % 3], w[(first + 2) % 3]];
+            if !seen.insert(key) {
+                duplicates += 1;
                 continue;
             }
             let area = triangle_area(&vertices, w);
@@ -217,7 +229,8 @@ impl TriMesh {
             input_triangles: triangles.len(),
             vertices: compact.len(),
             triangles: kept.len(),
-            degenerate_triangles: triangles.len() - kept.len(),
+            degenerate_triangles: triangles.len() - kept.len() - duplicates,
+            duplicate_triangles: duplicates,
             boundary_edges: adjacency.boundary_edges(),
             non_manifold_edges: adjacency.non_manifold_edges(),
         };
@@ -650,6 +663,20 @@ mod tests {
         let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid");
         assert_eq!(mesh.report().degenerate_triangles, 1);
         assert_eq!(mesh.source_triangles(), &[1, 2]);
+    }
+
+    #[test]
+    fn triangles_stored_twice_are_welded_into_one_and_counted() {
+        let (p, mut t) = quad();
+        let copy = t.clone();
+        // The same triangles again, starting at another corner (same winding), and one
+        // reversed: the reversed one is another face (a two-sided sheet) and stays.
+        t.extend(copy.iter().map(|c| [c[1], c[2], c[0]]));
+        t.push([copy[0][0], copy[0][2], copy[0][1]]);
+        let mesh = TriMesh::from_soup(&p, &t, &MeshOptions::default()).expect("valid");
+        assert_eq!(mesh.report().duplicate_triangles, copy.len());
+        assert_eq!(mesh.report().degenerate_triangles, 0);
+        assert_eq!(mesh.triangles().len(), copy.len() + 1);
     }
 
     #[test]

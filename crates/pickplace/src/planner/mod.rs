@@ -36,6 +36,7 @@ use crate::plan::{Stats, StrategyReport};
 use crate::scene::StrategyChoice;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
+use assemble::Found;
 use pickplace_geometry::math::Real;
 use pickplace_grasp::{Grasp, GraspSet};
 use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
@@ -452,7 +453,12 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         .map(|s| (s, true))
         .into_iter()
         .chain(order.into_iter().map(|s| (s, false)));
+    // Each strategy gets its share of what is left; one whose share ran out before its search
+    // did comes back for a second turn, when the others have handed on the time they left
+    // unused (they ended early: nothing more to try).
     let mut turn = 0;
+    let mut failed: Vec<(Strategy, StrategyReport)> = Vec::new();
+    let mut cut: Vec<usize> = Vec::new();
     for (strategy, is_probe) in attempts {
         if !is_probe {
             ctx.share_time(n_strategies - turn);
@@ -465,39 +471,94 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
                 continue;
             }
         }
+        let report = match ctx.run_strategy(strategy, is_probe)? {
+            Ok(found) => return ctx.finish_plan(found, stats, t_all),
+            Err(report) => report,
+        };
+        if !is_probe {
+            if was_cut_short(&report) {
+                cut.push(failed.len());
+            }
+            failed.push((strategy, report));
+        }
+    }
+    let n_cut = cut.len();
+    for (k, &i) in cut.iter().enumerate() {
+        ctx.share_time(n_cut - k);
+        if ctx.out_of_time() {
+            break;
+        }
+        let strategy = failed[i].0;
+        match ctx.run_strategy(strategy, false)? {
+            Ok(found) => return ctx.finish_plan(found, stats, t_all),
+            Err(report) => failed[i].1 = report,
+        }
+    }
+    for (strategy, report) in failed {
+        reasons.push(format!("{strategy}: {}", summarize(&report)));
+        stats.strategies.push(report);
+    }
+    ctx.finish_stats(&mut stats, t_all);
+    Ok(Outcome::NoPlan(Failure { reasons, stats }))
+}
+
+/// Whether a strategy's search stopped because its share of the time budget ran out.
+fn was_cut_short(report: &StrategyReport) -> bool {
+    let spent = Rejection::TimeBudgetSpent.to_string();
+    report
+        .stages
+        .values()
+        .any(|count| count.rejected.get(&spent).is_some_and(|&n| n > 0))
+}
+
+impl Ctx<'_> {
+    /// Searches one strategy (`probe`: the nearer hand's quick first look,
+    /// [`Ctx::direct_first`]); the plan's pieces when it finds one, else its report.
+    fn run_strategy(
+        &mut self,
+        strategy: Strategy,
+        probe: bool,
+    ) -> Result<std::result::Result<(Strategy, Found, StrategyReport), StrategyReport>> {
         let t = Instant::now();
         let mut report = StrategyReport {
             strategy,
             success: false,
             stages: BTreeMap::new(),
         };
-        let found = if is_probe {
-            ctx.single_arm_search(strategy.pick_arm(), &mut report, true)?
+        let found = if probe {
+            self.single_arm_search(strategy.pick_arm(), &mut report, true)?
         } else if strategy.has_regrasp() {
-            ctx.regrasp_strategy(strategy, &mut report)?
+            self.regrasp_strategy(strategy, &mut report)?
         } else if strategy.has_handover() {
-            ctx.handover_strategy(strategy, &mut report)?
+            self.handover_strategy(strategy, &mut report)?
         } else {
-            ctx.single_arm_strategy(strategy.pick_arm(), &mut report)?
+            self.single_arm_strategy(strategy.pick_arm(), &mut report)?
         };
-        let what = if is_probe { "probe" } else { "strategy" };
-        ctx.timings.insert(
+        let what = if probe { "probe" } else { "strategy" };
+        self.timings.insert(
             format!("{what} {}", strategy.name()),
             t.elapsed().as_secs_f64(),
         );
-        if let Some(found) = found {
-            report.success = true;
-            stats.strategies.push(report);
-            let plan = ctx.assemble(strategy, found, stats, t_all)?;
-            return Ok(Outcome::Planned(Box::new(plan)));
-        }
-        if !is_probe {
-            reasons.push(format!("{strategy}: {}", summarize(&report)));
-            stats.strategies.push(report);
-        }
+        Ok(match found {
+            Some(found) => {
+                report.success = true;
+                Ok((strategy, found, report))
+            }
+            None => Err(report),
+        })
     }
-    ctx.finish_stats(&mut stats, t_all);
-    Ok(Outcome::NoPlan(Failure { reasons, stats }))
+
+    /// The plan of a strategy that found one.
+    fn finish_plan(
+        &mut self,
+        (strategy, found, report): (Strategy, Found, StrategyReport),
+        mut stats: Stats,
+        t_all: Instant,
+    ) -> Result<Outcome> {
+        stats.strategies.push(report);
+        let plan = self.assemble(strategy, found, stats, t_all)?;
+        Ok(Outcome::Planned(Box::new(plan)))
+    }
 }
 
 /// The most frequent rejections of a strategy, for the failure message: per stage (in name
