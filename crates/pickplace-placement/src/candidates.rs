@@ -239,8 +239,16 @@ impl ObjectModel {
             .filter_map(|c| Region::from_cluster_on_mesh(c, mesh, &identity, CONTACT_TOLERANCE))
             .map(|region| {
                 let n = region.normal();
+                let o = region.parent_from_plane.translation.vector;
+                // A rest whose plane the region lies on (within twice the tolerance): not the
+                // inside of a cup under its rim's plane.
                 let rest = (0..rests.len())
                     .filter(|&r| rests[r].support_normal.dot(&n) > SNAP_ANGLE.cos())
+                    .filter(|&r| {
+                        let m = &rests[r].support_normal;
+                        let offset = m.dot(&cog.coords) + rests[r].cog_height;
+                        (m.dot(&o) - offset).abs() <= 2.0 * CONTACT_TOLERANCE
+                    })
                     .max_by(|&a, &b| {
                         rests[a]
                             .support_normal

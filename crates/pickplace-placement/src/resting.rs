@@ -623,6 +623,35 @@ mod tests {
         assert!(poses.is_empty(), "{} poses", poses.len());
     }
 
+    /// Issue 31: a box scanned with 0.5 mm of noise (flat only to a millimetre) rests on each
+    /// of its six faces, as a physics engine sees it; the rigid model (tolerance 0, only the
+    /// hull facet carries it) finds a sliver under most faces.
+    #[test]
+    fn a_box_flat_only_to_a_millimetre_rests_on_its_six_faces() {
+        let mesh = shapes::jittered(
+            shapes::subdivided_box_builder([0.08, 0.06, 0.05], 24),
+            0.0005,
+            7,
+        )
+        .build()
+        .expect("box");
+        let cog = pickplace_geometry::mesh::MassProperties::of(&mesh).center_of_mass;
+        let poses = resting_poses(&mesh, &cog, &RestingOptions::default()).expect("hull");
+        assert_eq!(poses.len(), 6, "{poses:#?}");
+        for p in &poses {
+            // Each close to a face normal, with about the face's half width as margin.
+            let n = p.support_normal;
+            assert!(n.abs().max() > 0.995, "{n}");
+            assert!(p.stability_margin > 0.02, "{}", p.stability_margin);
+        }
+        let rigid = RestingOptions {
+            contact_tolerance: 0.0,
+            ..RestingOptions::default()
+        };
+        let poses = resting_poses(&mesh, &cog, &rigid).expect("hull");
+        assert!(poses.len() < 6, "{}", poses.len());
+    }
+
     #[test]
     fn cog_outside_support_is_rejected() {
         // A tall thin box with its CoG pushed sideways beyond one face: standing on the small

@@ -410,6 +410,59 @@ mod tests {
     }
 
     #[test]
+    fn hull_tipping_angle_is_the_flat_support_s_on_a_box_and_zero_on_a_cylinder_s_side() {
+        // A 10 x 6 x 4 cm box lying on its largest face, CoG at the centre: tipping about the
+        // long edge first, atan(3 / 2).
+        let corners: Vec<Point3> = (0..8)
+            .map(|i| {
+                Point3::new(
+                    if i & 1 == 0 { -0.05 } else { 0.05 },
+                    if i & 2 == 0 { -0.03 } else { 0.03 },
+                    if i & 4 == 0 { -0.02 } else { 0.02 },
+                )
+            })
+            .collect();
+        let down = -Vector3::z();
+        let angle = hull_tipping_angle(&corners, &Point3::origin(), &down);
+        let exact = 0.03f64.atan2(0.02);
+        // The azimuth sampling can only make it larger, by at most 1/cos(3.75°).
+        assert!(
+            angle >= exact - 1e-9 && angle < exact + 0.01,
+            "{angle} vs {exact}"
+        );
+        // A 64-sided cylinder of radius 3 cm on its side: the CoG rises 0.04 mm at most.
+        let ring: Vec<Point3> = (0..64)
+            .flat_map(|k| {
+                let a = std::f64::consts::TAU * (k as Real + 0.5) / 64.0;
+                [-0.06, 0.06].map(|y| Point3::new(0.03 * a.cos(), y, 0.03 * a.sin()))
+            })
+            .collect();
+        assert_eq!(hull_tipping_angle(&ring, &Point3::origin(), &down), 0.0);
+        // Off its equilibrium (tilted 10° about y): it sinks first.
+        let tilted = Vector3::new(10f64.to_radians().sin(), 0.0, -10f64.to_radians().cos());
+        assert_eq!(
+            hull_tipping_angle(&corners, &Point3::origin(), &tilted),
+            0.0
+        );
+    }
+
+    #[test]
+    fn tolerance_support_takes_the_points_within_the_tolerance() {
+        let points = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0005),
+            Point3::new(0.0, 1.0, 0.0009),
+            Point3::new(1.0, 1.0, 0.002),
+        ];
+        // The plane z = 0 with outward normal -z (offset 0): z <= 1 mm lies on it.
+        let (u, v) = (Vector3::x(), -Vector3::y());
+        let s = tolerance_support(&points, &-Vector3::z(), 0.0, (&u, &v), CONTACT_TOLERANCE);
+        assert_eq!(s.points().len(), 3);
+        let rigid = tolerance_support(&points, &-Vector3::z(), 0.0, (&u, &v), 0.0);
+        assert!(!rigid.has_area());
+    }
+
+    #[test]
     fn cog_foot_follows_gravity_onto_the_plane() {
         let horizontal = Region::new(
             0,

@@ -204,6 +204,9 @@ pub(crate) struct Engine<'a> {
     limits: Limits,
     stamp: Vec<u32>,
     generation: u32,
+    /// Bounding-volume hierarchy of the triangles (their boxes, engine coordinates), built on
+    /// the first ray query ([`Engine::exit_hits`]).
+    bvh: std::sync::OnceLock<parry3d_f64::partitioning::Bvh>,
 }
 
 /// A proposed merge.
@@ -255,6 +258,7 @@ impl<'a> Engine<'a> {
             limits,
             stamp: Vec::new(),
             generation: 0,
+            bvh: std::sync::OnceLock::new(),
         }
     }
 
@@ -625,12 +629,44 @@ impl<'a> Engine<'a> {
     /// object, skipping the triangles of cluster `skip`, by increasing distance (ties by
     /// canonical rank). Returns triangles and distances.
     pub fn exit_hits(&self, origin: &Vector3, dir: &Vector3, skip: u32) -> Vec<(u32, Real)> {
+        // Only the triangles whose (slightly inflated) boxes the ray meets can be hit: the same
+        // hits as a scan of every triangle, in the same order (sorted below).
+        let bvh = self.bvh.get_or_init(|| {
+            let boxes: Vec<parry3d_f64::bounding_volume::Aabb> = self
+                .tris
+                .iter()
+                .map(|tri| {
+                    let [a, b, c] = tri.map(|v| self.points[v as usize]);
+                    let lo = a.inf(&b).inf(&c);
+                    let hi = a.sup(&b).sup(&c);
+                    let pad = 1e-9 * (1.0 + lo.abs().max().max(hi.abs().max()));
+                    parry3d_f64::bounding_volume::Aabb::new(
+                        crate::parry::vector(&lo.add_scalar(-pad)),
+                        crate::parry::vector(&hi.add_scalar(pad)),
+                    )
+                })
+                .collect();
+            parry3d_f64::partitioning::Bvh::from_leaves(
+                parry3d_f64::partitioning::BvhBuildStrategy::Binned,
+                &boxes,
+            )
+        });
+        let inverse = dir.map(|c| 1.0 / c);
+        let meets = |node: &parry3d_f64::partitioning::BvhNode| {
+            let aabb = node.aabb();
+            let (lo, hi) = (
+                crate::parry::to_vector(aabb.mins),
+                crate::parry::to_vector(aabb.maxs),
+            );
+            ray_meets_box(origin, &inverse, &lo, &hi)
+        };
         let mut hits = Vec::new();
-        for (t, tri) in self.tris.iter().enumerate() {
+        for t in bvh.leaves(meets) {
+            let t = t as usize;
             if self.cluster_of[t] == skip || self.tri_normals[t].dot(dir) <= 0.0 {
                 continue;
             }
-            let [a, b, c] = tri.map(|v| self.points[v as usize]);
+            let [a, b, c] = self.tris[t].map(|v| self.points[v as usize]);
             if let Some(d) = ray_triangle(origin, dir, &a, &b, &c)
                 && d > 1e-12
             {
@@ -643,6 +679,33 @@ impl<'a> Engine<'a> {
         });
         hits
     }
+}
+
+/// Whether the ray from `origin` with direction components inverted in `inverse` meets the
+/// box `[lo, hi]` for some t ≥ 0 (slab test; an axis-parallel ray has infinite inverses).
+fn ray_meets_box(origin: &Vector3, inverse: &Vector3, lo: &Vector3, hi: &Vector3) -> bool {
+    let (mut near, mut far) = (0.0, Real::INFINITY);
+    for k in 0..3 {
+        let (a, b) = (
+            (lo[k] - origin[k]) * inverse[k],
+            (hi[k] - origin[k]) * inverse[k],
+        );
+        // 0 × ∞ (the origin on a slab's plane, parallel ray) is NaN: that slab does not cut.
+        let (a, b) = if a.is_nan() || b.is_nan() {
+            if origin[k] < lo[k] || origin[k] > hi[k] {
+                return false;
+            }
+            (Real::NEG_INFINITY, Real::INFINITY)
+        } else {
+            (a.min(b), a.max(b))
+        };
+        near = Real::max(near, a);
+        far = Real::min(far, b);
+        if near > far {
+            return false;
+        }
+    }
+    true
 }
 
 /// Lexicographic order of two points (x, then y, then z; total order on floats).

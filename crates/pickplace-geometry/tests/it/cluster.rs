@@ -475,13 +475,23 @@ proptest! {
         seed in any::<u64>(), points in 3usize..40, triangles in 1usize..120, h_max in 0.0..0.004f64,
     ) {
         let (positions, tris) = random_soup(seed, points, triangles);
-        // Degenerate by an independent test: repeated corners or (exactly) collinear ones.
-        let kept: Vec<u32> = (0..tris.len() as u32)
-            .filter(|&i| {
-                let [a, b, c] = tris[i as usize].map(|v| positions[v as usize]);
-                (b - a).cross(&(c - a)).norm() * 0.5 >= MeshOptions::default().degenerate_area
-            })
-            .collect();
+        // Degenerate by an independent test: repeated corners or (exactly) collinear ones;
+        // a copy of an earlier kept triangle (same corners, same winding) is welded into it.
+        let corners = |i: usize| tris[i].map(|v| positions[v as usize]);
+        let same_winding = |p: [Point3; 3], q: [Point3; 3]| {
+            (0..3).any(|k| p[0] == q[k] && p[1] == q[(k + 1) % 3] && p[2] == q[(k + 2) % 3])
+        };
+        let mut kept: Vec<u32> = Vec::new();
+        for i in 0..tris.len() {
+            let [a, b, c] = corners(i);
+            if (b - a).cross(&(c - a)).norm() * 0.5 < MeshOptions::default().degenerate_area {
+                continue;
+            }
+            if kept.iter().any(|&j| same_winding(corners(j as usize), corners(i))) {
+                continue;
+            }
+            kept.push(i as u32);
+        }
         let mesh = match TriMesh::from_soup(&positions, &tris, &MeshOptions::default()) {
             Ok(mesh) => mesh,
             Err(e) => {

@@ -415,10 +415,14 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         }
     }
     if ctx.grasps.is_empty() {
-        reasons.push(format!(
-            "no grasp: {} candidates on {} cluster pairs, all rejected",
-            grasp_set.candidates, grasp_set.pairs
-        ));
+        reasons.push(if grasp_set.pairs == 0 {
+            "no grasp: the object has no two opposite surfaces the fingers can hold (no finger-contact cluster pair; planner.h_max_finger, docs/grasp.md)".to_owned()
+        } else {
+            format!(
+                "no grasp: {} candidates on {} cluster pairs, all rejected ({})",
+                grasp_set.candidates, grasp_set.pairs, grasp_set.rejected
+            )
+        });
     }
     if !reasons.is_empty() {
         ctx.finish_stats(&mut stats, t_all);
