@@ -7,6 +7,7 @@ mod gen_meshes;
 mod precompute;
 mod python;
 mod roadmaps;
+mod scanned;
 mod stability;
 mod suite;
 mod suite_run;
@@ -106,7 +107,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 10, "{tasks:?}");
+        assert_eq!(tasks.len(), 11, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

@@ -1,4 +1,5 @@
-//! The generated, scanned-like objects of `cargo xtask stability`: analytic solids (boxes,
+//! The generated, scanned-like objects of `cargo xtask stability` and of the suite's scanned
+//! scenes (`crate::suite`, module `scanned`): analytic solids (boxes,
 //! bricks, rounded boxes, standing cylinders, soup cans, discs, cone frustums, blobs cut
 //! flat) sampled finely (10 000 to 60 000 triangles), every vertex moved by up to 1 mm of
 //! seeded uniform noise, placed at a seeded random pose (a scanner's frame, not the object's
@@ -53,7 +54,7 @@ fn resample(profile: &[[Real; 2]], step: Real) -> Vec<[Real; 2]> {
 }
 
 /// A solid of revolution of `profile` (r, z) with about `triangles` triangles.
-fn revolved(profile: &[[Real; 2]], triangles: usize) -> MeshBuilder {
+pub fn revolved(profile: &[[Real; 2]], triangles: usize) -> MeshBuilder {
     let r_max = profile.iter().map(|p| p[0]).fold(0.0, Real::max);
     let length: Real = profile
         .windows(2)
@@ -66,13 +67,13 @@ fn revolved(profile: &[[Real; 2]], triangles: usize) -> MeshBuilder {
 }
 
 /// A box of full size `size` (base at z = 0) with about `triangles` triangles.
-fn boxed(size: [Real; 3], triangles: usize) -> MeshBuilder {
+pub fn boxed(size: [Real; 3], triangles: usize) -> MeshBuilder {
     let n = ((triangles as Real / 12.0).sqrt().round() as usize).max(2);
     subdivided_box_builder(size, n)
 }
 
 /// A box with edges rounded to `radius`: a subdivided box pushed onto the rounded surface.
-fn rounded_box(size: [Real; 3], radius: Real, triangles: usize) -> MeshBuilder {
+pub fn rounded_box(size: [Real; 3], radius: Real, triangles: usize) -> MeshBuilder {
     let mut b = boxed(size, triangles);
     let inner = [
         size[0] / 2.0 - radius,
@@ -96,7 +97,7 @@ fn rounded_box(size: [Real; 3], radius: Real, triangles: usize) -> MeshBuilder {
 
 /// An ellipsoid cut flat at `cut` above its lowest point, with a lobed, uneven outline
 /// (`lobes` bumps of relative depth `bump` around z, varying with height), ~`triangles`.
-fn blob(semi: [Real; 3], cut: Real, lobes: u32, bump: Real, triangles: usize) -> MeshBuilder {
+pub fn blob(semi: [Real; 3], cut: Real, lobes: u32, bump: Real, triangles: usize) -> MeshBuilder {
     // ellipsoid_builder: ≈ 2 · rings · segments triangles; segments ≈ 2 rings.
     let rings = ((triangles as Real / 4.0).sqrt().round() as usize).max(8);
     let mut b = ellipsoid_builder(semi, cut, rings, 2 * rings);
@@ -108,6 +109,27 @@ fn blob(semi: [Real; 3], cut: Real, lobes: u32, bump: Real, triangles: usize) ->
         *p = Point3::new(p.x * f, p.y * f, p.z);
     }
     b
+}
+
+/// The (r, z) profile of a soup can of radius `r` and height `h`: a rim 3 mm in from the side
+/// at both ends, 1.5 mm high (for [`revolved`]).
+pub fn can_profile(r: Real, h: Real) -> [[Real; 2]; 8] {
+    [
+        [0.0, 0.0015],
+        [r - 0.003, 0.0015],
+        [r - 0.003, 0.0],
+        [r, 0.0],
+        [r, h],
+        [r - 0.003, h],
+        [r - 0.003, h - 0.0015],
+        [0.0, h - 0.0015],
+    ]
+}
+
+/// `solid` as a scan sees it: every coordinate of every vertex moved by up to [`NOISE`]
+/// (seeded; a vertex shared by triangles moves once, so a closed solid stays closed).
+pub fn noisy(solid: MeshBuilder, seed: u64) -> MeshBuilder {
+    jittered(solid, NOISE, seed)
 }
 
 fn recipes() -> Vec<Recipe> {
@@ -153,24 +175,7 @@ fn recipes() -> Vec<Recipe> {
     }
     for (r, h) in [(0.033, 0.12), (0.0425, 0.11), (0.05, 0.07)] {
         // A soup can: a rim 3 mm in from the side at both ends, 1.5 mm high.
-        add(
-            "can",
-            Box::new(move |t| {
-                revolved(
-                    &[
-                        [0.0, 0.0015],
-                        [r - 0.003, 0.0015],
-                        [r - 0.003, 0.0],
-                        [r, 0.0],
-                        [r, h],
-                        [r - 0.003, h],
-                        [r - 0.003, h - 0.0015],
-                        [0.0, h - 0.0015],
-                    ],
-                    t,
-                )
-            }),
-        );
+        add("can", Box::new(move |t| revolved(&can_profile(r, h), t)));
     }
     for (r, h) in [(0.05, 0.02), (0.07, 0.015)] {
         add(
@@ -230,7 +235,7 @@ pub fn generate(dir: &Path, seed: u64) -> anyhow::Result<Vec<Generated>> {
             let mut rng = SplitMix64::new(seed ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
             // A triangle budget between 10 000 and 60 000 (the noise needs a fine sampling).
             let budget = 12_000 + (rng.next_u64() % 44_000) as usize;
-            let mut b = jittered((recipe.build)(budget), NOISE, rng.next_u64());
+            let mut b = noisy((recipe.build)(budget), rng.next_u64());
             // The scanner's frame: a random rotation and an offset of up to 5 cm.
             let axis = Vector3::new(rng.symmetric(), rng.symmetric(), rng.symmetric());
             let rotation = UnitQuaternion::from_scaled_axis(

@@ -11,7 +11,6 @@
 //! with `--write-doc` docs/stability.md; exit status 1 when a goal is missed.
 
 mod data;
-mod meshes;
 
 use crate::suite_run::glob_match;
 use anyhow::{Context, bail};
@@ -562,7 +561,7 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let data = data::unpack(&wheel, &dir)?;
     let python = data::venv(&wheel, &dir)?;
     let mut specs = data::pybullet_objects(&data, args.random)?;
-    for g in meshes::generate(&dir.join("generated"), SEED)? {
+    for g in crate::scanned::generate(&dir.join("generated"), SEED)? {
         specs.push(ObjectSpec {
             name: format!("generated/{}", g.name),
             path: g.path,
@@ -728,7 +727,7 @@ fn document(s: &Summary, results: &[ObjectResult], args: &Args) -> String {
     line("the visual surface, since the collision model is a V-HACD decomposition), teddy, lego,");
     line("jenga, domino, mug, the small cube and three toys; not the 2 m `concave_box`) and");
     line(&format!(
-        "{} generated scanned-like meshes (`target/objects/generated/*.stl`, xtask/src/stability/meshes.rs):",
+        "{} generated scanned-like meshes (`target/objects/generated/*.stl`, xtask/src/scanned.rs):",
         s.objects_generated
     ));
     line(

@@ -15,6 +15,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod scans;
+
 /// Height of the table top in the world (m), as in the shipped scenes.
 pub const TABLE_TOP: Real = 0.72;
 
@@ -53,21 +55,33 @@ pub struct SuiteMesh {
     pub path: &'static str,
     pub builder: MeshBuilder,
     pub written: bool,
+    /// The scale that brings the file to metres: 1, or 0.001 for a mesh written in millimetres
+    /// (`builder` is in metres either way; the scene says `scale = 0.001`).
+    pub scale: Real,
 }
 
-/// Every mesh the suite's scenes name, objects first, in a fixed order.
+/// Every mesh the suite's scenes name, objects first, in a fixed order, then the environment,
+/// then the scanned-like objects of [`scans`].
 pub fn meshes() -> Vec<SuiteMesh> {
+    let mut all = suite_meshes();
+    all.extend(scans::meshes());
+    all
+}
+
+fn suite_meshes() -> Vec<SuiteMesh> {
     let suite = |key, path, builder| SuiteMesh {
         key,
         path,
         builder,
         written: true,
+        scale: 1.0,
     };
     let shipped = |key, path, builder| SuiteMesh {
         key,
         path,
         builder,
         written: false,
+        scale: 1.0,
     };
     vec![
         // Objects.
@@ -278,9 +292,16 @@ fn shelf(x: Real, y: Real) -> (Part, [Real; 3]) {
     (part("shelf", "shelf", x, y), [x, y, TABLE_TOP + 0.15])
 }
 
-/// Every scene, in the manifest's order.
-pub fn scenes() -> Vec<Spec> {
-    let base = |name, about, object, start: [Real; 2], target: [Real; 3]| Spec {
+/// A feasible scene on the table: `object` upright from `start` (on the table) to `target`,
+/// both arms.
+fn base(
+    name: &'static str,
+    about: &'static str,
+    object: &'static str,
+    start: [Real; 2],
+    target: [Real; 3],
+) -> Spec {
+    Spec {
         name,
         about,
         object,
@@ -296,8 +317,23 @@ pub fn scenes() -> Vec<Spec> {
         tags: Vec::new(),
         expect: Expect::Feasible,
         open: None,
-    };
-    let on_table = |x, y| [x, y, TABLE_TOP];
+    }
+}
+
+/// The point `(x, y)` on the table top.
+fn on_table(x: Real, y: Real) -> [Real; 3] {
+    [x, y, TABLE_TOP]
+}
+
+/// Every scene, in the manifest's order: the suite's own, then the scanned-like objects'
+/// of [`scans`].
+pub fn scenes() -> Vec<Spec> {
+    let mut all = suite_scenes();
+    all.extend(scans::scenes());
+    all
+}
+
+fn suite_scenes() -> Vec<Spec> {
     let side64 = Tilt::OnSide { roll: PI / 64.0 };
     let mut s = Vec::new();
 
@@ -1008,6 +1044,9 @@ fn scene_toml(spec: &Spec, meshes: &[SuiteMesh]) -> anyhow::Result<String> {
     }
     writeln!(t, "\n[object]")?;
     writeln!(t, "mesh = \"../../{}\"", object.path)?;
+    if object.scale != 1.0 {
+        writeln!(t, "scale = {}", object.scale)?;
+    }
     writeln!(
         t,
         "start_pose = {{ position = {}, orientation = {} }}",
@@ -1131,7 +1170,16 @@ pub fn generate() -> anyhow::Result<Vec<(String, Vec<u8>)>> {
     let specs = scenes();
     let mut files = Vec::new();
     for m in meshes.iter().filter(|m| m.written) {
-        files.push((m.path.to_owned(), encode_stl_binary(&m.builder)?));
+        let bytes = if m.scale == 1.0 {
+            encode_stl_binary(&m.builder)?
+        } else {
+            let mut file = m.builder.clone();
+            for p in &mut file.positions {
+                *p /= m.scale;
+            }
+            encode_stl_binary(&file)?
+        };
+        files.push((m.path.to_owned(), bytes));
     }
     let mut names = std::collections::BTreeSet::new();
     for s in &specs {
