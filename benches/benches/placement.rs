@@ -6,8 +6,10 @@ use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::shapes;
+use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
 use pickplace_placement::{
-    EnvironmentModel, ObjectModel, PlacementOptions, RestingOptions, candidates, resting_poses,
+    EnvironmentModel, ObjectModel, PlacementOptions, RestingOptions, candidates, default_target,
+    resting_poses,
 };
 use std::hint::black_box;
 
@@ -57,5 +59,50 @@ fn placement(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, placement);
+/// Issue 31: a scanned-like box (10 x 6 x 5 cm, 16 428 triangles, every vertex moved by up to
+/// 0.5 mm) on the table: its first setup (environment and finger clusters, grasp set, placement
+/// model), its resting poses and its placements.
+fn scanned(c: &mut Criterion) {
+    let scan = shapes::jittered(
+        shapes::subdivided_box_builder([0.1, 0.06, 0.05], 37),
+        0.0005,
+        31,
+    )
+    .build()
+    .expect("scanned box");
+    assert_eq!(scan.triangle_count(), 16_428);
+    let table = shapes::table_builder().build().expect("table");
+    let gripper = GripperParams::load(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/nx-hiro/gripper.toml"),
+    )
+    .expect("the NX-HIRO gripper");
+    let cog = MassProperties::of(&scan).center_of_mass;
+    let options = PlacementOptions::default();
+    let mut group = c.benchmark_group("scanned_16k");
+    group.sample_size(10);
+    group.bench_function("first_setup", |b| {
+        b.iter(|| {
+            let env = cluster_surface(black_box(&scan), &ClusterParams::environment())
+                .expect("env clusters");
+            let finger = cluster_surface(&scan, &ClusterParams::finger()).expect("finger clusters");
+            let grasps = GraspPlanner::new(&scan)
+                .expect("planner")
+                .plan(&finger, &gripper, &GraspOptions::default())
+                .expect("grasps");
+            let object = ObjectModel::new(&scan, &env, cog).expect("object");
+            (grasps.grasps.len(), object.regions.len())
+        })
+    });
+    group.bench_function("resting_poses", |b| {
+        b.iter(|| resting_poses(black_box(&scan), &cog, &RestingOptions::default()).expect("poses"))
+    });
+    let (object, env) = models(&scan, &table);
+    let top = default_target(&env, &options).expect("the table's top");
+    group.bench_function("placements_on_table", |b| {
+        b.iter(|| candidates(black_box(&object), &env, &top, &options).expect("placements"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, placement, scanned);
 criterion_main!(benches);

@@ -127,6 +127,7 @@ mod tests {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         GraspsArgs {
             mesh: root.join(mesh),
+            scale: 1.0,
             robot: root.join(robot),
             // The text summary (a dozen lines): the JSON of every grasp filled the test log.
             json: false,

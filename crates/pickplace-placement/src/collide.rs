@@ -22,9 +22,88 @@ pub struct CollisionMesh {
     /// can meet the mesh (which lies inside it), so each of those alone is tested against the
     /// mesh (see [`CollisionMesh::intersects`]).
     hull: Option<ConvexPolyhedron>,
+    /// Balls inside a closed non-convex object mesh (centre, radius; object frame): an
+    /// environment triangle that meets one is inside the object, a penetration found with one
+    /// cheap test instead of a search of the object's triangles (a scanned can under a shelf
+    /// too low: tens of thousands of placements, each pressing the shelf into the can).
+    inner_balls: Vec<(Point3, Real)>,
     vertices: Vec<Point3>,
     triangles: Vec<[u32; 3]>,
 }
+
+/// Whether every edge of the mesh is used once in each direction (closed, consistently wound).
+fn closed_and_oriented(triangles: &[[u32; 3]]) -> bool {
+    let mut edges = std::collections::HashSet::with_capacity(triangles.len() * 3);
+    for t in triangles {
+        for k in 0..3 {
+            if !edges.insert((t[k], t[(k + 1) % 3])) {
+                return false;
+            }
+        }
+    }
+    edges.iter().all(|&(a, b)| edges.contains(&(b, a)))
+}
+
+/// Up to [`INNER_BALLS`] balls inside a closed, outward-wound mesh: the centres of a grid over
+/// its bounding box that lie inside (by the mesh's pseudo-normals), each with its distance to
+/// the surface (less 1 µm), the largest first, none centred inside a chosen one.
+fn inner_balls(
+    points: &[PVector],
+    vertices: &[Point3],
+    triangles: &[[u32; 3]],
+) -> Vec<(Point3, Real)> {
+    use parry3d_f64::query::PointQuery;
+    if vertices.is_empty() || !closed_and_oriented(triangles) {
+        return Vec::new();
+    }
+    let Ok(oriented) =
+        ParryTriMesh::with_flags(points.to_vec(), triangles.to_vec(), TriMeshFlags::ORIENTED)
+    else {
+        return Vec::new();
+    };
+    let (mut lo, mut hi) = (vertices[0], vertices[0]);
+    for p in vertices {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let n = INNER_GRID;
+    let mut candidates: Vec<(Real, Point3)> = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let f = |a: usize| (a as Real + 0.5) / n as Real;
+                let c = Point3::new(
+                    lo.x + (hi.x - lo.x) * f(i),
+                    lo.y + (hi.y - lo.y) * f(j),
+                    lo.z + (hi.z - lo.z) * f(k),
+                );
+                let projection = oriented.project_local_point(parry::point(&c), false);
+                if projection.is_inside {
+                    let r = (parry::to_point(projection.point) - c).norm() - 1e-6;
+                    if r > 0.0 {
+                        candidates.push((r, c));
+                    }
+                }
+            }
+        }
+    }
+    candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.x.total_cmp(&b.1.x)));
+    let mut out: Vec<(Point3, Real)> = Vec::new();
+    for (r, c) in candidates {
+        if out.len() >= INNER_BALLS {
+            break;
+        }
+        if out.iter().all(|(o, ro)| (c - o).norm() > *ro) {
+            out.push((c, r));
+        }
+    }
+    out
+}
+
+/// Grid points per axis searched for inner balls.
+const INNER_GRID: usize = 8;
+/// Inner balls kept.
+const INNER_BALLS: usize = 24;
 
 /// The convex hull of a closed, outward-wound mesh when the mesh bounds that hull: the volumes
 /// agree to within one part in 10^6 (a dent, a hole or a handle makes the hull larger).
@@ -96,6 +175,11 @@ impl CollisionMesh {
         } else {
             None
         };
+        let inner_balls = if hull.is_some() {
+            inner_balls(&points, &vertices, &triangles)
+        } else {
+            Vec::new()
+        };
         let shape = ParryTriMesh::with_flags(points, triangles.clone(), TriMeshFlags::empty())
             .map_err(|e| crate::Error::DegenerateHull {
                 reason: format!("collision mesh: {e:?}"),
@@ -104,6 +188,7 @@ impl CollisionMesh {
             shape,
             convex,
             hull,
+            inner_balls,
             vertices,
             triangles,
         })
@@ -136,9 +221,25 @@ impl CollisionMesh {
             // is tested against the object's mesh alone. The environment triangles a resting
             // face almost touches (clear of the lifted hull) cost one GJK test each instead of
             // the pairs of nearly coplanar triangles a mesh-mesh traversal visits.
+            use parry3d_f64::query::PointQuery;
             use parry3d_f64::shape::Shape;
             let aabb = hull.compute_aabb(&object_pose);
-            for j in self.shape.bvh().intersect_aabb(&aabb) {
+            let balls: Vec<(PVector, Real)> = object
+                .inner_balls
+                .iter()
+                .map(|(c, r)| (parry::point(&(pose * c)), *r))
+                .collect();
+            let near: Vec<u32> = self.shape.bvh().intersect_aabb(&aabb).collect();
+            // The cheap certain answer first, over every nearby triangle.
+            if near.iter().any(|&j| {
+                let triangle = self.shape.triangle(j);
+                balls
+                    .iter()
+                    .any(|(c, r)| triangle.distance_to_local_point(*c, true) < *r)
+            }) {
+                return true;
+            }
+            for j in near {
                 let triangle = self.shape.triangle(j);
                 let meets = |shape: &dyn Shape| {
                     parry3d_f64::query::intersection_test(&env_pose, &triangle, &object_pose, shape)
