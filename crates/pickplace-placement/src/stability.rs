@@ -173,13 +173,7 @@ pub fn hull_tipping_angle(hull: &[Point3], cog: &Point3, down: &Vector3) -> Real
     let Some(d) = down.try_normalize(1e-12) else {
         return 0.0;
     };
-    let helper = if d.x.abs() < 0.6 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let u0 = d.cross(&helper).normalize();
-    let v0 = d.cross(&u0);
+    let (u0, v0) = crate::resting::plane_basis(&d);
     // (height below the CoG along `down`, horizontal offset), sorted by height, deepest first:
     // the same order serves every azimuth.
     let mut rel: Vec<(Real, Real, Real)> = hull
