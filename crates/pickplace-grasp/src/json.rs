@@ -36,6 +36,10 @@ pub struct GraspJson {
     /// pads' flexible sheet.
     #[serde(default)]
     pub pad_depth: Real,
+    /// How far the pads are drawn back along the approach from the grasp centre, so that the
+    /// finger tips stop short of a thin object's far edge (m; 0 for most grasps).
+    #[serde(default)]
+    pub tip_shift: Real,
 }
 
 /// The `pickplace grasps --json` document.
@@ -95,6 +99,7 @@ impl GraspsJson {
                     torque_arm: g.quality.torque_arm,
                     boundary_margin: g.quality.boundary_margin,
                     pad_depth: g.quality.pad_depth,
+                    tip_shift: g.quality.tip_shift,
                 })
                 .collect(),
         }

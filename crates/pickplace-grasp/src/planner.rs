@@ -11,6 +11,7 @@ use crate::collide::ObjectCollider;
 use crate::error::{Error, Result};
 use crate::gripper::{GripperBox, GripperParams};
 use crate::quality::{self, GraspQuality, ScoreModel};
+use pad::{Footprint, Near};
 use pickplace_geometry::cluster::{Cluster, ClusterPair, Clustering};
 use pickplace_geometry::math::nalgebra::Rotation3;
 use pickplace_geometry::math::{
@@ -20,6 +21,8 @@ use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::polygon::Polygon;
 use rayon::prelude::*;
 use std::f64::consts::TAU;
+
+mod pad;
 
 /// Options of the grasp planner.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -417,283 +420,6 @@ impl GraspPlanner {
     }
 }
 
-/// A pad's rectangle: its in-plane axes (unit) and half sizes along them (m).
-struct Footprint {
-    lateral: Vector3,
-    approach: Vector3,
-    half: (Real, Real),
-}
-
-/// The triangles that may lie under a pad ([`GraspPlanner::facing_near`]): their corners
-/// relative to the contact point, in triangle order, with each one's highest corner along the
-/// direction to the pad, and their indices from the highest down.
-struct Near {
-    triangles: Vec<[Vector3; 3]>,
-    top: Vec<Real>,
-    by_top: Vec<usize>,
-    toward: Vector3,
-}
-
-impl Near {
-    fn new(triangles: Vec<[Vector3; 3]>, toward: Vector3) -> Self {
-        let top: Vec<Real> = triangles
-            .iter()
-            .map(|d| {
-                d.iter()
-                    .map(|d| d.dot(&toward))
-                    .fold(Real::NEG_INFINITY, Real::max)
-            })
-            .collect();
-        let mut by_top: Vec<usize> = (0..triangles.len()).collect();
-        by_top.sort_unstable_by(|&i, &j| top[j].total_cmp(&top[i]).then(i.cmp(&j)));
-        Self {
-            triangles,
-            top,
-            by_top,
-            toward,
-        }
-    }
-
-    fn empty() -> Self {
-        Self::new(Vec::new(), Vector3::z())
-    }
-}
-
-impl GraspPlanner {
-    /// The triangles facing `toward` (unit, from the surface to a pad) that meet the cylinder
-    /// of radius `radius` about `contact` along `toward`, from `h_max` below it to `ceiling`
-    /// above it (conservatively: through the BVH, then the square about the disc): every
-    /// triangle that can lie under a pad centred on `contact`, whatever the approach
-    /// direction.
-    ///
-    /// Returns their corners relative to `contact`, in triangle order; triangles lying wholly
-    /// more than `h_max` below `contact` or more than `ceiling` above it (beyond the back of
-    /// the open finger: never touched) are left out.
-    fn facing_near(
-        &self,
-        contact: &Point3,
-        toward: &Vector3,
-        radius: Real,
-        (h_max, ceiling): (Real, Real),
-    ) -> Near {
-        let reach = Vector3::repeat(radius + h_max.max(ceiling));
-        let near = self
-            .collider
-            .triangles_near(&(contact - reach), &(contact + reach));
-        // Any in-plane basis: the pad's rectangle turns about the contact point, inside the
-        // disc of `radius`, so a triangle wholly beside the disc's square is never under it.
-        let u = toward.cross(&Vector3::x());
-        let u = if u.norm_squared() > 1e-6 {
-            u.normalize()
-        } else {
-            toward.cross(&Vector3::y()).normalize()
-        };
-        let v = toward.cross(&u);
-        let triangles = near
-            .iter()
-            .filter_map(|&t| {
-                let tri = self.triangles.get(t as usize)?;
-                let [a, b, c] = tri.map(|v| self.vertices[v as usize]);
-                if (b - a).cross(&(c - a)).dot(toward) <= 0.0 {
-                    return None;
-                }
-                let d = [a - contact, b - contact, c - contact];
-                let beside = |axis: &Vector3| {
-                    d.iter().all(|d| d.dot(axis) > radius)
-                        || d.iter().all(|d| d.dot(axis) < -radius)
-                };
-                let heights = d.map(|d| d.dot(toward));
-                let reached =
-                    heights.iter().any(|&h| h >= -h_max) && heights.iter().any(|&h| h <= ceiling);
-                (reached && !beside(&u) && !beside(&v)).then_some(d)
-            })
-            .collect::<Vec<_>>();
-        Near::new(triangles, *toward)
-    }
-
-    /// The rise under a pad (its first pass) or the area it touches (its second): what a
-    /// pad centred on a contact point of the surface, facing the surface from `toward` (unit,
-    /// from the surface to the pad), with the rectangle `footprint`, meets.
-    ///
-    /// The rigid pad first touches the highest point of the surface under it; its flexible
-    /// sheet of depth `h_max` (§III-A, Fig. 2; the paper's ref. \[15\]) then reaches every part
-    /// of the surface within `h_max` below that point. The touched area is that part, measured
-    /// on the mesh itself (every triangle facing the pad, not only the clusters'), so a pad on
-    /// a curved body (a duck, a fruit, a bottle's neck) touches the cap the sheet wraps, and a
-    /// pad on a flat face touches the face under it. Triangles facing away (the far side of a
-    /// thin wall) are not touched. Each triangle is projected onto the pad plane, clipped to
-    /// the rectangle, to the sheet's reach below the contact point and to the back of the open
-    /// finger (`ceiling`); the height is affine over a triangle, so the highest point is at a
-    /// corner of a clipped polygon.
-    ///
-    /// With `level = None` returns the rise: the height of the highest point above the contact
-    /// point (m, at least 0). With `level = Some(l)` returns the area (m², projected onto the
-    /// pad, at most the pad's) of the parts at height `l` or more: with `l = rise − h_max`,
-    /// what the pressed sheet touches. Two passes, so that a candidate whose rise is already
-    /// too deep costs no area.
-    ///
-    /// `near` lists the triangles facing the pad that may lie under it, their corners relative
-    /// to the contact point ([`Self::facing_near`]).
-    fn pad_scan(
-        footprint: &Footprint,
-        (h_max, ceiling): (Real, Real),
-        near: &Near,
-        level: Option<Real>,
-    ) -> Real {
-        let (hw, hd) = footprint.half;
-        let floor = level.unwrap_or(-h_max).max(-h_max);
-        // The part of triangle `i` under the pad, between `floor` and `ceiling`.
-        let clipped = |i: usize| -> Option<Poly> {
-            let corners = near.triangles[i].map(|d| {
-                [
-                    d.dot(&footprint.lateral),
-                    d.dot(&footprint.approach),
-                    d.dot(&near.toward),
-                ]
-            });
-            // Quick exits: entirely beside the pad, below the reach, above the finger's back.
-            if corners.iter().all(|q| q[0] > hw)
-                || corners.iter().all(|q| q[0] < -hw)
-                || corners.iter().all(|q| q[1] > hd)
-                || corners.iter().all(|q| q[1] < -hd)
-                || corners.iter().all(|q| q[2] < floor)
-                || corners.iter().all(|q| q[2] > ceiling)
-            {
-                return None;
-            }
-            // Two buffers in turn: a cut writes the other one, no copy.
-            let mut buffers = [Poly::triangle(corners), Poly::EMPTY];
-            let mut current = 0;
-            for (axis, sign, limit) in [
-                (0, 1.0, hw),
-                (0, -1.0, hw),
-                (1, 1.0, hd),
-                (1, -1.0, hd),
-                (2, -1.0, -floor),
-                (2, 1.0, ceiling),
-            ] {
-                let [a, b] = &mut buffers;
-                let (src, dst) = if current == 0 { (a, b) } else { (b, a) };
-                if clip_into(src, dst, axis, sign, limit) {
-                    current = 1 - current;
-                }
-                if buffers[current].len < 3 {
-                    return None;
-                }
-            }
-            Some(buffers[current])
-        };
-        match level {
-            None => {
-                // From the highest triangle down: once a triangle's highest corner is no
-                // higher than the rise found, no later one can raise it.
-                let mut rise: Real = 0.0;
-                for &i in &near.by_top {
-                    if near.top[i].min(ceiling) <= rise {
-                        break;
-                    }
-                    if let Some(poly) = clipped(i) {
-                        for q in poly.points() {
-                            rise = rise.max(q[2]);
-                        }
-                    }
-                }
-                rise
-            }
-            Some(_) => {
-                // In triangle order (the sum's order); a triangle wholly below the level
-                // touches nothing.
-                let mut area = 0.0;
-                for i in 0..near.triangles.len() {
-                    if near.top[i] < floor {
-                        continue;
-                    }
-                    if let Some(poly) = clipped(i) {
-                        area += poly.area();
-                    }
-                }
-                area.min(4.0 * hw * hd)
-            }
-        }
-    }
-}
-
-/// A convex polygon of at most [`Poly::CAPACITY`] points `[x, y, height]`, on the stack: a
-/// triangle clipped by up to 6 half-planes (4 sides of the pad, the sheet's reach, the back of
-/// the open finger).
-#[derive(Debug, Clone, Copy)]
-struct Poly {
-    points: [[Real; 3]; Poly::CAPACITY],
-    len: usize,
-}
-
-impl Poly {
-    const CAPACITY: usize = 9;
-    const EMPTY: Self = Self {
-        points: [[0.0; 3]; Self::CAPACITY],
-        len: 0,
-    };
-
-    fn triangle(corners: [[Real; 3]; 3]) -> Self {
-        let mut points = [[0.0; 3]; Self::CAPACITY];
-        points[..3].copy_from_slice(&corners);
-        Self { points, len: 3 }
-    }
-
-    fn points(&self) -> &[[Real; 3]] {
-        &self.points[..self.len]
-    }
-
-    /// Twice the signed area of the projection onto `(x, y)`.
-    fn area(&self) -> Real {
-        let p = self.points();
-        let mut twice = 0.0;
-        for (i, a) in p.iter().enumerate() {
-            let b = &p[(i + 1) % p.len()];
-            twice += a[0] * b[1] - b[0] * a[1];
-        }
-        0.5 * twice.abs()
-    }
-}
-
-/// Sutherland–Hodgman: the part of a polygon (points `[x, y, height]`) where
-/// `sign · p[axis] ≤ limit`, the height interpolated along the cut edges.
-/// Sutherland–Hodgman from `src` into `dst`: the part of a polygon (points
-/// `[x, y, height]`) where `sign · p[axis] ≤ limit`, the height interpolated along the cut
-/// edges; `false` (and `dst` untouched) when nothing is cut off.
-fn clip_into(src: &Poly, dst: &mut Poly, axis: usize, sign: Real, limit: Real) -> bool {
-    let inside = |p: &[Real; 3]| sign * p[axis] <= limit;
-    let points = src.points();
-    if points.iter().all(inside) {
-        return false;
-    }
-    dst.len = 0;
-    let mut push = |q: [Real; 3]| {
-        // A convex polygon gains one point per cut: the capacity is never reached by the
-        // clips made here; a degenerate sliver past it only loses points.
-        if dst.len < Poly::CAPACITY {
-            dst.points[dst.len] = q;
-            dst.len += 1;
-        }
-    };
-    for (i, p) in points.iter().enumerate() {
-        let q = &points[(i + 1) % points.len()];
-        if inside(p) {
-            push(*p);
-        }
-        if inside(p) != inside(q) {
-            let (a, b) = (sign * p[axis] - limit, sign * q[axis] - limit);
-            let t = a / (a - b);
-            push([
-                p[0] + (q[0] - p[0]) * t,
-                p[1] + (q[1] - p[1]) * t,
-                p[2] + (q[2] - p[2]) * t,
-            ]);
-        }
-    }
-    true
-}
-
 /// Möller–Trumbore line/triangle intersection (two-sided, either direction along the line):
 /// the line parameter of the crossing, `None` when the line misses the triangle or runs
 /// parallel to it. A crossing on an edge counts (tolerance 1e-9 in barycentric coordinates),
@@ -724,6 +450,10 @@ fn line_triangle(o: &Point3, d: &Vector3, a: &Point3, b: &Point3, c: &Point3) ->
 /// How far the rest of a finger's inner face may reach nearer the object than its pad (m):
 /// a tenth of a millimetre, well within the pads' squeeze.
 const FACE_TOLERANCE: Real = 1e-4;
+
+/// The least depth a pad drawn back on a thin object must have on it, as a fraction of the
+/// pad's depth (5 mm of NX-HIRO's 25 mm pads).
+const THIN_MIN_DEPTH: Real = 0.2;
 
 /// Most grid nodes scanned over one pair's overlap region.
 pub const MAX_GRID_NODES: u64 = 1_000_000;
@@ -766,6 +496,32 @@ fn grid_points(overlap: &[Polygon], step: Real) -> Option<Vec<Point2>> {
         out.push(c);
     }
     Some(out)
+}
+
+/// How far the ray from `p` along `dir` (unit) runs inside `region` before it first crosses one
+/// of its boundaries (m; infinite when it crosses none).
+fn exit_distance(region: &[Polygon], p: &Point2, dir: &Vector2) -> Real {
+    let cross = |a: &Vector2, b: &Vector2| a.x * b.y - a.y * b.x;
+    let mut best = Real::INFINITY;
+    for polygon in region {
+        for ring in std::iter::once(&polygon.outer).chain(&polygon.holes) {
+            for (i, a) in ring.iter().enumerate() {
+                let e = ring[(i + 1) % ring.len()] - a;
+                let denominator = cross(dir, &e);
+                if denominator.abs() < 1e-300 {
+                    continue;
+                }
+                // p + t·dir = a + u·e.
+                let w = a - p;
+                let t = cross(&w, &e) / denominator;
+                let u = cross(&w, dir) / denominator;
+                if t > 0.0 && (0.0..=1.0).contains(&u) {
+                    best = best.min(t);
+                }
+            }
+        }
+    }
+    best
 }
 
 struct Context<'a> {
@@ -811,7 +567,31 @@ impl Context<'_> {
         // and the open finger's back above it.
         let (g, h_max) = (self.gripper, self.clustering.params.h_max);
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
-        let radius = hw.hypot(hd) + 1e-6;
+        // Thin objects (an improvement on §III-B.1): where the pair's region is shorter along
+        // an approach direction than the pad is deep, a pad centred on the site puts the finger
+        // tip past the region's far edge, below the table under a flat object. Such directions
+        // also get a candidate drawn back along the approach until the tip stops `clearance`
+        // short of that edge; the contact check then measures what the pad still covers.
+        let count = self.options.approach_count;
+        // Such a pad must cover `min_contact_ratio` of what the region offers in front of the
+        // tip, and that at least `THIN_MIN_DEPTH` of the pad's depth.
+        let clearance = self.options.clearance;
+        let shifts: Vec<(Real, Real)> = (0..count)
+            .map(|k| {
+                let angle = TAU * k as Real / count as Real;
+                let dir = Vector2::new(angle.cos(), angle.sin());
+                let ahead = exit_distance(&pair.overlap, &site.on_first, &dir);
+                let behind = exit_distance(&pair.overlap, &site.on_first, &(-dir));
+                let offered = ahead + behind - clearance;
+                if ahead + behind < g.pad_depth && offered >= THIN_MIN_DEPTH * g.pad_depth {
+                    ((hd + clearance - ahead).max(0.0), g.pad_width * offered)
+                } else {
+                    (0.0, 0.0)
+                }
+            })
+            .collect();
+        let max_shift = shifts.iter().map(|s| s.0).fold(0.0, Real::max);
+        let radius = hw.hypot(hd + max_shift) + 1e-6;
         // Beyond the back of the open finger nothing is touched (a wall across a tube, whose
         // outer face looks the pad's way from behind its inner face).
         let ceiling = g.finger_thickness + self.options.clearance;
@@ -833,25 +613,36 @@ impl Context<'_> {
         } else {
             [Near::empty(), Near::empty()]
         };
-        let mut out = Vec::with_capacity(self.options.approach_count * flips.len());
-        for k in 0..self.options.approach_count {
-            let angle = TAU * k as Real / self.options.approach_count as Real;
-            let mut candidate = Candidate {
-                site,
-                pair,
-                first,
-                second,
-                tcp,
-                width,
-                angle,
+        let mut out = Vec::with_capacity(2 * count * flips.len());
+        let pad_area = g.pad_area();
+        for (k, &(tip_shift, offered_area)) in shifts.iter().enumerate() {
+            let angle = TAU * k as Real / count as Real;
+            let both = [(0.0, pad_area), (tip_shift, offered_area)];
+            let shifts = if tip_shift > 0.0 {
+                &both[..]
+            } else {
+                &both[..1]
             };
-            match self.shared_checks(&mut candidate, [&near[0], &near[1]]) {
-                Ok((contact_area, pad_depth)) => out.extend(
-                    flips
-                        .iter()
-                        .map(|&flip| self.finish(&candidate, contact_area, pad_depth, flip)),
-                ),
-                Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
+            for &(shift, full_area) in shifts {
+                let mut candidate = Candidate {
+                    site,
+                    pair,
+                    first,
+                    second,
+                    tcp,
+                    width,
+                    angle,
+                    shift,
+                    full_area,
+                };
+                match self.shared_checks(&mut candidate, [&near[0], &near[1]]) {
+                    Ok((contact_area, pad_depth)) => out.extend(
+                        flips
+                            .iter()
+                            .map(|&flip| self.finish(&candidate, contact_area, pad_depth, flip)),
+                    ),
+                    Err(reason) => out.extend(flips.iter().map(|_| Err(reason))),
+                }
             }
         }
         out
@@ -880,7 +671,7 @@ impl Context<'_> {
         let h_max = self.clustering.params.h_max;
         let (hw, hd) = (0.5 * g.pad_width, 0.5 * g.pad_depth);
         for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-            let offset = lateral * (a * hw) + approach * (b * hd);
+            let offset = lateral * (a * hw) + approach * (b * hd - c.shift);
             if c.second.normal.dot(&offset).abs() > h_max + 1e-9 {
                 return Err(Rejection::PadTilt);
             }
@@ -894,6 +685,7 @@ impl Context<'_> {
             lateral,
             approach,
             half: (hw, hd),
+            shift: c.shift,
         };
         let ceiling = g.finger_thickness + o.clearance;
         let limits = (h_max, ceiling);
@@ -907,7 +699,7 @@ impl Context<'_> {
             return Err(Rejection::PadTilt);
         }
         c.width += rise1 + rise2;
-        c.tcp += c.first.normal * (0.5 * (rise1 - rise2));
+        c.tcp += c.first.normal * (0.5 * (rise1 - rise2)) - approach * c.shift;
         if c.width > g.opening_max - 2.0 * o.clearance {
             return Err(Rejection::Width);
         }
@@ -916,7 +708,7 @@ impl Context<'_> {
             GraspPlanner::pad_scan(&footprint, limits, near, Some(rise - h_max))
         };
         let contact_area = area(near[0], rise1).min(area(near[1], rise2));
-        if contact_area < o.min_contact_ratio * g.pad_area() - 1e-12 {
+        if contact_area < o.min_contact_ratio * c.full_area - 1e-12 {
             return Err(Rejection::Contact);
         }
         // The rigid finger, pad and all, must not reach the object before the pad's surface does
@@ -978,6 +770,7 @@ impl Context<'_> {
             torque_arm,
             boundary_margin,
             pad_depth,
+            tip_shift: c.shift,
         };
         let (positive_cluster, negative_cluster) = if flip > 0.0 {
             (c.first.id, c.second.id)
@@ -1006,6 +799,11 @@ struct Candidate<'a> {
     tcp: Point3,
     width: Real,
     angle: Real,
+    /// How far the pads are drawn back along the approach from the site (m).
+    shift: Real,
+    /// The contact area a pad could have here (m²): the pad's, or for a pad drawn back, its
+    /// width times the depth the region offers in front of the tip.
+    full_area: Real,
 }
 
 impl Candidate<'_> {

@@ -24,6 +24,12 @@ pub struct GraspQuality {
     /// of a curved or concave patch; at most `h_max`, 0 on flat faces.
     #[serde(default)]
     pub pad_depth: Real,
+    /// How far the pads are drawn back along the approach from the grasp centre (m): 0, or on
+    /// a region shorter than the pad is deep (a thin or small object), enough for the finger
+    /// tips to stop the clearance short of the region's far edge (a table under a flat
+    /// object). The TCP, the pads' centre, then lies off the region.
+    #[serde(default)]
+    pub tip_shift: Real,
 }
 
 /// Weights and scales of the score.
@@ -96,12 +102,14 @@ mod tests {
             torque_arm: 0.0,
             boundary_margin: 5.0,
             pad_depth: 0.0,
+            tip_shift: 0.0,
         };
         let worst = GraspQuality {
             contact_area: 0.0,
             torque_arm: 3.0,
             boundary_margin: -1.0,
             pad_depth: 0.0,
+            tip_shift: 0.0,
         };
         assert!((m.score(&best) - 1.0).abs() < 1e-12);
         assert_eq!(m.score(&worst), 0.0);
@@ -110,6 +118,7 @@ mod tests {
             torque_arm: 0.5,
             boundary_margin: 0.5,
             pad_depth: 0.0,
+            tip_shift: 0.0,
         };
         assert!((m.score(&mid) - 0.5).abs() < 1e-12);
     }

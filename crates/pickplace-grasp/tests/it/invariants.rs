@@ -50,15 +50,22 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
         for (sign, id) in [(1.0, g.positive_cluster), (-1.0, g.negative_cluster)] {
             let c = &clustering.clusters[id as usize];
             let pad = support::pad_points(g, gripper, sign);
-            // The pad centre is on the patch (width measured on the mesh), or above it by at
+            // A pad drawn back on a thin region (tip shift) is centred off the region, by at
+            // most half its depth and the clearance; its grasp centre is on it.
+            let tip_limit = 0.5 * gripper.pad_depth + options.clearance + 1e-9;
+            if !(0.0..=tip_limit).contains(&g.quality.tip_shift) {
+                return Err(format!("grasp {i}: tip shift {}", g.quality.tip_shift));
+            }
+            let centre = pad[0] + support::approach(g, gripper) * g.quality.tip_shift;
+            // The grasp centre is on the patch (width measured on the mesh), or above it by at
             // most the pad's depth when the surface under the pad rises beside the patch (the
             // pad touches the highest point under it); the pad stays within the sheet's depth
             // of the patch's plane beyond the patch's own thickness.
             let above = g.quality.pad_depth + 1e-9;
-            if c.plane_distance(&pad[0]) > above || c.plane_distance(&pad[0]) < -c.h - 1e-9 {
+            if c.plane_distance(&centre) > above || c.plane_distance(&centre) < -c.h - 1e-9 {
                 return Err(format!(
-                    "grasp {i}: pad centre {} m off cluster {id}'s plane (h = {})",
-                    c.plane_distance(&pad[0]),
+                    "grasp {i}: grasp centre {} m off cluster {id}'s plane (h = {})",
+                    c.plane_distance(&centre),
                     c.h
                 ));
             }
@@ -74,15 +81,17 @@ fn check(planned: &Planned, gripper: &GripperParams, options: &GraspOptions) -> 
                     c.plane_distance(p)
                 ));
             }
-            if !inside_region(c, &pad[0]) {
-                return Err(format!("grasp {i}: pad centre outside cluster {id}"));
+            if !inside_region(c, &centre) {
+                return Err(format!("grasp {i}: grasp centre outside cluster {id}"));
             }
             // The pad faces the cluster: the closing axis points out of the cluster on its side.
             if (support::closing(g, gripper) * sign).dot(&c.normal) < 0.9 {
                 return Err(format!("grasp {i}: pad does not face cluster {id}"));
             }
         }
-        if g.quality.contact_area < options.min_contact_ratio * gripper.pad_area() - 1e-12 {
+        // A pad drawn back covers at least a fifth of its depth (THIN_MIN_DEPTH).
+        let full = if g.quality.tip_shift > 0.0 { 0.2 } else { 1.0 };
+        if g.quality.contact_area < options.min_contact_ratio * full * gripper.pad_area() - 1e-12 {
             return Err(format!("grasp {i}: contact {}", g.quality.contact_area));
         }
         for (k, body) in support::bodies(g, gripper, options.clearance)

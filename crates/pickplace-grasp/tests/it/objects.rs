@@ -126,3 +126,48 @@ fn mug_gets_body_and_rim_grasps_and_none_through_the_handle() {
         );
     }
 }
+
+#[test]
+fn thin_and_small_objects_get_top_down_grasps_clear_of_their_base() {
+    // A flat box 12 mm thick, a 2 cm cube and a 2 cm brick, resting on their base (z = −h):
+    // a pad centred on the side puts the 25 mm pad's tip below the base; drawn back (tip
+    // shift), the fingers stop the clearance above it.
+    let gripper = support::gripper();
+    let options = GraspOptions::default();
+    for half in [
+        [0.04, 0.025, 0.006],
+        [0.01, 0.01, 0.01],
+        [0.03, 0.015, 0.01],
+    ] {
+        let Planned { set, .. } = support::plan(
+            shapes::box_builder(half).build().expect("valid"),
+            &gripper,
+            &options,
+        );
+        let lowest = |g: &Grasp| {
+            support::bodies(g, &gripper, 0.0)
+                .iter()
+                .map(|b| {
+                    let reach: Real = (0..3).map(|k| (b.axes[(2, k)] * b.half[k]).abs()).sum();
+                    b.center.z - reach
+                })
+                .fold(Real::INFINITY, Real::min)
+        };
+        let clear: Vec<&Grasp> = set
+            .grasps
+            .iter()
+            .filter(|g| support::approach(g, &gripper).z < -0.99)
+            .filter(|g| lowest(g) >= -half[2] + options.clearance - 1e-9)
+            .collect();
+        assert!(
+            !clear.is_empty(),
+            "{half:?}: no top-down grasp clear of the base"
+        );
+        for g in &clear {
+            assert!(
+                g.quality.contact_area > 0.2 * 0.5 * gripper.pad_area(),
+                "{half:?}"
+            );
+        }
+    }
+}
