@@ -2,6 +2,7 @@
 
 mod acm;
 mod bench;
+mod clusters;
 mod fuzz;
 mod gen_meshes;
 mod precompute;
@@ -29,6 +30,7 @@ fn main() -> anyhow::Result<()> {
         Some("pytest") => python::run(&repo_root(), &rest_args()),
         Some("torture") => torture::run(&repo_root(), &rest_args()),
         Some("stability") => stability::run(&repo_root(), &rest_args()),
+        Some("clusters") => clusters::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -78,7 +80,11 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      pickplace_placement::resting_poses on ~150 objects (pybullet_data's, fetched pinned into \
      target/objects, and generated scanned-like meshes): rapier drop test of every offered \
      pose, recall against pybullet drops and trimesh's stable poses; \
-     target/objects/report.json, docs/stability.md; exit 1 when a goal is missed";
+     target/objects/report.json, docs/stability.md; exit 1 when a goal is missed\n  \
+     clusters     [--objects GLOB] [--random N]: cluster robosuite 1.5.1's object meshes \
+     (fetched pinned into target/objects), the stability set and the suite's scans in both \
+     modes and count the adjacent cluster pairs that could still be merged; exit 1 when any \
+     is left (docs/clustering.md)";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
@@ -107,7 +113,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 11, "{tasks:?}");
+        assert_eq!(tasks.len(), 12, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

@@ -144,7 +144,7 @@ pub(crate) fn angle(a: &Vector3, b: &Vector3) -> Real {
 
 /// Outer bounds of a cluster's vertices measured along a reference direction.
 #[derive(Debug, Clone, Copy)]
-struct Extent {
+pub(crate) struct Extent {
     /// Reference direction (unit).
     dir: Vector3,
     /// Every vertex `p` has `lo ≤ dir·p ≤ hi`.
@@ -159,7 +159,7 @@ struct Extent {
     /// A few of the cluster's vertices, the most extreme ones along the normal found so far
     /// (`NO_VERTEX` for empty slots): the union's thickness along any direction is at least
     /// theirs, which rejects most merges without scanning the cluster.
-    witnesses: [u32; WITNESSES],
+    pub(super) witnesses: [u32; WITNESSES],
 }
 
 /// Number of witness vertices an [`Extent`] keeps.
@@ -176,7 +176,7 @@ pub(crate) struct Work {
     pub moments: Moments,
     pub normal: Vector3,
     pub centroid: Vector3,
-    extent: Extent,
+    pub(super) extent: Extent,
 }
 
 /// Limits a merge must respect.
@@ -196,12 +196,12 @@ pub(crate) struct Engine<'a> {
     pub tri_normals: Vec<Vector3>,
     /// Each triangle's vertices rotated to start at its lexicographically smallest position
     /// (same winding): moments and normals do not depend on the vertex rotation of the input.
-    tris: Vec<[u32; 3]>,
+    pub(super) tris: Vec<[u32; 3]>,
     /// Canonical rank of each triangle (see [`canonical_ranks`]).
     pub rank: Vec<u32>,
     pub cluster_of: Vec<u32>,
     pub clusters: Vec<Work>,
-    limits: Limits,
+    pub(super) limits: Limits,
     stamp: Vec<u32>,
     generation: u32,
     /// Bounding-volume hierarchy of the triangles (their boxes, engine coordinates), built on
@@ -210,11 +210,11 @@ pub(crate) struct Engine<'a> {
 }
 
 /// A proposed merge.
-struct Merged {
-    moments: Moments,
-    normal: Vector3,
-    centroid: Vector3,
-    extent: Extent,
+pub(crate) struct Merged {
+    pub(super) moments: Moments,
+    pub(super) normal: Vector3,
+    pub(super) centroid: Vector3,
+    pub(super) extent: Extent,
 }
 
 impl<'a> Engine<'a> {
@@ -268,7 +268,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Exact extent of a set of triangles along `dir` around `center`.
-    fn exact_extent<'b>(
+    pub(super) fn exact_extent<'b>(
         &self,
         tris: impl Iterator<Item = &'b u32>,
         dir: Vector3,
@@ -309,7 +309,7 @@ impl<'a> Engine<'a> {
     }
 
     /// The `WITNESSES / 2` lowest and highest distinct vertices of `candidates` along `dir`.
-    fn pick_witnesses<'b>(
+    pub(super) fn pick_witnesses<'b>(
         &self,
         candidates: impl Iterator<Item = &'b u32>,
         dir: &Vector3,
@@ -347,7 +347,7 @@ impl<'a> Engine<'a> {
         out
     }
 
-    fn accepts(&self, e: &Extent) -> bool {
+    pub(super) fn accepts(&self, e: &Extent) -> bool {
         e.hi - e.lo <= self.limits.h_max && e.spread < self.limits.max_facet_angle
     }
 
@@ -419,7 +419,12 @@ impl<'a> Engine<'a> {
 
     /// Tries merging cluster `a` into `x`; `None` when the result would break the limits or
     /// the optional normal constraint `(target, min_dot)`.
-    fn try_merge(&self, x: u32, a: u32, constraint: Option<(Vector3, Real)>) -> Option<Merged> {
+    pub(super) fn try_merge(
+        &self,
+        x: u32,
+        a: u32,
+        constraint: Option<(Vector3, Real)>,
+    ) -> Option<Merged> {
         let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
         let moments = cx.moments.add(&ca.moments);
         let (normal, centroid) = moments.plane();
@@ -551,7 +556,7 @@ impl<'a> Engine<'a> {
     }
 
     /// Moves cluster `a` into `x`, whose new moments, plane and extent are `m`.
-    fn absorb(&mut self, x: u32, a: u32, m: Merged) {
+    pub(super) fn absorb(&mut self, x: u32, a: u32, m: Merged) {
         let moved = std::mem::take(&mut self.clusters[a as usize].triangles);
         for &t in &moved {
             self.cluster_of[t as usize] = x;
@@ -563,52 +568,6 @@ impl<'a> Engine<'a> {
         cx.normal = m.normal;
         cx.centroid = m.centroid;
         cx.extent = m.extent;
-    }
-
-    /// The final pass after growth (issue 17): Step 2 grows one cluster at a time, and a
-    /// neighbour rejected early in a growth, or grown later from its own seed, can leave two
-    /// adjacent clusters whose union still respects the limits (`h ≤ h_max`, every triangle
-    /// within `max_facet_angle` of the refitted normal). Every pass lists the adjacent pairs of
-    /// live clusters by decreasing normal agreement (ties by ids) and merges each pair that
-    /// fits; passes repeat until one merges nothing, so no mergeable adjacent pair is left.
-    pub fn merge_adjacent(&mut self) {
-        let adjacency = self.mesh.adjacency();
-        // A pair of clusters neither of which changed in the last pass was tried then and
-        // failed: only pairs with a changed cluster are tried again (all in the first pass).
-        let mut changed = vec![true; self.clusters.len()];
-        loop {
-            let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
-            for t in 0..self.mesh.triangle_count() {
-                let a = self.cluster_of[t];
-                for &nb in adjacency.neighbours(t) {
-                    let b = self.cluster_of[nb as usize];
-                    if a < b && b != u32::MAX && (changed[a as usize] || changed[b as usize]) {
-                        let dot = self.clusters[a as usize]
-                            .normal
-                            .dot(&self.clusters[b as usize].normal);
-                        pairs.push((dot, a, b));
-                    }
-                }
-            }
-            pairs.sort_unstable_by_key(|p| (p.1, p.2));
-            pairs.dedup_by(|p, q| (p.1, p.2) == (q.1, q.2));
-            pairs.sort_by(|p, q| q.0.total_cmp(&p.0).then((p.1, p.2).cmp(&(q.1, q.2))));
-            let mut merged = false;
-            changed.fill(false);
-            for &(_, a, b) in &pairs {
-                if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
-                    continue;
-                }
-                if let Some(m) = self.try_merge(a, b, None) {
-                    self.absorb(a, b, m);
-                    changed[a as usize] = true;
-                    merged = true;
-                }
-            }
-            if !merged {
-                break;
-            }
-        }
     }
 
     /// Step-1 clusters in seed order: canonical order of their first triangle, i.e. their ids.

@@ -18,8 +18,10 @@
 //!   ([`ClusterPair`]) with the opposite clusters it meets, with the distance between the
 //!   planes and the overlap of the two regions.
 //!
-//! After growth a final pass merges adjacent clusters while the union still respects the
-//! limits, until no adjacent pair can be merged. In finger mode every final cluster then casts
+//! After growth a final pass merges adjacent clusters while the union is still a cluster along
+//! its regression plane or, failing that, along any admissible plane (issue 31: `merge.rs`,
+//! `slab.rs`), until no adjacent pair can be merged; [`audit_adjacent_pairs`] counts, for any
+//! clustering, the adjacent pairs that could still be merged. In finger mode every final cluster then casts
 //! its own ray and pairs with every opposite cluster where the ray leaves the object more than
 //! [`MIN_WALL_THICKNESS`] away (so the outer walls of an open, thin-walled mesh pair across the object).
 //!
@@ -42,11 +44,17 @@
 //! # Ok::<(), pickplace_geometry::Error>(())
 //! ```
 
+mod audit;
 mod geometry;
 mod grow;
+mod hull;
 mod json;
+mod merge;
 mod pairs;
+mod slab;
+mod width;
 
+pub use audit::{AUDIT_MARGIN, MergeAudit, MergeablePair, audit_adjacent_pairs};
 pub use geometry::PlaneFrame;
 pub use grow::MAX_FIT_DEVIATION;
 pub use json::{CLUSTERS_JSON_FORMAT, ClusterJson, ClusterPairJson, ClustersJson};
@@ -62,8 +70,9 @@ use grow::{Engine, Limits};
 /// some mesh change (a new rule in the growth, the merge pass, the pairing, the plane fit):
 /// it is part of every cluster database's name ([`crate::db::cache_path`]) and header, so a
 /// newer build never reuses the clusters an older algorithm computed (2: triangles stored twice
-/// are welded when a mesh is built, issue 31, so a mesh's triangle indices can change).
-pub const ALGORITHM_VERSION: u32 = 2;
+/// are welded when a mesh is built, issue 31, so a mesh's triangle indices can change; 3: the
+/// final merge pass merges along any admissible plane, issue 31).
+pub const ALGORITHM_VERSION: u32 = 3;
 
 /// Units of work [`cluster_surface_with_progress`] reports: `done` runs from 0 to this total.
 pub const PROGRESS_TOTAL: usize = 1000;
@@ -270,14 +279,29 @@ impl Clustering {
 /// The contact plane a cluster made of `triangles` of `mesh` would have: its unit outer
 /// normal `n` (the regression plane of §III-A, or the area-weighted normal of the triangles
 /// when the fit is ill-conditioned, see [`MAX_FIT_DEVIATION`]) and its area centroid. The
-/// clustering accepts a set of triangles (and the final pass merges two adjacent clusters)
-/// exactly when their vertices lie within `h_max` along this normal and every triangle is
-/// within `max_facet_angle` of it.
+/// growth accepts a set of triangles exactly when their vertices lie within `h_max` along this
+/// normal and every triangle is within `max_facet_angle` of it; the final merge pass tries
+/// this plane first and, when it does not hold two adjacent clusters, any plane within
+/// [`MAX_FIT_DEVIATION`] of their area-weighted normal (the merged cluster's normal is then
+/// that plane's, not this one).
 ///
 /// Returns `None` when `triangles` is empty or names a triangle `mesh` does not have.
 pub fn fit_plane(mesh: &TriMesh, triangles: &[u32]) -> Option<(Vector3, Point3)> {
     let (lo, hi) = mesh.aabb();
-    let origin = Point3::from((lo.coords + hi.coords) * 0.5);
+    fit_plane_about(
+        mesh,
+        &Point3::from((lo.coords + hi.coords) * 0.5),
+        triangles,
+    )
+}
+
+/// [`fit_plane`] with the moments taken about `origin` (the clustering takes them about the
+/// mesh's box centre): the same plane, without a pass over the mesh's vertices.
+pub(crate) fn fit_plane_about(
+    mesh: &TriMesh,
+    origin: &Point3,
+    triangles: &[u32],
+) -> Option<(Vector3, Point3)> {
     let mut moments: Option<grow::Moments> = None;
     for &t in triangles {
         let tri = mesh.triangles().get(t as usize)?;

@@ -1,6 +1,7 @@
 //! Integration tests of pickplace-geometry.
 
 mod cluster;
+mod cluster_audit;
 mod cluster_real;
 mod db;
 mod fuzz_regressions;

@@ -1,0 +1,148 @@
+//! The final merge pass after Step 2 of Algorithm 1 (§III-A; issues 17 and 31).
+//!
+//! Step 2 grows one cluster at a time, so a neighbour refused early in a growth, or grown later
+//! from its own seed, can leave two adjacent clusters whose union is still a cluster. The pass
+//! merges them until no adjacent pair can be merged. A union is a cluster when some plane
+//! holds it: its vertices within `h_max` along the plane's normal, every triangle within
+//! `max_facet_angle` of it, and the normal within [`MAX_FIT_DEVIATION`] of the union's
+//! area-weighted normal. The regression plane is tried first (the growth's own test); when it
+//! does not fit, [`super::slab`] searches every other admissible plane (issue 31: on robosuite's
+//! can, noisy scans and rims of edge-on triangles the regression plane is neither the thinnest
+//! plane nor the one that keeps every triangle within the facet angle).
+
+use super::MAX_FIT_DEVIATION;
+use super::grow::{Engine, Merged, angle};
+use super::slab::{SlabProblem, find_slab_normal};
+use crate::math::{Real, Vector3};
+
+/// Buffers reused by every search of the pass.
+#[derive(Debug, Default)]
+struct Scratch {
+    /// `seen[v] == generation` when vertex `v` is already in `points`.
+    seen: Vec<u32>,
+    generation: u32,
+    points: Vec<Vector3>,
+    normals: Vec<Vector3>,
+}
+
+impl Engine<'_> {
+    /// The final pass: every pass lists the adjacent pairs of live clusters by decreasing
+    /// normal agreement (ties by ids) and merges each pair whose union is a cluster (the
+    /// regression plane first, then any admissible plane, see the module documentation);
+    /// passes repeat until one merges nothing, so no mergeable adjacent pair is left. A pair
+    /// neither of whose clusters changed in the last pass was tried then and failed: only
+    /// pairs with a changed cluster are tried again (all in the first pass).
+    pub fn merge_adjacent(&mut self) {
+        let adjacency = self.mesh.adjacency();
+        let mut scratch = Scratch {
+            seen: vec![0; self.points.len()],
+            ..Scratch::default()
+        };
+        let mut changed = vec![true; self.clusters.len()];
+        loop {
+            let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
+            for t in 0..self.mesh.triangle_count() {
+                let a = self.cluster_of[t];
+                for &nb in adjacency.neighbours(t) {
+                    let b = self.cluster_of[nb as usize];
+                    if a < b && b != u32::MAX && (changed[a as usize] || changed[b as usize]) {
+                        let dot = self.clusters[a as usize]
+                            .normal
+                            .dot(&self.clusters[b as usize].normal);
+                        pairs.push((dot, a, b));
+                    }
+                }
+            }
+            pairs.sort_unstable_by_key(|p| (p.1, p.2));
+            pairs.dedup_by(|p, q| (p.1, p.2) == (q.1, q.2));
+            pairs.sort_by(|p, q| q.0.total_cmp(&p.0).then((p.1, p.2).cmp(&(q.1, q.2))));
+            let mut merged = false;
+            changed.fill(false);
+            for &(_, a, b) in &pairs {
+                if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
+                    continue;
+                }
+                let found = match self.try_merge(a, b, None) {
+                    Some(m) => Some(m),
+                    None => self.try_merge_any_plane(a, b, &mut scratch),
+                };
+                if let Some(m) = found {
+                    self.absorb(a, b, m);
+                    changed[a as usize] = true;
+                    merged = true;
+                }
+            }
+            if !merged {
+                break;
+            }
+        }
+    }
+
+    /// Merging `b` into `a` along any admissible plane ([`find_slab_normal`]), when the
+    /// regression plane did not fit; the merged cluster's normal is the plane found.
+    fn try_merge_any_plane(&self, a: u32, b: u32, scratch: &mut Scratch) -> Option<Merged> {
+        let (ca, cb) = (&self.clusters[a as usize], &self.clusters[b as usize]);
+        let moments = ca.moments.add(&cb.moments);
+        let mean = moments.normal_sum.try_normalize(0.0)?;
+        if moments.area.is_nan() || moments.area <= 0.0 {
+            return None;
+        }
+        let centroid = moments.first / moments.area;
+        let limits = self.limits;
+        // A normal within max_facet_angle − MAX_FIT_DEVIATION of the mean is within the facet
+        // angle of every admissible direction: it cannot bind.
+        let free = limits.max_facet_angle - MAX_FIT_DEVIATION;
+        let risky = if free > 0.0 {
+            free.cos()
+        } else {
+            Real::INFINITY
+        };
+        scratch.generation = scratch.generation.wrapping_add(1);
+        if scratch.generation == 0 {
+            scratch.seen.fill(0);
+            scratch.generation = 1;
+        }
+        scratch.points.clear();
+        scratch.normals.clear();
+        for &t in ca.triangles.iter().chain(&cb.triangles) {
+            let n = self.tri_normals[t as usize];
+            if n.dot(&mean) < risky {
+                scratch.normals.push(n);
+            }
+            for &v in &self.tris[t as usize] {
+                if scratch.seen[v as usize] != scratch.generation {
+                    scratch.seen[v as usize] = scratch.generation;
+                    scratch.points.push(self.points[v as usize]);
+                }
+            }
+        }
+        let normal = find_slab_normal(&SlabProblem {
+            points: &scratch.points,
+            normals: &scratch.normals,
+            mean,
+            h_max: limits.h_max,
+            max_facet_angle: limits.max_facet_angle,
+            max_deviation: MAX_FIT_DEVIATION,
+        })?;
+        // The decision is the exact one, from the union's own vertices.
+        let mut exact =
+            self.exact_extent(ca.triangles.iter().chain(&cb.triangles), normal, centroid);
+        if !self.accepts(&exact) || angle(&normal, &mean) > MAX_FIT_DEVIATION {
+            return None;
+        }
+        let found = [exact.witnesses[0], exact.witnesses[1]];
+        exact.witnesses = self.pick_witnesses(
+            found
+                .iter()
+                .chain(&ca.extent.witnesses)
+                .chain(&cb.extent.witnesses),
+            &normal,
+        );
+        Some(Merged {
+            moments,
+            normal,
+            centroid,
+            extent: exact,
+        })
+    }
+}
