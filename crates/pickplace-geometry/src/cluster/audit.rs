@@ -402,6 +402,7 @@ impl Union {
             if let Some(d) = search_cap(&support, &risky, limits, &mean) {
                 let width = self.width(&d);
                 if width <= limits.h && self.facets_fit(limits, &d) {
+                    verdict.facet.get_or_insert((width, d));
                     verdict.mergeable = Some((width, d));
                 }
             }

@@ -308,6 +308,50 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// [`Engine::exact_extent`] from a subset of the vertices that holds every vertex of the
+    /// triangles' convex hull (`support`): the extremes along any direction and the farthest
+    /// vertex from any point are hull vertices, so the extent is the same; the facet spread
+    /// still scans every triangle's normal.
+    pub(super) fn support_extent<'b>(
+        &self,
+        support: impl Iterator<Item = &'b u32>,
+        tris: impl Iterator<Item = &'b u32>,
+        dir: Vector3,
+        center: Vector3,
+    ) -> Extent {
+        let (mut lo, mut hi, mut r2) = (Real::INFINITY, Real::NEG_INFINITY, 0.0 as Real);
+        let (mut lo_v, mut hi_v) = (NO_VERTEX, NO_VERTEX);
+        for &v in support {
+            let p = &self.points[v as usize];
+            let d = dir.dot(p);
+            if d < lo {
+                lo = d;
+                lo_v = v;
+            }
+            if d > hi {
+                hi = d;
+                hi_v = v;
+            }
+            r2 = r2.max((p - center).norm_squared());
+        }
+        let mut min_dot: Real = 1.0;
+        for &t in tris {
+            min_dot = min_dot.min(self.tri_normals[t as usize].dot(&dir));
+        }
+        let mut witnesses = [NO_VERTEX; WITNESSES];
+        witnesses[0] = lo_v;
+        witnesses[1] = hi_v;
+        Extent {
+            dir,
+            lo,
+            hi,
+            center,
+            radius: r2.sqrt(),
+            spread: min_dot.clamp(-1.0, 1.0).acos(),
+            witnesses,
+        }
+    }
+
     /// The `WITNESSES / 2` lowest and highest distinct vertices of `candidates` along `dir`.
     pub(super) fn pick_witnesses<'b>(
         &self,
@@ -425,6 +469,26 @@ impl<'a> Engine<'a> {
         a: u32,
         constraint: Option<(Vector3, Real)>,
     ) -> Option<Merged> {
+        let scan = |normal: Vector3, centroid: Vector3| {
+            let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
+            self.exact_extent(
+                cx.triangles.iter().chain(ca.triangles.iter()),
+                normal,
+                centroid,
+            )
+        };
+        self.try_merge_with(x, a, constraint, &scan)
+    }
+
+    /// [`Engine::try_merge`], measuring the union's exact extent along a normal with `exact`
+    /// (normal, centroid) when the stored bounds cannot decide.
+    pub(super) fn try_merge_with(
+        &self,
+        x: u32,
+        a: u32,
+        constraint: Option<(Vector3, Real)>,
+        exact: &dyn Fn(Vector3, Vector3) -> Extent,
+    ) -> Option<Merged> {
         let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
         let moments = cx.moments.add(&ca.moments);
         let (normal, centroid) = moments.plane();
@@ -481,11 +545,7 @@ impl<'a> Engine<'a> {
                 extent: bound,
             });
         }
-        let mut exact = self.exact_extent(
-            cx.triangles.iter().chain(ca.triangles.iter()),
-            normal,
-            centroid,
-        );
+        let mut exact = exact(normal, centroid);
         if !self.accepts(&exact) {
             return None;
         }

@@ -22,6 +22,9 @@ pub(crate) struct Hull {
     pub faces: Vec<[u32; 3]>,
     /// Outward unit normal of each face.
     pub normals: Vec<Vector3>,
+    /// Whether every input point is inside the hull (up to the tolerance): false when a
+    /// point was left out (see the module documentation).
+    pub complete: bool,
 }
 
 impl Hull {
@@ -83,7 +86,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
         return None;
     }
     // Points closer than this to a face's plane are on it.
-    let eps = 1e-11 * diag;
+    let eps = 1e-13 * diag;
     let [i0, i1, i2, i3] = first_tetrahedron(points, diag)?;
     let mut faces: Vec<Face> = Vec::new();
     let mut edge_face: HashMap<(u32, u32), u32> = HashMap::new();
@@ -110,6 +113,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
         }
     }
     let mut next_face = 0;
+    let mut complete = true;
     while next_face < faces.len() {
         if !faces[next_face].alive || faces[next_face].outside.is_empty() {
             next_face += 1;
@@ -132,6 +136,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
         let pe = points[eye as usize];
         let visible = visible_faces(&faces, &edge_face, start, &pe, eps);
         let Some(horizon) = horizon_loop(&faces, &edge_face, &visible) else {
+            complete = false;
             continue;
         };
         // The new faces must be proper triangles; otherwise the eye is left out.
@@ -141,6 +146,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
                 .try_normalize(0.0)
                 .is_none()
         }) {
+            complete = false;
             continue;
         }
         let mut orphans = Vec::new();
@@ -171,6 +177,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
     Some(Hull {
         faces: alive.iter().map(|f| f.v).collect(),
         normals: alive.iter().map(|f| f.normal).collect(),
+        complete,
     })
 }
 

@@ -9,20 +9,45 @@
 //! does not fit, [`super::slab`] searches every other admissible plane (issue 31: on robosuite's
 //! can, noisy scans and rims of edge-on triangles the regression plane is neither the thinnest
 //! plane nor the one that keeps every triangle within the facet angle).
+//!
+//! Widths are measured on each cluster's *support*: a set of its vertices that holds every
+//! vertex of its convex hull (the extremes along any direction are hull vertices). A merged
+//! cluster's support is the union of the two, pruned to its hull's vertices when it has grown
+//! to twice its last pruned size; so a merge into a large cluster costs the size of its hull,
+//! not of its vertex set.
 
 use super::MAX_FIT_DEVIATION;
 use super::grow::{Engine, Merged, angle};
+use super::hull::convex_hull;
 use super::slab::{SlabProblem, find_slab_normal};
 use crate::math::{Real, Vector3};
 
-/// Buffers reused by every search of the pass.
+/// Supports of at most this many vertices are kept as they are.
+const SMALL_SUPPORT: usize = 12;
+
+/// Buffers and supports of the pass.
 #[derive(Debug, Default)]
 struct Scratch {
     /// `seen[v] == generation` when vertex `v` is already in `points`.
     seen: Vec<u32>,
     generation: u32,
     points: Vec<Vector3>,
+    ids: Vec<u32>,
     normals: Vec<Vector3>,
+    /// Each cluster's support (vertex ids) and its size when last pruned.
+    support: Vec<Vec<u32>>,
+    pruned: Vec<usize>,
+}
+
+impl Scratch {
+    /// Starts a new set of distinct vertices.
+    fn next_generation(&mut self) {
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.seen.fill(0);
+            self.generation = 1;
+        }
+    }
 }
 
 impl Engine<'_> {
@@ -31,25 +56,41 @@ impl Engine<'_> {
     /// regression plane first, then any admissible plane, see the module documentation);
     /// passes repeat until one merges nothing, so no mergeable adjacent pair is left. A pair
     /// neither of whose clusters changed in the last pass was tried then and failed: only
-    /// pairs with a changed cluster are tried again (all in the first pass).
+    /// pairs with a changed cluster are listed and tried again (all in the first pass).
     pub fn merge_adjacent(&mut self) {
         let adjacency = self.mesh.adjacency();
         let mut scratch = Scratch {
             seen: vec![0; self.points.len()],
+            support: vec![Vec::new(); self.clusters.len()],
+            pruned: vec![0; self.clusters.len()],
             ..Scratch::default()
         };
+        for x in 0..self.clusters.len() {
+            if self.clusters[x].alive {
+                let all: Vec<u32> = self.clusters[x]
+                    .triangles
+                    .iter()
+                    .flat_map(|&t| self.tris[t as usize])
+                    .collect();
+                scratch.support[x] = all;
+                self.prune_support(x, &mut scratch);
+            }
+        }
         let mut changed = vec![true; self.clusters.len()];
         loop {
             let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
-            for t in 0..self.mesh.triangle_count() {
-                let a = self.cluster_of[t];
-                for &nb in adjacency.neighbours(t) {
-                    let b = self.cluster_of[nb as usize];
-                    if a < b && b != u32::MAX && (changed[a as usize] || changed[b as usize]) {
-                        let dot = self.clusters[a as usize]
-                            .normal
-                            .dot(&self.clusters[b as usize].normal);
-                        pairs.push((dot, a, b));
+            for (x, cx) in self.clusters.iter().enumerate() {
+                if !(changed[x] && cx.alive) {
+                    continue;
+                }
+                for &t in &cx.triangles {
+                    for &nb in adjacency.neighbours(t as usize) {
+                        let y = self.cluster_of[nb as usize];
+                        if y != x as u32 && y != u32::MAX {
+                            let (a, b) = ((x as u32).min(y), (x as u32).max(y));
+                            let dot = cx.normal.dot(&self.clusters[y as usize].normal);
+                            pairs.push((dot, a, b));
+                        }
                     }
                 }
             }
@@ -62,12 +103,21 @@ impl Engine<'_> {
                 if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
                     continue;
                 }
-                let found = match self.try_merge(a, b, None) {
+                let found = match self.try_merge_supported(a, b, &scratch) {
                     Some(m) => Some(m),
                     None => self.try_merge_any_plane(a, b, &mut scratch),
                 };
                 if let Some(m) = found {
                     self.absorb(a, b, m);
+                    let moved = std::mem::take(&mut scratch.support[b as usize]);
+                    scratch.support[a as usize].extend(moved);
+                    let (size, last) = (
+                        scratch.support[a as usize].len(),
+                        scratch.pruned[a as usize],
+                    );
+                    if size > SMALL_SUPPORT && size > 2 * last {
+                        self.prune_support(a as usize, &mut scratch);
+                    }
                     changed[a as usize] = true;
                     merged = true;
                 }
@@ -76,6 +126,50 @@ impl Engine<'_> {
                 break;
             }
         }
+    }
+
+    /// Reduces cluster `x`'s support to its distinct vertices, and to the vertices of their
+    /// convex hull when there are many and the hull holds every one of them.
+    fn prune_support(&self, x: usize, scratch: &mut Scratch) {
+        scratch.next_generation();
+        let mut support = std::mem::take(&mut scratch.support[x]);
+        support.retain(|&v| {
+            let fresh = scratch.seen[v as usize] != scratch.generation;
+            scratch.seen[v as usize] = scratch.generation;
+            fresh
+        });
+        if support.len() > SMALL_SUPPORT {
+            let points: Vec<Vector3> = support.iter().map(|&v| self.points[v as usize]).collect();
+            if let Some(hull) = convex_hull(&points)
+                && hull.complete
+            {
+                support = hull
+                    .vertices()
+                    .iter()
+                    .map(|&i| support[i as usize])
+                    .collect();
+            }
+        }
+        scratch.pruned[x] = support.len();
+        scratch.support[x] = support;
+    }
+
+    /// [`Engine::try_merge`] along the regression plane, its exact extent measured on the
+    /// clusters' supports.
+    fn try_merge_supported(&self, a: u32, b: u32, scratch: &Scratch) -> Option<Merged> {
+        let (ca, cb) = (&self.clusters[a as usize], &self.clusters[b as usize]);
+        let support = scratch.support[a as usize]
+            .iter()
+            .chain(&scratch.support[b as usize]);
+        let exact = |normal: Vector3, centroid: Vector3| {
+            self.support_extent(
+                support.clone(),
+                ca.triangles.iter().chain(&cb.triangles),
+                normal,
+                centroid,
+            )
+        };
+        self.try_merge_with(a, b, None, &exact)
     }
 
     /// Merging `b` into `a` along any admissible plane ([`find_slab_normal`]), when the
@@ -89,6 +183,29 @@ impl Engine<'_> {
         }
         let centroid = moments.first / moments.area;
         let limits = self.limits;
+        scratch.next_generation();
+        scratch.points.clear();
+        scratch.ids.clear();
+        for &v in scratch.support[a as usize]
+            .iter()
+            .chain(&scratch.support[b as usize])
+        {
+            if scratch.seen[v as usize] != scratch.generation {
+                scratch.seen[v as usize] = scratch.generation;
+                scratch.points.push(self.points[v as usize]);
+                scratch.ids.push(v);
+            }
+        }
+        let mut problem = SlabProblem {
+            points: &scratch.points,
+            normals: &[],
+            mean,
+            h_max: limits.h_max,
+            max_facet_angle: limits.max_facet_angle,
+            max_deviation: MAX_FIT_DEVIATION,
+        };
+        // The slab alone first (most refusals end here, without a pass over the triangles).
+        let thin = find_slab_normal(&problem)?;
         // A normal within max_facet_angle − MAX_FIT_DEVIATION of the mean is within the facet
         // angle of every admissible direction: it cannot bind.
         let free = limits.max_facet_angle - MAX_FIT_DEVIATION;
@@ -97,36 +214,27 @@ impl Engine<'_> {
         } else {
             Real::INFINITY
         };
-        scratch.generation = scratch.generation.wrapping_add(1);
-        if scratch.generation == 0 {
-            scratch.seen.fill(0);
-            scratch.generation = 1;
-        }
-        scratch.points.clear();
         scratch.normals.clear();
         for &t in ca.triangles.iter().chain(&cb.triangles) {
             let n = self.tri_normals[t as usize];
             if n.dot(&mean) < risky {
                 scratch.normals.push(n);
             }
-            for &v in &self.tris[t as usize] {
-                if scratch.seen[v as usize] != scratch.generation {
-                    scratch.seen[v as usize] = scratch.generation;
-                    scratch.points.push(self.points[v as usize]);
-                }
-            }
         }
-        let normal = find_slab_normal(&SlabProblem {
-            points: &scratch.points,
-            normals: &scratch.normals,
-            mean,
-            h_max: limits.h_max,
-            max_facet_angle: limits.max_facet_angle,
-            max_deviation: MAX_FIT_DEVIATION,
-        })?;
-        // The decision is the exact one, from the union's own vertices.
-        let mut exact =
-            self.exact_extent(ca.triangles.iter().chain(&cb.triangles), normal, centroid);
+        let cos_facet = limits.max_facet_angle.cos();
+        let normal = if scratch.normals.iter().all(|n| n.dot(&thin) > cos_facet) {
+            thin
+        } else {
+            problem.normals = &scratch.normals;
+            find_slab_normal(&problem)?
+        };
+        // The decision is the exact one, from the union's hull vertices and every triangle.
+        let mut exact = self.support_extent(
+            scratch.ids.iter(),
+            ca.triangles.iter().chain(&cb.triangles),
+            normal,
+            centroid,
+        );
         if !self.accepts(&exact) || angle(&normal, &mean) > MAX_FIT_DEVIATION {
             return None;
         }
