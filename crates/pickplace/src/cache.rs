@@ -172,6 +172,25 @@ impl Cache {
         }
     }
 
+    /// A cache on the same folder for work done alongside (same writability, no warning yet);
+    /// [`Cache::absorb`] joins it back.
+    pub(crate) fn fork(&self) -> Self {
+        Self {
+            dir: self.dir.clone(),
+            writable: self.writable,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Joins a [`Cache::fork`] back: a failed write there stops writes here, and its warning
+    /// comes after this cache's own.
+    pub(crate) fn absorb(&mut self, other: Self) {
+        self.writable &= other.writable;
+        for warning in other.warnings {
+            self.warn(warning);
+        }
+    }
+
     /// The warnings, at most one.
     pub(crate) fn into_warnings(self) -> Vec<CacheWarning> {
         self.warnings

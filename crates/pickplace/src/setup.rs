@@ -411,32 +411,6 @@ impl Setup {
             &scene.object.mesh,
             Some("object.scale"),
         ));
-        let object_env = clusters(
-            &object_mesh,
-            &scene.object.mesh,
-            &env_params,
-            &mut cache,
-            "object.mesh",
-            options,
-            &mut log,
-        )?;
-        let object_finger = clusters(
-            &object_mesh,
-            &scene.object.mesh,
-            &finger_params,
-            &mut cache,
-            "object.mesh",
-            options,
-            &mut log,
-        )?;
-        let grasp_set = grasps(
-            &object_mesh,
-            &scene.object.mesh,
-            (&finger_params, &object_finger),
-            &gripper,
-            &mut cache,
-            &mut log,
-        )?;
         let cog = scene
             .object
             .center_of_gravity
@@ -447,8 +421,51 @@ impl Setup {
             .start_pose
             .to_isometry()
             .map_err(|r| invalid("object.start_pose", r.into()))?;
-        let placement_object = ObjectModel::new(&object_mesh, &object_env, cog)
-            .map_err(crate::error::internal("placement object model"))?;
+        // The object's two clusterings at once (two cores): environment contact with the
+        // placement model on one side, finger contact with the grasp set on the other. Each side
+        // keeps a log and cache warnings of its own, joined in the sequential order after.
+        let mut finger_cache = cache.fork();
+        let mut finger_log = Vec::new();
+        let (env_side, finger_side) = rayon::join(
+            || -> Result<(Clustering, ObjectModel)> {
+                let object_env = clusters(
+                    &object_mesh,
+                    &scene.object.mesh,
+                    &env_params,
+                    &mut cache,
+                    "object.mesh",
+                    options,
+                    &mut log,
+                )?;
+                let placement_object = ObjectModel::new(&object_mesh, &object_env, cog)
+                    .map_err(crate::error::internal("placement object model"))?;
+                Ok((object_env, placement_object))
+            },
+            || -> Result<(Clustering, GraspSet)> {
+                let object_finger = clusters(
+                    &object_mesh,
+                    &scene.object.mesh,
+                    &finger_params,
+                    &mut finger_cache,
+                    "object.mesh",
+                    options,
+                    &mut finger_log,
+                )?;
+                let grasp_set = grasps(
+                    &object_mesh,
+                    &scene.object.mesh,
+                    (&finger_params, &object_finger),
+                    &gripper,
+                    &mut finger_cache,
+                    &mut finger_log,
+                )?;
+                Ok((object_finger, grasp_set))
+            },
+        );
+        let (object_env, placement_object) = env_side?;
+        let (object_finger, grasp_set) = finger_side?;
+        log.append(&mut finger_log);
+        cache.absorb(finger_cache);
         let parts: Vec<_> = environment
             .iter()
             .map(|e| (&e.mesh, &e.clustering, e.world_from_mesh))
