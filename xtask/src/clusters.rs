@@ -280,17 +280,29 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         bail!("no object matches {:?}", args.objects);
     }
     eprintln!("xtask clusters: {} objects, both modes", set.len());
-    let jobs: Vec<(&Object, ClusterParams)> = set
+    // Largest files first, so that the two cores finish together; rows in the set's order.
+    let mut jobs: Vec<(usize, &Object, ClusterParams)> = set
         .iter()
-        .flat_map(|o| {
+        .enumerate()
+        .flat_map(|(i, o)| {
             [
-                (o, ClusterParams::finger()),
-                (o, ClusterParams::environment()),
+                (2 * i, o, ClusterParams::finger()),
+                (2 * i + 1, o, ClusterParams::environment()),
             ]
         })
         .collect();
-    let rows: Vec<anyhow::Result<Row>> = jobs.par_iter().map(|(o, p)| measure(o, p)).collect();
-    let rows: Vec<Row> = rows.into_iter().collect::<anyhow::Result<_>>()?;
+    let size = |o: &Object| std::fs::metadata(&o.path).map_or(0, |m| m.len());
+    jobs.sort_by_key(|(i, o, _)| (std::cmp::Reverse(size(o)), *i));
+    let mut done: Vec<(usize, anyhow::Result<Row>)> = jobs
+        .par_iter()
+        .with_max_len(1)
+        .map(|(i, o, p)| (*i, measure(o, p)))
+        .collect();
+    done.sort_by_key(|(i, _)| *i);
+    let rows: Vec<Row> = done
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect::<anyhow::Result<_>>()?;
     println!(
         "{:<34} {:>6} {:>9} {:>8} {:>8} {:>7} {:>7} {:>9} {:>10}",
         "mesh",

@@ -331,30 +331,15 @@ impl Union {
         self.normals.iter().all(|n| n.dot(d) >= limits.cos_facet)
     }
 
-    /// The three counts' directions for this union (module documentation).
-    fn judge(&self, limits: &Limits, mean: Vector3, extra: [Vector3; 3]) -> Verdict {
-        let orient = |d: Vector3| if d.dot(&mean) < 0.0 { -d } else { d };
-        // Candidates with their widths: exact on all points for the few named ones, on the
-        // hull's vertices for the hull's directions (checked on all points when chosen).
-        let mut candidates: Vec<(Real, Vector3)> = std::iter::once(mean)
-            .chain(extra)
-            .map(|d| (self.width(&d), orient(d)))
-            .collect();
-        let hull = convex_hull(&self.points);
-        if let Some(hull) = &hull {
-            candidates.extend(
-                face_directions(&self.points, hull)
-                    .into_iter()
-                    .map(|(d, w)| (w, orient(d))),
-            );
-            if candidates.iter().all(|c| c.0 > limits.h) {
-                candidates.extend(
-                    edge_pair_directions(&self.points, hull)
-                        .into_iter()
-                        .map(|(d, w)| (w, orient(d))),
-                );
-            }
-        }
+    /// Updates `verdict` with the thin ones of `candidates` (width, direction), thinnest
+    /// first, each width checked on all points.
+    fn consider(
+        &self,
+        mut candidates: Vec<(Real, Vector3)>,
+        limits: &Limits,
+        mean: &Vector3,
+        verdict: &mut Verdict,
+    ) {
         candidates.retain(|c| c.0 <= limits.h);
         candidates.sort_by(|p, q| {
             p.0.total_cmp(&q.0)
@@ -362,8 +347,10 @@ impl Union {
                 .then(p.1.y.total_cmp(&q.1.y))
                 .then(p.1.z.total_cmp(&q.1.z))
         });
-        let mut verdict = Verdict::default();
-        for &(_, d) in &candidates {
+        for (_, d) in candidates {
+            if verdict.mergeable.is_some() {
+                return;
+            }
             // The hull may miss a point it left out: the width is checked on all of them.
             let width = self.width(&d);
             if width > limits.h {
@@ -373,18 +360,73 @@ impl Union {
             if verdict.facet.is_none() && self.facets_fit(limits, &d) {
                 verdict.facet = Some((width, d));
             }
-            if d.dot(&mean) >= limits.cos_deviation && self.facets_fit(limits, &d) {
+            if d.dot(mean) >= limits.cos_deviation && self.facets_fit(limits, &d) {
                 verdict.mergeable = Some((width, d));
-                break;
             }
         }
-        if verdict.mergeable.is_none()
-            && verdict.thin.is_some()
-            && self
+    }
+
+    /// The three counts' directions for this union (module documentation).
+    fn judge(&self, limits: &Limits, mean: Vector3, extra: [Vector3; 3]) -> Verdict {
+        let orient = |d: Vector3| if d.dot(&mean) < 0.0 { -d } else { d };
+        let mut verdict = Verdict::default();
+        // A union narrower than h_max in every direction (twice its radius about its mean
+        // point) is thin along any plane: only the angles decide, exactly, as an intersection
+        // of spherical caps.
+        let centre = self.points.iter().sum::<Vector3>() / self.points.len().max(1) as Real;
+        let radius = self
+            .points
+            .iter()
+            .map(|p| (p - centre).norm())
+            .fold(0.0, Real::max);
+        if 2.0 * radius <= limits.h {
+            let width = |d: &Vector3| self.width(d);
+            verdict.thin = Some((width(&mean), mean));
+            let facets: Vec<(Vector3, Real)> = self
                 .normals
                 .iter()
-                .all(|n| n.dot(&mean) > limits.cos_hopeless)
-        {
+                .map(|n| (*n, limits.cos_facet))
+                .collect();
+            verdict.facet = caps_meet(&facets, &mean).map(|d| (width(&d), d));
+            let mut all = facets;
+            all.push((mean, limits.cos_deviation));
+            verdict.mergeable = caps_meet(&all, &mean).map(|d| (width(&d), d));
+            return verdict;
+        }
+        // The named directions first, their widths exact on all points.
+        let named: Vec<(Real, Vector3)> = std::iter::once(mean)
+            .chain(extra)
+            .map(|d| (self.width(&d), orient(d)))
+            .collect();
+        self.consider(named, limits, &mean, &mut verdict);
+        // No admissible direction is within the facet angle of a normal this far from the
+        // mean: the pair cannot be a cluster.
+        let possible = self
+            .normals
+            .iter()
+            .all(|n| n.dot(&mean) > limits.cos_hopeless);
+        // The hull's directions: for the exact thickness when no named direction is thin, and
+        // as candidates when the pair may be a cluster.
+        let hull = if verdict.thin.is_none() || (possible && verdict.mergeable.is_none()) {
+            convex_hull(&self.points)
+        } else {
+            None
+        };
+        if let Some(hull) = &hull {
+            let mut candidates: Vec<(Real, Vector3)> = face_directions(&self.points, hull)
+                .into_iter()
+                .map(|(d, w)| (w, orient(d)))
+                .collect();
+            if verdict.thin.is_none() && candidates.iter().all(|c| c.0 > limits.h) {
+                candidates.extend(
+                    edge_pair_directions(&self.points, hull)
+                        .into_iter()
+                        .map(|(d, w)| (w, orient(d))),
+                );
+            }
+            self.consider(candidates, limits, &mean, &mut verdict);
+        }
+        if verdict.mergeable.is_none() && verdict.thin.is_some() && possible {
             let support: Vec<Vector3> = match &hull {
                 Some(hull) => hull
                     .vertices()
@@ -464,6 +506,49 @@ fn search_cap(
         }
     }
     (best.0 <= 0.0).then_some(best.1)
+}
+
+/// A unit vector in every cap `(centre, cos radius)` of `caps` (each a closed spherical cap of
+/// radius below 90°), or `None` when they do not meet. Exact up to rounding: the point of the
+/// intersection closest to `toward` is `toward` itself, the point of one cap's rim closest to
+/// `toward`, or a point where two rims cross; every such candidate is tried.
+fn caps_meet(caps: &[(Vector3, Real)], toward: &Vector3) -> Option<Vector3> {
+    let inside = |d: &Vector3| caps.iter().all(|(c, cos)| c.dot(d) >= *cos - 1e-12);
+    if inside(toward) {
+        return Some(*toward);
+    }
+    let mut candidates: Vec<Vector3> = Vec::new();
+    for (c, cos) in caps {
+        // The rim point on the great circle from the centre towards `toward`.
+        if let Some(t) = (toward - c * c.dot(toward)).try_normalize(1e-12) {
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            candidates.push(c * *cos + t * sin);
+        }
+    }
+    for (i, (ci, cos_i)) in caps.iter().enumerate() {
+        for (cj, cos_j) in &caps[i + 1..] {
+            let g = ci.dot(cj);
+            let axis = ci.cross(cj);
+            let det = 1.0 - g * g;
+            if det <= 1e-15 {
+                continue;
+            }
+            let a = (cos_i - g * cos_j) / det;
+            let b = (cos_j - g * cos_i) / det;
+            let rest = 1.0 - (a * a + b * b + 2.0 * a * b * g);
+            if rest < 0.0 {
+                continue;
+            }
+            let k = (rest / axis.norm_squared()).sqrt();
+            let base = ci * a + cj * b;
+            candidates.push(base + axis * k);
+            candidates.push(base - axis * k);
+        }
+    }
+    candidates
+        .into_iter()
+        .filter_map(|d| d.try_normalize(0.0))
+        .find(|d| inside(d))
 }
 
 /// Two unit vectors orthogonal to unit `n` and to each other.

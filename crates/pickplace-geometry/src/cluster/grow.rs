@@ -469,7 +469,7 @@ impl<'a> Engine<'a> {
         a: u32,
         constraint: Option<(Vector3, Real)>,
     ) -> Option<Merged> {
-        let scan = |normal: Vector3, centroid: Vector3| {
+        let mut scan = |normal: Vector3, centroid: Vector3| {
             let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
             self.exact_extent(
                 cx.triangles.iter().chain(ca.triangles.iter()),
@@ -477,7 +477,7 @@ impl<'a> Engine<'a> {
                 centroid,
             )
         };
-        self.try_merge_with(x, a, constraint, &scan)
+        self.try_merge_with(x, a, constraint, &mut scan)
     }
 
     /// [`Engine::try_merge`], measuring the union's exact extent along a normal with `exact`
@@ -487,7 +487,7 @@ impl<'a> Engine<'a> {
         x: u32,
         a: u32,
         constraint: Option<(Vector3, Real)>,
-        exact: &dyn Fn(Vector3, Vector3) -> Extent,
+        exact: &mut dyn FnMut(Vector3, Vector3) -> Extent,
     ) -> Option<Merged> {
         let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
         let moments = cx.moments.add(&ca.moments);

@@ -13,6 +13,35 @@
 
 use crate::math::{Real, Vector3};
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A hasher for edge keys (two `u32`s): a multiply-xor mix, much cheaper than SipHash. Only
+/// looked up, never iterated, so the order it gives does not matter.
+#[derive(Debug, Default)]
+struct EdgeHasher(u64);
+
+impl Hasher for EdgeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.write_u64(u64::from(value));
+    }
+
+    fn write_u64(&mut self, value: u64) {
+        self.0 = (self.0.rotate_left(26) ^ value).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+/// Directed edge → face.
+type EdgeMap = HashMap<(u32, u32), u32, BuildHasherDefault<EdgeHasher>>;
 
 /// A convex hull: triangles of indices into the input points, counter-clockwise seen from
 /// outside, with their outward unit normals.
@@ -89,7 +118,7 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
     let eps = 1e-13 * diag;
     let [i0, i1, i2, i3] = first_tetrahedron(points, diag)?;
     let mut faces: Vec<Face> = Vec::new();
-    let mut edge_face: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut edge_face = EdgeMap::default();
     let inner =
         (points[i0 as usize] + points[i1 as usize] + points[i2 as usize] + points[i3 as usize])
             / 4.0;
@@ -216,7 +245,7 @@ fn first_tetrahedron(points: &[Vector3], diag: Real) -> Option<[u32; 4]> {
 fn add_face(
     points: &[Vector3],
     faces: &mut Vec<Face>,
-    edge_face: &mut HashMap<(u32, u32), u32>,
+    edge_face: &mut EdgeMap,
     v: [u32; 3],
 ) -> Option<()> {
     let [a, b, c] = v.map(|i| points[i as usize]);
@@ -238,7 +267,7 @@ fn add_face(
 /// The faces `eye` sees, found by a walk over neighbours from `start` (which it sees).
 fn visible_faces(
     faces: &[Face],
-    edge_face: &HashMap<(u32, u32), u32>,
+    edge_face: &EdgeMap,
     start: u32,
     eye: &Vector3,
     eps: Real,
@@ -264,11 +293,7 @@ fn visible_faces(
 /// The horizon of a set of visible faces as one loop of directed edges `(a, b)` (each the
 /// edge of a visible face whose other side is not visible), in order; `None` when the
 /// boundary is not a single simple loop.
-fn horizon_loop(
-    faces: &[Face],
-    edge_face: &HashMap<(u32, u32), u32>,
-    visible: &[u32],
-) -> Option<Vec<(u32, u32)>> {
+fn horizon_loop(faces: &[Face], edge_face: &EdgeMap, visible: &[u32]) -> Option<Vec<(u32, u32)>> {
     let mut edges: Vec<(u32, u32)> = Vec::new();
     for &f in visible {
         let v = faces[f as usize].v;

@@ -11,10 +11,10 @@
 //! plane nor the one that keeps every triangle within the facet angle).
 //!
 //! Widths are measured on each cluster's *support*: a set of its vertices that holds every
-//! vertex of its convex hull (the extremes along any direction are hull vertices). A merged
-//! cluster's support is the union of the two, pruned to its hull's vertices when it has grown
-//! to twice its last pruned size; so a merge into a large cluster costs the size of its hull,
-//! not of its vertex set.
+//! vertex of its convex hull (the extremes along any direction are hull vertices), made when
+//! first needed. A merged cluster's support is the union of the two, pruned to its hull's
+//! vertices when it has grown to twice its last pruned size; so a merge into a large cluster
+//! costs the size of its hull, not of its vertex set.
 
 use super::MAX_FIT_DEVIATION;
 use super::grow::{Engine, Merged, angle};
@@ -23,7 +23,7 @@ use super::slab::{SlabProblem, find_slab_normal};
 use crate::math::{Real, Vector3};
 
 /// Supports of at most this many vertices are kept as they are.
-const SMALL_SUPPORT: usize = 12;
+const SMALL_SUPPORT: usize = 64;
 
 /// Buffers and supports of the pass.
 #[derive(Debug, Default)]
@@ -34,8 +34,9 @@ struct Scratch {
     points: Vec<Vector3>,
     ids: Vec<u32>,
     normals: Vec<Vector3>,
-    /// Each cluster's support (vertex ids) and its size when last pruned.
-    support: Vec<Vec<u32>>,
+    /// Each cluster's support (vertex ids; `None` until first needed) and its size when last
+    /// pruned.
+    support: Vec<Option<Vec<u32>>>,
     pruned: Vec<usize>,
 }
 
@@ -61,21 +62,10 @@ impl Engine<'_> {
         let adjacency = self.mesh.adjacency();
         let mut scratch = Scratch {
             seen: vec![0; self.points.len()],
-            support: vec![Vec::new(); self.clusters.len()],
+            support: vec![None; self.clusters.len()],
             pruned: vec![0; self.clusters.len()],
             ..Scratch::default()
         };
-        for x in 0..self.clusters.len() {
-            if self.clusters[x].alive {
-                let all: Vec<u32> = self.clusters[x]
-                    .triangles
-                    .iter()
-                    .flat_map(|&t| self.tris[t as usize])
-                    .collect();
-                scratch.support[x] = all;
-                self.prune_support(x, &mut scratch);
-            }
-        }
         let mut changed = vec![true; self.clusters.len()];
         loop {
             let mut pairs: Vec<(Real, u32, u32)> = Vec::new();
@@ -103,21 +93,19 @@ impl Engine<'_> {
                 if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
                     continue;
                 }
-                let found = match self.try_merge_supported(a, b, &scratch) {
+                let found = match self.try_merge_supported(a, b, &mut scratch) {
                     Some(m) => Some(m),
                     None => self.try_merge_any_plane(a, b, &mut scratch),
                 };
                 if let Some(m) = found {
-                    self.absorb(a, b, m);
-                    let moved = std::mem::take(&mut scratch.support[b as usize]);
-                    scratch.support[a as usize].extend(moved);
-                    let (size, last) = (
-                        scratch.support[a as usize].len(),
-                        scratch.pruned[a as usize],
-                    );
-                    if size > SMALL_SUPPORT && size > 2 * last {
-                        self.prune_support(a as usize, &mut scratch);
+                    // The union's support: both supports, when both are known.
+                    let moved = scratch.support[b as usize].take();
+                    let kept = &mut scratch.support[a as usize];
+                    match (kept.as_mut(), moved) {
+                        (Some(kept), Some(moved)) => kept.extend(moved),
+                        _ => *kept = None,
                     }
+                    self.absorb(a, b, m);
                     changed[a as usize] = true;
                     merged = true;
                 }
@@ -128,11 +116,27 @@ impl Engine<'_> {
         }
     }
 
-    /// Reduces cluster `x`'s support to its distinct vertices, and to the vertices of their
-    /// convex hull when there are many and the hull holds every one of them.
-    fn prune_support(&self, x: usize, scratch: &mut Scratch) {
+    /// Makes cluster `x`'s support known (all its vertices the first time) and, when it has
+    /// grown past twice its last pruned size, reduces it to its distinct vertices and to the
+    /// vertices of their convex hull when there are many and the hull holds every one.
+    fn ensure_support(&self, x: usize, scratch: &mut Scratch) {
+        let support = match scratch.support[x].take() {
+            Some(support) => support,
+            None => {
+                scratch.pruned[x] = 0;
+                self.clusters[x]
+                    .triangles
+                    .iter()
+                    .flat_map(|&t| self.tris[t as usize])
+                    .collect()
+            }
+        };
+        if support.len() <= SMALL_SUPPORT.max(2 * scratch.pruned[x]) {
+            scratch.support[x] = Some(support);
+            return;
+        }
         scratch.next_generation();
-        let mut support = std::mem::take(&mut scratch.support[x]);
+        let mut support = support;
         support.retain(|&v| {
             let fresh = scratch.seen[v as usize] != scratch.generation;
             scratch.seen[v as usize] = scratch.generation;
@@ -151,25 +155,31 @@ impl Engine<'_> {
             }
         }
         scratch.pruned[x] = support.len();
-        scratch.support[x] = support;
+        scratch.support[x] = Some(support);
+    }
+
+    /// The support of cluster `x` (after [`Engine::ensure_support`]).
+    fn support<'s>(&self, x: u32, scratch: &'s Scratch) -> &'s [u32] {
+        scratch.support[x as usize].as_deref().unwrap_or_default()
     }
 
     /// [`Engine::try_merge`] along the regression plane, its exact extent measured on the
     /// clusters' supports.
-    fn try_merge_supported(&self, a: u32, b: u32, scratch: &Scratch) -> Option<Merged> {
+    fn try_merge_supported(&self, a: u32, b: u32, scratch: &mut Scratch) -> Option<Merged> {
         let (ca, cb) = (&self.clusters[a as usize], &self.clusters[b as usize]);
-        let support = scratch.support[a as usize]
-            .iter()
-            .chain(&scratch.support[b as usize]);
-        let exact = |normal: Vector3, centroid: Vector3| {
+        let mut exact = |normal: Vector3, centroid: Vector3| {
+            self.ensure_support(a as usize, scratch);
+            self.ensure_support(b as usize, scratch);
             self.support_extent(
-                support.clone(),
+                self.support(a, scratch)
+                    .iter()
+                    .chain(self.support(b, scratch)),
                 ca.triangles.iter().chain(&cb.triangles),
                 normal,
                 centroid,
             )
         };
-        self.try_merge_with(a, b, None, &exact)
+        self.try_merge_with(a, b, None, &mut exact)
     }
 
     /// Merging `b` into `a` along any admissible plane ([`find_slab_normal`]), when the
@@ -183,19 +193,24 @@ impl Engine<'_> {
         }
         let centroid = moments.first / moments.area;
         let limits = self.limits;
+        self.ensure_support(a as usize, scratch);
+        self.ensure_support(b as usize, scratch);
         scratch.next_generation();
         scratch.points.clear();
         scratch.ids.clear();
-        for &v in scratch.support[a as usize]
-            .iter()
-            .chain(&scratch.support[b as usize])
-        {
+        let (sa, sb) = (
+            scratch.support[a as usize].take().unwrap_or_default(),
+            scratch.support[b as usize].take().unwrap_or_default(),
+        );
+        for &v in sa.iter().chain(&sb) {
             if scratch.seen[v as usize] != scratch.generation {
                 scratch.seen[v as usize] = scratch.generation;
                 scratch.points.push(self.points[v as usize]);
                 scratch.ids.push(v);
             }
         }
+        scratch.support[a as usize] = Some(sa);
+        scratch.support[b as usize] = Some(sb);
         let mut problem = SlabProblem {
             points: &scratch.points,
             normals: &[],

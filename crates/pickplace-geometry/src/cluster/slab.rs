@@ -37,7 +37,9 @@ use crate::math::{Real, Vector3};
 /// 23 %).
 const MAX_ITERATIONS: usize = 80;
 /// Strict searches after a relaxed one that ended unsure.
-const STRICT_ROUNDS: usize = 3;
+const STRICT_ROUNDS: usize = 12;
+/// Unions with at most this many points get a ring of extra starts.
+const RING_POINTS: usize = 64;
 
 /// A slab search: the union's points and the triangle normals that can bind.
 #[derive(Debug)]
@@ -97,9 +99,17 @@ pub(crate) fn find_slab_normal(problem: &SlabProblem<'_>) -> Option<Vector3> {
     let mut starts = Vec::new();
     if let Some(hull) = convex_hull(problem.points) {
         let rim = problem.max_deviation * (1.0 - 1e-7);
-        let mut thin: Vec<(Real, Vector3)> = face_directions(problem.points, &hull)
+        let critical: Vec<(Vector3, Real)> = face_directions(problem.points, &hull)
             .into_iter()
             .chain(edge_pair_directions(problem.points, &hull))
+            .collect();
+        // The least of these widths is the points' minimum width over every direction (on
+        // the hull's vertices, so never above it): beyond h_max, no plane at all fits.
+        if critical.iter().all(|(_, w)| *w > problem.h_max) {
+            return None;
+        }
+        let mut thin: Vec<(Real, Vector3)> = critical
+            .into_iter()
             .map(|(d, w)| {
                 let d = if d.dot(&m) < 0.0 { -d } else { d };
                 let d = if d.dot(&m) >= cos_deviation {
@@ -127,13 +137,32 @@ pub(crate) fn find_slab_normal(problem: &SlabProblem<'_>) -> Option<Vector3> {
         starts.extend(thin.iter().take(2).map(|&(_, d)| d));
     }
     starts.push(relaxed_best);
+    // Then a ring of starts over the cap (the slab condition's basins can lie anywhere in it),
+    // for small unions only: each start costs a few ellipsoid searches over the points.
+    if problem.points.len() <= RING_POINTS {
+        let (u, v) = (search.u, search.v);
+        for (radius, count) in [(0.95, 8), (0.6, 6)] {
+            let polar = problem.max_deviation * radius;
+            for k in 0..count {
+                let azimuth = std::f64::consts::TAU * k as Real / count as Real;
+                starts
+                    .push(m * polar.cos() + (u * azimuth.cos() + v * azimuth.sin()) * polar.sin());
+            }
+        }
+    }
     for start in starts {
         let mut z = start;
         for _ in 0..STRICT_ROUNDS {
             match search.run(Some(z)) {
                 Outcome::Found(d) => return Some(d),
                 Outcome::Infeasible => return None,
-                Outcome::Unsure(next) => z = next,
+                Outcome::Unsure(next) => {
+                    // The convex-concave procedure has settled.
+                    if (next - z).norm() < 1e-10 {
+                        break;
+                    }
+                    z = next;
+                }
             }
         }
     }
