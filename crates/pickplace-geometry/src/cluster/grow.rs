@@ -166,6 +166,8 @@ pub(crate) struct Extent {
 const WITNESSES: usize = 6;
 /// An empty witness slot.
 const NO_VERTEX: u32 = u32::MAX;
+/// Supports of at most this many vertices are kept as they are (no hull).
+const SMALL_SUPPORT: usize = 64;
 
 /// One cluster under construction.
 #[derive(Debug, Clone)]
@@ -177,6 +179,11 @@ pub(crate) struct Work {
     pub normal: Vector3,
     pub centroid: Vector3,
     pub(super) extent: Extent,
+    /// Vertices holding every vertex of the cluster's convex hull (repeats allowed): the
+    /// extremes along any direction and the farthest vertex from any point are among them.
+    pub(super) support: Vec<u32>,
+    /// Size of `support` when it was last pruned to its hull.
+    pruned: usize,
 }
 
 /// Limits a merge must respect.
@@ -204,6 +211,9 @@ pub(crate) struct Engine<'a> {
     pub(super) limits: Limits,
     stamp: Vec<u32>,
     generation: u32,
+    /// `seen[v] == seen_generation`: vertex `v` met in the current pass over a support.
+    seen: Vec<u32>,
+    seen_generation: u32,
     /// Bounding-volume hierarchy of the triangles (their boxes, engine coordinates), built on
     /// the first ray query ([`Engine::exit_hits`]).
     bvh: std::sync::OnceLock<parry3d_f64::partitioning::Bvh>,
@@ -258,6 +268,8 @@ impl<'a> Engine<'a> {
             limits,
             stamp: Vec::new(),
             generation: 0,
+            seen: vec![0; mesh.vertices().len()],
+            seen_generation: 0,
             bvh: std::sync::OnceLock::new(),
         }
     }
@@ -406,6 +418,7 @@ impl<'a> Engine<'a> {
         for &t in &tris {
             self.cluster_of[t as usize] = id;
         }
+        let support: Vec<u32> = tris.iter().flat_map(|&t| self.tris[t as usize]).collect();
         self.clusters.push(Work {
             alive: true,
             closed: false,
@@ -413,6 +426,8 @@ impl<'a> Engine<'a> {
             moments: m,
             normal,
             centroid,
+            pruned: support.len(),
+            support,
             extent,
         });
         self.stamp.push(0);
@@ -471,7 +486,8 @@ impl<'a> Engine<'a> {
     ) -> Option<Merged> {
         let mut scan = |normal: Vector3, centroid: Vector3| {
             let (cx, ca) = (&self.clusters[x as usize], &self.clusters[a as usize]);
-            self.exact_extent(
+            self.support_extent(
+                cx.support.iter().chain(&ca.support),
                 cx.triangles.iter().chain(ca.triangles.iter()),
                 normal,
                 centroid,
@@ -622,12 +638,50 @@ impl<'a> Engine<'a> {
             self.cluster_of[t as usize] = x;
         }
         self.clusters[a as usize].alive = false;
+        let support = std::mem::take(&mut self.clusters[a as usize].support);
         let cx = &mut self.clusters[x as usize];
         cx.triangles.extend_from_slice(&moved);
         cx.moments = m.moments;
         cx.normal = m.normal;
         cx.centroid = m.centroid;
         cx.extent = m.extent;
+        cx.support.extend(support);
+        if cx.support.len() > SMALL_SUPPORT.max(2 * cx.pruned) {
+            self.prune_support(x);
+        }
+    }
+
+    /// Reduces cluster `x`'s support to its distinct vertices, and to the vertices of their
+    /// convex hull when there are many and the hull holds every one of them (see
+    /// [`super::hull`]).
+    fn prune_support(&mut self, x: u32) {
+        self.seen_generation = self.seen_generation.wrapping_add(1);
+        if self.seen_generation == 0 {
+            self.seen.fill(0);
+            self.seen_generation = 1;
+        }
+        let mut support = std::mem::take(&mut self.clusters[x as usize].support);
+        let (seen, generation) = (&mut self.seen, self.seen_generation);
+        support.retain(|&v| {
+            let fresh = seen[v as usize] != generation;
+            seen[v as usize] = generation;
+            fresh
+        });
+        if support.len() > SMALL_SUPPORT {
+            let points: Vec<Vector3> = support.iter().map(|&v| self.points[v as usize]).collect();
+            if let Some(hull) = super::hull::convex_hull(&points)
+                && hull.complete
+            {
+                support = hull
+                    .vertices()
+                    .iter()
+                    .map(|&i| support[i as usize])
+                    .collect();
+            }
+        }
+        let cx = &mut self.clusters[x as usize];
+        cx.pruned = support.len();
+        cx.support = support;
     }
 
     /// Step-1 clusters in seed order: canonical order of their first triangle, i.e. their ids.

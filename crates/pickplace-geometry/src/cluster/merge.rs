@@ -10,20 +10,14 @@
 //! can, noisy scans and rims of edge-on triangles the regression plane is neither the thinnest
 //! plane nor the one that keeps every triangle within the facet angle).
 //!
-//! Widths are measured on each cluster's *support*: a set of its vertices that holds every
-//! vertex of its convex hull (the extremes along any direction are hull vertices), made when
-//! first needed. A merged cluster's support is the union of the two, pruned to its hull's
-//! vertices when it has grown to twice its last pruned size; so a merge into a large cluster
-//! costs the size of its hull, not of its vertex set.
+//! Widths are measured on each cluster's *support* (`grow.rs`): a set of its vertices that
+//! holds every vertex of its convex hull, so a merge into a large cluster costs the size of its
+//! hull, not of its vertex set.
 
 use super::MAX_FIT_DEVIATION;
 use super::grow::{Engine, Merged, angle};
-use super::hull::convex_hull;
 use super::slab::{SlabProblem, find_slab_normal};
 use crate::math::{Real, Vector3};
-
-/// Supports of at most this many vertices are kept as they are.
-const SMALL_SUPPORT: usize = 64;
 
 /// Buffers and supports of the pass.
 #[derive(Debug, Default)]
@@ -34,10 +28,6 @@ struct Scratch {
     points: Vec<Vector3>,
     ids: Vec<u32>,
     normals: Vec<Vector3>,
-    /// Each cluster's support (vertex ids; `None` until first needed) and its size when last
-    /// pruned.
-    support: Vec<Option<Vec<u32>>>,
-    pruned: Vec<usize>,
 }
 
 impl Scratch {
@@ -62,8 +52,6 @@ impl Engine<'_> {
         let adjacency = self.mesh.adjacency();
         let mut scratch = Scratch {
             seen: vec![0; self.points.len()],
-            support: vec![None; self.clusters.len()],
-            pruned: vec![0; self.clusters.len()],
             ..Scratch::default()
         };
         let mut changed = vec![true; self.clusters.len()];
@@ -93,18 +81,11 @@ impl Engine<'_> {
                 if !(self.clusters[a as usize].alive && self.clusters[b as usize].alive) {
                     continue;
                 }
-                let found = match self.try_merge_supported(a, b, &mut scratch) {
+                let found = match self.try_merge(a, b, None) {
                     Some(m) => Some(m),
                     None => self.try_merge_any_plane(a, b, &mut scratch),
                 };
                 if let Some(m) = found {
-                    // The union's support: both supports, when both are known.
-                    let moved = scratch.support[b as usize].take();
-                    let kept = &mut scratch.support[a as usize];
-                    match (kept.as_mut(), moved) {
-                        (Some(kept), Some(moved)) => kept.extend(moved),
-                        _ => *kept = None,
-                    }
                     self.absorb(a, b, m);
                     changed[a as usize] = true;
                     merged = true;
@@ -114,72 +95,6 @@ impl Engine<'_> {
                 break;
             }
         }
-    }
-
-    /// Makes cluster `x`'s support known (all its vertices the first time) and, when it has
-    /// grown past twice its last pruned size, reduces it to its distinct vertices and to the
-    /// vertices of their convex hull when there are many and the hull holds every one.
-    fn ensure_support(&self, x: usize, scratch: &mut Scratch) {
-        let support = match scratch.support[x].take() {
-            Some(support) => support,
-            None => {
-                scratch.pruned[x] = 0;
-                self.clusters[x]
-                    .triangles
-                    .iter()
-                    .flat_map(|&t| self.tris[t as usize])
-                    .collect()
-            }
-        };
-        if support.len() <= SMALL_SUPPORT.max(2 * scratch.pruned[x]) {
-            scratch.support[x] = Some(support);
-            return;
-        }
-        scratch.next_generation();
-        let mut support = support;
-        support.retain(|&v| {
-            let fresh = scratch.seen[v as usize] != scratch.generation;
-            scratch.seen[v as usize] = scratch.generation;
-            fresh
-        });
-        if support.len() > SMALL_SUPPORT {
-            let points: Vec<Vector3> = support.iter().map(|&v| self.points[v as usize]).collect();
-            if let Some(hull) = convex_hull(&points)
-                && hull.complete
-            {
-                support = hull
-                    .vertices()
-                    .iter()
-                    .map(|&i| support[i as usize])
-                    .collect();
-            }
-        }
-        scratch.pruned[x] = support.len();
-        scratch.support[x] = Some(support);
-    }
-
-    /// The support of cluster `x` (after [`Engine::ensure_support`]).
-    fn support<'s>(&self, x: u32, scratch: &'s Scratch) -> &'s [u32] {
-        scratch.support[x as usize].as_deref().unwrap_or_default()
-    }
-
-    /// [`Engine::try_merge`] along the regression plane, its exact extent measured on the
-    /// clusters' supports.
-    fn try_merge_supported(&self, a: u32, b: u32, scratch: &mut Scratch) -> Option<Merged> {
-        let (ca, cb) = (&self.clusters[a as usize], &self.clusters[b as usize]);
-        let mut exact = |normal: Vector3, centroid: Vector3| {
-            self.ensure_support(a as usize, scratch);
-            self.ensure_support(b as usize, scratch);
-            self.support_extent(
-                self.support(a, scratch)
-                    .iter()
-                    .chain(self.support(b, scratch)),
-                ca.triangles.iter().chain(&cb.triangles),
-                normal,
-                centroid,
-            )
-        };
-        self.try_merge_with(a, b, None, &mut exact)
     }
 
     /// Merging `b` into `a` along any admissible plane ([`find_slab_normal`]), when the
@@ -193,24 +108,16 @@ impl Engine<'_> {
         }
         let centroid = moments.first / moments.area;
         let limits = self.limits;
-        self.ensure_support(a as usize, scratch);
-        self.ensure_support(b as usize, scratch);
         scratch.next_generation();
         scratch.points.clear();
         scratch.ids.clear();
-        let (sa, sb) = (
-            scratch.support[a as usize].take().unwrap_or_default(),
-            scratch.support[b as usize].take().unwrap_or_default(),
-        );
-        for &v in sa.iter().chain(&sb) {
+        for &v in ca.support.iter().chain(&cb.support) {
             if scratch.seen[v as usize] != scratch.generation {
                 scratch.seen[v as usize] = scratch.generation;
                 scratch.points.push(self.points[v as usize]);
                 scratch.ids.push(v);
             }
         }
-        scratch.support[a as usize] = Some(sa);
-        scratch.support[b as usize] = Some(sb);
         let mut problem = SlabProblem {
             points: &scratch.points,
             normals: &[],
