@@ -166,8 +166,11 @@ pub(crate) struct Extent {
 const WITNESSES: usize = 6;
 /// An empty witness slot.
 const NO_VERTEX: u32 = u32::MAX;
-/// Supports of at most this many vertices are kept as they are (no hull).
+/// Supports of at most this many vertices are kept as they are.
 const SMALL_SUPPORT: usize = 64;
+/// A support is cut to its convex hull only past this many distinct vertices, and four times
+/// the size of its last cut (a hull costs far more than a scan of a small set).
+const HULL_SUPPORT: usize = 512;
 
 /// One cluster under construction.
 #[derive(Debug, Clone)]
@@ -182,8 +185,9 @@ pub(crate) struct Work {
     /// Vertices holding every vertex of the cluster's convex hull (repeats allowed): the
     /// extremes along any direction and the farthest vertex from any point are among them.
     pub(super) support: Vec<u32>,
-    /// Size of `support` when it was last pruned to its hull.
+    /// Size of `support` when it was last pruned, and when it was last cut to its hull.
     pruned: usize,
+    hulled: usize,
 }
 
 /// Limits a merge must respect.
@@ -427,6 +431,7 @@ impl<'a> Engine<'a> {
             normal,
             centroid,
             pruned: support.len(),
+            hulled: support.len(),
             support,
             extent,
         });
@@ -652,8 +657,8 @@ impl<'a> Engine<'a> {
     }
 
     /// Reduces cluster `x`'s support to its distinct vertices, and to the vertices of their
-    /// convex hull when there are many and the hull holds every one of them (see
-    /// [`super::hull`]).
+    /// convex hull when there are many (see [`HULL_SUPPORT`]) and the hull holds every one of
+    /// them (see [`super::hull`]).
     fn prune_support(&mut self, x: u32) {
         self.seen_generation = self.seen_generation.wrapping_add(1);
         if self.seen_generation == 0 {
@@ -667,7 +672,8 @@ impl<'a> Engine<'a> {
             seen[v as usize] = generation;
             fresh
         });
-        if support.len() > SMALL_SUPPORT {
+        let hulled = self.clusters[x as usize].hulled;
+        if support.len() > HULL_SUPPORT && support.len() > 4 * hulled {
             let points: Vec<Vector3> = support.iter().map(|&v| self.points[v as usize]).collect();
             if let Some(hull) = super::hull::convex_hull(&points)
                 && hull.complete
@@ -680,6 +686,9 @@ impl<'a> Engine<'a> {
             }
         }
         let cx = &mut self.clusters[x as usize];
+        if support.len() > HULL_SUPPORT && support.len() > 4 * hulled {
+            cx.hulled = support.len();
+        }
         cx.pruned = support.len();
         cx.support = support;
     }
