@@ -29,9 +29,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-/// The pybullet objects and their URDF scales, read as `cargo xtask stability` reads them.
+/// The pybullet objects and their URDF scales, read as `cargo xtask stability` reads them:
+/// the same file, compiled a second time, since `stability` keeps its `data` module private
+/// (making it `pub(crate)` there would let this be a `use`).
 #[path = "stability/data.rs"]
-#[allow(dead_code)]
+#[allow(dead_code, clippy::duplicate_mod)]
 mod stability_data;
 
 /// The robosuite wheel (pure Python, any platform), from PyPI.

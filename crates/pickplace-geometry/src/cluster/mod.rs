@@ -51,6 +51,7 @@ mod hull;
 mod json;
 mod merge;
 mod pairs;
+mod rays;
 mod slab;
 mod width;
 
