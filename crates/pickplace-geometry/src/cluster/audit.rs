@@ -156,6 +156,13 @@ struct Summary {
 
 impl Summary {
     fn new(mesh: &TriMesh, origin: &Point3, triangles: &[u32]) -> Self {
+        // A clustering of another mesh may name triangles this one does not have.
+        let triangles: Vec<u32> = triangles
+            .iter()
+            .copied()
+            .filter(|&t| (t as usize) < mesh.triangle_count())
+            .collect();
+        let triangles = triangles.as_slice();
         let mut ids: Vec<u32> = triangles
             .iter()
             .flat_map(|&t| mesh.triangles()[t as usize])

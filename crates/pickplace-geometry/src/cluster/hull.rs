@@ -151,16 +151,14 @@ pub(crate) fn convex_hull(points: &[Vector3]) -> Option<Hull> {
         let start = next_face as u32;
         // The farthest point outside the face (ties by index).
         let face = &faces[next_face];
-        let (slot, &eye) = face
-            .outside
-            .iter()
-            .enumerate()
-            .max_by(|a, b| {
-                let da = face.normal.dot(&points[*a.1 as usize]);
-                let db = face.normal.dot(&points[*b.1 as usize]);
-                da.total_cmp(&db).then(b.1.cmp(a.1))
-            })
-            .expect("a non-empty list");
+        let Some((slot, &eye)) = face.outside.iter().enumerate().max_by(|a, b| {
+            let da = face.normal.dot(&points[*a.1 as usize]);
+            let db = face.normal.dot(&points[*b.1 as usize]);
+            da.total_cmp(&db).then(b.1.cmp(a.1))
+        }) else {
+            next_face += 1;
+            continue;
+        };
         faces[next_face].outside.swap_remove(slot);
         let pe = points[eye as usize];
         let visible = visible_faces(&faces, &edge_face, start, &pe, eps);
