@@ -624,7 +624,10 @@ mod tests {
         assert!(objects.iter().any(|m| m.scale == 0.001));
         for m in &objects {
             let n = m.builder.triangles.len();
-            assert!((10_000..=20_000).contains(&n), "{}: {n} triangles", m.key);
+            // The 2 cm die is scanned finer and coarser (0.3 mm noise, 4 000 triangles): at
+            // 10 000 its triangles would be smaller than the noise.
+            let range = if m.key == "scan-die" { 3_000..=5_000 } else { 10_000..=20_000 };
+            assert!(range.contains(&n), "{}: {n} triangles", m.key);
             // Fits one way: 7.5 cm or less across, in z or across x or y in some tenth of its
             // height (a frustum fits at its narrow end).
             let z = |p: &pickplace_geometry::math::Point3| p.z;
