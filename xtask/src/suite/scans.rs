@@ -224,17 +224,16 @@ pub(super) fn scenes() -> Vec<Spec> {
     add(sc, &["table", "right", "curved"]);
 
     // --- A small object: the pads' tips stop short of the table (tip shift).
-    for (name, about, object, (start, target), tags) in [
-        (
+    add(
+        base(
             "scan-die-left",
             "a scanned 2 cm die",
             "scan-die",
-            ([0.40, 0.20], on_table(0.40, 0.12)),
-            &["table", "left", "small"][..],
+            [0.40, 0.20],
+            on_table(0.40, 0.12),
         ),
-    ] {
-        add(base(name, about, object, start, target), tags);
-    }
+        &["table", "left", "small"],
+    );
     let mut sc = base(
         "scan-die-right-on-side",
         "the scanned die on another face, turned 30°",
@@ -626,7 +625,11 @@ mod tests {
             let n = m.builder.triangles.len();
             // The 2 cm die is scanned finer and coarser (0.3 mm noise, 4 000 triangles): at
             // 10 000 its triangles would be smaller than the noise.
-            let range = if m.key == "scan-die" { 3_000..=5_000 } else { 10_000..=20_000 };
+            let range = if m.key == "scan-die" {
+                3_000..=5_000
+            } else {
+                10_000..=20_000
+            };
             assert!(range.contains(&n), "{}: {n} triangles", m.key);
             // Fits one way: 7.5 cm or less across, in z or across x or y in some tenth of its
             // height (a frustum fits at its narrow end).
