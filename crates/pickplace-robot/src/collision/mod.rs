@@ -41,9 +41,10 @@ use std::path::Path;
 #[derive(Debug, Clone)]
 pub struct CollisionShape {
     shape: SharedShape,
-    /// The convex hull of a mesh shape, when asked for ([`CollisionShape::with_hull`]): an
-    /// attached object's pairs are tested against it first, and against the mesh only when
-    /// the hull touches (the mesh lies inside it, so the answer is the mesh's).
+    /// The convex hull of a mesh shape, when asked for ([`CollisionShape::with_hull`]): the
+    /// pairs of an attached or environment object are tested against it first, and against
+    /// the mesh only when the hull touches (the mesh lies inside it, so the answer is the
+    /// mesh's).
     hull: Option<SharedShape>,
 }
 
@@ -107,9 +108,9 @@ impl CollisionShape {
     }
 
     /// This shape with its convex hull kept beside it (for a mesh; other shapes are convex
-    /// already): a held object with many triangles is then tested against a link or an
-    /// obstacle through its hull first, and through its triangles only when the hull
-    /// touches. The answers are those of the mesh alone.
+    /// already): an object with many triangles, held or lying in the environment, is then
+    /// tested against a link or an obstacle through its hull first, and through its
+    /// triangles only when the hull touches. The answers are those of the mesh alone.
     pub fn with_hull(mut self) -> Self {
         if let Some(mesh) = self.shape.as_trimesh() {
             // Few vertices (GJK scans them all per support point), rounded to contain the
@@ -362,6 +363,8 @@ fn boxes_overlap(
 struct EnvironmentObject {
     name: String,
     shape: SharedShape,
+    /// The mesh's hull, tested first ([`CollisionShape::with_hull`]).
+    hull: Option<SharedShape>,
     world_from_shape: Pose,
     /// Links allowed to touch this object.
     allowed_links: Vec<bool>,
@@ -538,6 +541,7 @@ impl CollisionWorld {
         self.environment.push(EnvironmentObject {
             name: name.to_owned(),
             shape: shape.shape,
+            hull: shape.hull,
             world_from_shape: pose,
             allowed_links: self.allowed_links_for(name),
         });
@@ -706,24 +710,27 @@ impl CollisionWorld {
         }
     }
 
-    /// [`CollisionWorld::touching`] of an attached object and another shape: through the
-    /// object's hull first when it has one (a hull clear of the other shape, or farther
-    /// than the margin, leaves the mesh inside it clear too), then its own shape.
-    fn attached_touching(
+    /// [`CollisionWorld::touching`] of a mesh kept with its hull (an attached object, an
+    /// environment object made [`CollisionShape::with_hull`]) and another shape: through the
+    /// hull first when there is one (a hull clear of the other shape, or farther than the
+    /// margin, leaves the mesh inside it clear too), then the mesh itself.
+    #[allow(clippy::too_many_arguments)]
+    fn hulled_touching(
         &self,
         pose1: &Pose,
-        object: &AttachedObject,
+        shape1: &SharedShape,
+        hull1: Option<&SharedShape>,
         pose2: &Pose,
         shape2: &SharedShape,
         margin: Real,
         names: impl Fn() -> (String, String),
     ) -> Result<bool> {
-        if let Some(hull) = &object.hull
+        if let Some(hull) = hull1
             && !self.touching(pose1, hull, pose2, shape2, margin, &names)?
         {
             return Ok(false);
         }
-        self.touching(pose1, &object.shape, pose2, shape2, margin, names)
+        self.touching(pose1, shape1, pose2, shape2, margin, names)
     }
 
     /// The exact test of two robot shapes, as [`CollisionWorld::touching`]: the same GJK query
@@ -876,13 +883,14 @@ impl CollisionWorld {
                 if env.allowed_links[s.link] {
                     continue;
                 }
-                if self.touching(
-                    &scratch.shape_poses[i],
-                    &s.shape,
+                if self.hulled_touching(
                     &env.world_from_shape,
                     &env.shape,
+                    env.hull.as_ref(),
+                    &scratch.shape_poses[i],
+                    &s.shape,
                     pair_margin,
-                    || (self.link_names[s.link].clone(), env.name.clone()),
+                    || (env.name.clone(), self.link_names[s.link].clone()),
                 )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
                     return Ok(());
@@ -903,9 +911,10 @@ impl CollisionWorld {
                 {
                     continue;
                 }
-                if self.attached_touching(
+                if self.hulled_touching(
                     &scratch.attached_poses[k],
-                    a,
+                    &a.shape,
+                    a.hull.as_ref(),
                     &scratch.shape_poses[i],
                     &s.shape,
                     pair_margin,
@@ -929,9 +938,10 @@ impl CollisionWorld {
                     continue;
                 }
                 let env = &self.environment[e];
-                if self.attached_touching(
+                if self.hulled_touching(
                     &scratch.attached_poses[k],
-                    a,
+                    &a.shape,
+                    a.hull.as_ref(),
                     &env.world_from_shape,
                     &env.shape,
                     pair_margin,
@@ -1700,7 +1710,15 @@ mod tests {
             for margin in [0.0, 0.005] {
                 let names = || (String::new(), String::new());
                 let ours = world
-                    .attached_touching(&pose1, &object, &pose2, &other, margin, names)
+                    .hulled_touching(
+                        &pose1,
+                        &object.shape,
+                        object.hull.as_ref(),
+                        &pose2,
+                        &other,
+                        margin,
+                        names,
+                    )
                     .expect("supported");
                 let mesh_only = world
                     .touching(&pose1, &object.shape, &pose2, &other, margin, names)
