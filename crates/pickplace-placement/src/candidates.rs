@@ -184,6 +184,9 @@ pub struct ObjectModel {
     pub rigid_supports: Vec<Vec<Point2>>,
     /// Collision mesh (object frame).
     pub collision: CollisionMesh,
+    /// For each region, whether it can touch a plane at all: no other region's boundary lies
+    /// more than 2 mm beyond its plane (computed once, as the model is made).
+    pub supporting: Vec<bool>,
 }
 
 /// The contact model's tolerance (m) for the object's supports:
@@ -302,6 +305,7 @@ impl ObjectModel {
             regions.push(region);
         }
         Ok(Self {
+            supporting: supporting_regions(&regions),
             regions,
             tipping_limits,
             cog,
@@ -533,7 +537,7 @@ pub fn candidates(
     others.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     env_indices.extend(others.into_iter().map(|(_, i)| i));
 
-    let supporting = supporting_regions(object);
+    let supporting = &object.supporting;
     let mut placements = Vec::new();
     let mut rejections = Vec::new();
     for &e in &env_indices {
@@ -675,11 +679,13 @@ pub const RANK_RESOLUTION: Real = 1e-4;
 
 /// Which object regions can touch a plane at all: every other object region lies on the inner
 /// side of the region's contact plane. Checked on the regions' boundary points (cheap and exact
-/// for clusters on the convex hull, such as a can's caps or a box's faces).
-pub(crate) fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
+/// for clusters on the convex hull, such as a can's caps or a box's faces), through the
+/// vertices of their convex hull: the farthest point along a normal is a hull vertex, so the
+/// answer is the one over every boundary point, at a cost in the hull's size (a scanned object
+/// has tens of thousands of boundary points and a few hundred hull vertices).
+pub(crate) fn supporting_regions(regions: &[Region]) -> Vec<bool> {
     let tolerance = 0.002;
-    let boundary: Vec<Point3> = object
-        .regions
+    let boundary: Vec<Point3> = regions
         .iter()
         .flat_map(|r| {
             r.polygon
@@ -688,12 +694,13 @@ pub(crate) fn supporting_regions(object: &ObjectModel) -> Vec<bool> {
                 .map(|q| r.parent_from_plane * Point3::new(q.x, q.y, 0.0))
         })
         .collect();
-    object
-        .regions
+    // A flat or degenerate set has no 3D hull: every point is then checked.
+    let extreme = crate::resting::hull_points(&boundary).unwrap_or(boundary);
+    regions
         .iter()
         .map(|r| {
             let (n, origin) = (r.normal(), r.parent_from_plane.translation.vector);
-            boundary
+            extreme
                 .iter()
                 .all(|p| n.dot(&(p.coords - origin)) <= tolerance)
         })

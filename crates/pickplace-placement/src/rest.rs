@@ -15,7 +15,7 @@
 
 use crate::candidates::{
     ContactKind, EnvironmentModel, ObjectModel, PlacementOptions, face_face_can_be_stable,
-    include_bounding_box, supporting_regions,
+    include_bounding_box,
 };
 use crate::region::Region;
 use crate::stability::{self, SupportHull};
@@ -461,7 +461,7 @@ pub fn target_surface(
             max_slope: options.max_slope,
         });
     };
-    let supporting = supporting_regions(object);
+    let supporting = &object.supporting;
     let mut fits = Vec::new();
     let mut smallest = [Real::INFINITY; 2];
     let (env_short, env_long) = e.rect.sorted_sides();
