@@ -3,6 +3,7 @@
 //! parry's public math is glam (through glamx); our nalgebra types are converted by
 //! [`pickplace_geometry::parry`].
 
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::shape::{ConvexPolyhedron, TriMesh as ParryTriMesh, TriMeshFlags};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
@@ -22,6 +23,8 @@ pub struct CollisionMesh {
     /// can meet the mesh (which lies inside it), so each of those alone is tested against the
     /// mesh (see [`CollisionMesh::intersects`]).
     hull: Option<ConvexPolyhedron>,
+    /// The hull's box in the object frame (empty without a hull).
+    hull_aabb: Aabb,
     /// Balls inside a closed non-convex object mesh (centre, radius; object frame): an
     /// environment triangle that meets one is inside the object, a penetration found with one
     /// cheap test instead of a search of the object's triangles (a scanned can under a shelf
@@ -184,10 +187,14 @@ impl CollisionMesh {
             .map_err(|e| crate::Error::DegenerateHull {
                 reason: format!("collision mesh: {e:?}"),
             })?;
+        let hull_aabb = hull
+            .as_ref()
+            .map_or(Aabb::new_invalid(), |h| h.local_aabb());
         Ok(Self {
             shape,
             convex,
             hull,
+            hull_aabb,
             inner_balls,
             vertices,
             triangles,
@@ -223,19 +230,26 @@ impl CollisionMesh {
             // the pairs of nearly coplanar triangles a mesh-mesh traversal visits.
             use parry3d_f64::query::PointQuery;
             use parry3d_f64::shape::Shape;
-            let aabb = hull.compute_aabb(&object_pose);
+            // The hull's box from its local one (looser when turned, never smaller): the
+            // hull's own box scans every hull vertex per query.
+            let aabb = object.hull_aabb.transform_by(&object_pose);
             let balls: Vec<(PVector, Real)> = object
                 .inner_balls
                 .iter()
                 .map(|(c, r)| (parry::point(&(pose * c)), *r))
                 .collect();
             let near: Vec<u32> = self.shape.bvh().intersect_aabb(&aabb).collect();
-            // The cheap certain answer first, over every nearby triangle.
+            // The cheap certain answer first, over every nearby triangle: a ball whose centre
+            // is farther than its radius from the triangle's box is skipped without the exact
+            // distance.
             if near.iter().any(|&j| {
                 let triangle = self.shape.triangle(j);
-                balls
-                    .iter()
-                    .any(|(c, r)| triangle.distance_to_local_point(*c, true) < *r)
+                let lo = triangle.a.min(triangle.b).min(triangle.c);
+                let hi = triangle.a.max(triangle.b).max(triangle.c);
+                balls.iter().any(|(c, r)| {
+                    c.clamp(lo, hi).distance_squared(*c) < r * r
+                        && triangle.distance_to_local_point(*c, true) < *r
+                })
             }) {
                 return true;
             }
@@ -263,7 +277,6 @@ impl CollisionMesh {
         world_from_object: &Isometry3,
         reach: Real,
     ) -> Vec<Point3> {
-        use parry3d_f64::bounding_volume::Aabb;
         use parry3d_f64::shape::Triangle;
         let identity = Pose::IDENTITY;
         let mut out = Vec::new();
