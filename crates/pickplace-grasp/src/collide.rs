@@ -78,7 +78,10 @@ impl ObjectCollider {
                 self.vertices[k as usize],
             ])
         });
-        touches || self.contains(&b.center)
+        // A centre outside the mesh's box is outside its solid: no point query.
+        touches
+            || (self.shape.local_aabb().contains_local_point(parry::point(&b.center))
+                && self.contains(&b.center))
     }
 
     /// Whether one of the box's face planes has the whole convex hull on its outer side. The
