@@ -217,11 +217,10 @@ impl Ctx<'_> {
                 .collect();
             !at_start.is_empty()
                 && (0..self.placements.len()).any(|pi| {
-                    let (fits, _) = self.fitting_at_placement(arm, pi);
                     let pose = &self.placements[pi].world_from_object;
-                    at_start
-                        .iter()
-                        .any(|&g| fits.binary_search(&g).is_ok() && self.reachable(arm, g, pose))
+                    self.fitting_among(arm, pi, &at_start)
+                        .into_iter()
+                        .any(|g| self.reachable(arm, g, pose))
                 })
         };
         candidates
@@ -240,6 +239,36 @@ impl Ctx<'_> {
             * world_from_object
             * self.grasps[gi].object_from_tcp;
         a.reach_map.score(&root_from_tcp) > 0
+    }
+
+    /// Those of `grasps` (in their order) whose closed gripper fits `arm` at placement `pi`:
+    /// [`Ctx::fitting_at_placement`] when it is known, else each of them tested (a one-arm
+    /// search asks about the few grasps that pick the object, not the thousand of a
+    /// scanned object's set).
+    fn fitting_among(&self, arm: Arm, pi: usize, grasps: &[usize]) -> Vec<usize> {
+        if let Some((fits, _)) = self.placement_fits[arm.index()][pi].get() {
+            return grasps
+                .iter()
+                .copied()
+                .filter(|g| fits.binary_search(g).is_ok())
+                .collect();
+        }
+        let pose = self.placements[pi].world_from_object;
+        grasps
+            .iter()
+            .copied()
+            .filter(|&g| self.grasp_fits(arm, g, &pose, false).is_ok())
+            .collect()
+    }
+
+    /// Whether any grasp's closed gripper fits `arm` at placement `pi`: the first that fits
+    /// answers, without [`Ctx::fitting_at_placement`]'s full count.
+    fn any_fits(&self, arm: Arm, pi: usize) -> bool {
+        if let Some((fits, _)) = self.placement_fits[arm.index()][pi].get() {
+            return !fits.is_empty();
+        }
+        let pose = self.placements[pi].world_from_object;
+        (0..self.grasps.len()).any(|g| self.grasp_fits(arm, g, &pose, false).is_ok())
     }
 
     /// The grasps whose closed gripper fits `arm` at placement `pi` ([`Ctx::grasp_fits`]),
@@ -283,14 +312,16 @@ impl Ctx<'_> {
         let fits: Vec<(Vec<usize>, usize, Option<String>)> = (0..self.placements.len())
             .into_par_iter()
             .map(|pi| {
-                let (here, why) = self.fitting_at_placement(arm, pi);
+                let here = self.fitting_among(arm, pi, usable);
+                // No usable grasp fits: "none fits" (with the most frequent reason) when no
+                // grasp of the set does, else "none reaches it".
+                let none_fits = (here.is_empty() && !self.any_fits(arm, pi))
+                    .then(|| self.fitting_at_placement(arm, pi).1.clone());
                 let pose = self.placements[pi].world_from_object;
                 // Those the reachability map expects IK for here first, each group in the
                 // order of `usable`.
-                let mut grasps: Vec<(bool, usize)> = usable
-                    .iter()
-                    .copied()
-                    .filter(|g| here.binary_search(g).is_ok())
+                let mut grasps: Vec<(bool, usize)> = here
+                    .into_iter()
                     .map(|g| {
                         let expected = self.reachable(arm, g, &pose)
                             && (!picked_at_start
@@ -301,7 +332,7 @@ impl Ctx<'_> {
                 grasps.sort_by_key(|&(unexpected, _)| unexpected);
                 let expected = grasps.iter().filter(|(u, _)| !u).count();
                 let grasps: Vec<usize> = grasps.into_iter().map(|(_, g)| g).collect();
-                (grasps, expected, here.is_empty().then(|| why.clone()))
+                (grasps, expected, none_fits)
             })
             .collect();
         let mut order: Vec<(usize, usize, Vec<usize>)> = Vec::new();
