@@ -165,6 +165,7 @@ impl IkSolver {
         }
         let mut workspace = Workspace {
             jacobian: Jacobian::zeros(self.chain.variables().len()),
+            step: Vec::with_capacity(self.chain.variables().len()),
         };
         let mut q = seed.to_vec();
         let mut iterations = 0;
@@ -327,35 +328,54 @@ impl IkSolver {
             // Active set: a joint at a limit whose step would push it further out is
             // taken out of the system (its column zeroed) and the step solved again, so
             // the other joints do the work instead of losing it to the clamp.
-            let mut dq = None;
+            let dq = &mut workspace.step;
+            let mut solved = false;
             for _ in 0..3 {
-                let mut a: Matrix6<Real> = &*j * j.transpose();
-                for i in 0..6 {
-                    a[(i, i)] += lambda;
+                // J Jᵀ + λI and Jᵀ y by hand: a 6 x 6 product over a handful of columns,
+                // where the general product's packing and allocations cost more than the
+                // arithmetic.
+                let mut a = Matrix6::<Real>::zeros();
+                for col in j.column_iter() {
+                    for r in 0..6 {
+                        for c in 0..=r {
+                            a[(r, c)] += col[r] * col[c];
+                        }
+                    }
+                }
+                for r in 0..6 {
+                    a[(r, r)] += lambda;
+                    for c in 0..r {
+                        a[(c, r)] = a[(r, c)];
+                    }
                 }
                 let Some(cholesky) = a.cholesky() else { break };
-                let step = j.transpose() * cholesky.solve(&e);
+                let y = cholesky.solve(&e);
+                dq.clear();
+                dq.extend(j.column_iter().map(|col| col.dot(&y)));
+                solved = true;
                 let mut locked_any = false;
                 for (c, &v) in self.chain.variables().iter().enumerate() {
                     let (lower, upper) = self.limits[c];
                     let outward =
-                        (q[v] <= lower && step[c] < 0.0) || (q[v] >= upper && step[c] > 0.0);
+                        (q[v] <= lower && dq[c] < 0.0) || (q[v] >= upper && dq[c] > 0.0);
                     if outward && j.column(c).iter().any(|x| *x != 0.0) {
                         j.column_mut(c).fill(0.0);
                         locked_any = true;
                     }
                 }
-                dq = Some(step);
                 if !locked_any {
                     break;
                 }
             }
-            let Some(mut dq) = dq else { break };
+            if !solved {
+                break;
+            }
             // Keep each step within a trust region (rad or m per joint) so that a far
             // target does not throw the joints across their range in one step.
-            let largest = dq.amax();
+            let largest = dq.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
             if largest > MAX_STEP {
-                dq *= MAX_STEP / largest;
+                let scale = MAX_STEP / largest;
+                dq.iter_mut().for_each(|x| *x *= scale);
             }
             for (c, &v) in self.chain.variables().iter().enumerate() {
                 let (lower, upper) = self.limits[c];
@@ -394,6 +414,8 @@ const MAX_STEP: Real = 0.5;
 #[derive(Debug)]
 struct Workspace {
     jacobian: Jacobian,
+    /// The joint step of an iteration.
+    step: Vec<Real>,
 }
 
 /// `angle` wrapped into [−π, π).
