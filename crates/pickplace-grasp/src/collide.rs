@@ -80,7 +80,10 @@ impl ObjectCollider {
         });
         // A centre outside the mesh's box is outside its solid: no point query.
         touches
-            || (self.shape.local_aabb().contains_local_point(parry::point(&b.center))
+            || (self
+                .shape
+                .local_aabb()
+                .contains_local_point(parry::point(&b.center))
                 && self.contains(&b.center))
     }
 

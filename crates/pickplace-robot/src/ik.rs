@@ -356,8 +356,7 @@ impl IkSolver {
                 let mut locked_any = false;
                 for (c, &v) in self.chain.variables().iter().enumerate() {
                     let (lower, upper) = self.limits[c];
-                    let outward =
-                        (q[v] <= lower && dq[c] < 0.0) || (q[v] >= upper && dq[c] > 0.0);
+                    let outward = (q[v] <= lower && dq[c] < 0.0) || (q[v] >= upper && dq[c] > 0.0);
                     if outward && j.column(c).iter().any(|x| *x != 0.0) {
                         j.column_mut(c).fill(0.0);
                         locked_any = true;
