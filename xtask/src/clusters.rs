@@ -29,12 +29,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
-/// The pybullet objects and their URDF scales, read as `cargo xtask stability` reads them:
-/// the same file, compiled a second time, since `stability` keeps its `data` module private
-/// (making it `pub(crate)` there would let this be a `use`).
-#[path = "stability/data.rs"]
-#[allow(dead_code, clippy::duplicate_mod)]
-mod stability_data;
+use crate::stability::data as stability_data;
 
 /// The robosuite wheel (pure Python, any platform), from PyPI.
 const ROBOSUITE_WHEEL: &str = "robosuite-1.5.1-py3-none-any.whl";
@@ -100,58 +95,17 @@ struct Row {
     cluster_ms: Real,
 }
 
-fn sha256(path: &Path) -> anyhow::Result<String> {
-    let out = Command::new("sha256sum")
-        .arg(path)
-        .output()
-        .context("running sha256sum")?;
-    if !out.status.success() {
-        bail!("sha256sum {} failed", path.display());
-    }
-    let text = String::from_utf8_lossy(&out.stdout);
-    Ok(text
-        .split_whitespace()
-        .next()
-        .unwrap_or_default()
-        .to_owned())
-}
-
-/// The robosuite wheel in `dir`, checked against [`ROBOSUITE_SHA256`]: kept when present,
-/// else copied from `$PICKPLACE_WHEELS/` when a file there has the right hash, else fetched
-/// with `pip download --no-deps robosuite==1.5.1`.
+/// The robosuite wheel in `dir`, checked against [`ROBOSUITE_SHA256`]
+/// ([`stability_data::fetch_pinned_wheel`]).
 fn fetch_robosuite(dir: &Path) -> anyhow::Result<PathBuf> {
-    std::fs::create_dir_all(dir)?;
-    let wheel = dir.join(ROBOSUITE_WHEEL);
-    if wheel.is_file() && sha256(&wheel)? == ROBOSUITE_SHA256 {
-        return Ok(wheel);
-    }
-    if let Some(wheels) = std::env::var_os("PICKPLACE_WHEELS") {
-        let candidate = Path::new(&wheels).join(ROBOSUITE_WHEEL);
-        if candidate.is_file() && sha256(&candidate)? == ROBOSUITE_SHA256 {
-            eprintln!("xtask clusters: using {}", candidate.display());
-            std::fs::copy(&candidate, &wheel)?;
-            return Ok(wheel);
-        }
-    }
-    eprintln!("xtask clusters: pip download --no-deps robosuite==1.5.1");
-    let status = Command::new("python3")
-        .args(["-m", "pip", "download", "--no-deps", "robosuite==1.5.1"])
-        .args(["--only-binary", ":all:"])
-        .arg("-d")
-        .arg(dir)
-        .status()
-        .context("running python3 -m pip download")?;
-    if !status.success() {
-        bail!("pip download robosuite==1.5.1 failed ({status})");
-    }
-    let got = sha256(&wheel)?;
-    if got != ROBOSUITE_SHA256 {
-        bail!(
-            "{}: sha256 {got}, expected {ROBOSUITE_SHA256}",
-            wheel.display()
-        );
-    }
-    Ok(wheel)
+    stability_data::fetch_pinned_wheel(
+        "xtask clusters",
+        dir,
+        ROBOSUITE_WHEEL,
+        ROBOSUITE_SHA256,
+        "robosuite==1.5.1",
+        &[],
+    )
 }
 
 /// Unzips the object meshes of the wheel into `dir/robosuite` once (a stamp file marks

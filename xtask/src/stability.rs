@@ -10,7 +10,7 @@
 //! share of their frequent poses (≥ 5 %) that we offer. Writes target/objects/report.json,
 //! with `--write-doc` docs/stability.md; exit status 1 when a goal is missed.
 
-mod data;
+pub(crate) mod data;
 
 use crate::suite_run::glob_match;
 use anyhow::{Context, bail};

@@ -46,48 +46,77 @@ fn sha256(path: &Path) -> anyhow::Result<String> {
         .to_owned())
 }
 
-/// The wheel in `dir` (target/objects), checked against [`WHEEL_SHA256`]: kept when present
-/// with the right hash, else copied from `$PICKPLACE_WHEELS/` when a file there has the right
-/// hash, else fetched with `pip download --no-deps pybullet==3.2.7` (for CPython 3.11 on
-/// manylinux x86-64, whatever the running Python).
+/// The wheel in `dir` (target/objects), checked against [`WHEEL_SHA256`]
+/// ([`fetch_pinned_wheel`]; for CPython 3.11 on manylinux x86-64, whatever the running
+/// Python).
 ///
 /// # Errors
 /// pip fails, or the file's hash differs.
 pub fn fetch_wheel(dir: &Path) -> anyhow::Result<PathBuf> {
-    std::fs::create_dir_all(dir)?;
-    let wheel = dir.join(WHEEL_NAME);
-    if wheel.is_file() && sha256(&wheel)? == WHEEL_SHA256 {
-        return Ok(wheel);
-    }
-    if let Some(wheels) = std::env::var_os("PICKPLACE_WHEELS") {
-        let candidate = Path::new(&wheels).join(WHEEL_NAME);
-        if candidate.is_file() && sha256(&candidate)? == WHEEL_SHA256 {
-            eprintln!("xtask stability: using {}", candidate.display());
-            std::fs::copy(&candidate, &wheel)?;
-            return Ok(wheel);
-        }
-    }
-    eprintln!("xtask stability: pip download --no-deps pybullet==3.2.7");
-    let status = Command::new("python3")
-        .args(["-m", "pip", "download", "--no-deps", "pybullet==3.2.7"])
-        .args(["--only-binary", ":all:", "--python-version", "3.11"])
-        .args(["--implementation", "cp", "--abi", "cp311"])
-        .args([
+    fetch_pinned_wheel(
+        "xtask stability",
+        dir,
+        WHEEL_NAME,
+        WHEEL_SHA256,
+        "pybullet==3.2.7",
+        &[
+            "--python-version",
+            "3.11",
+            "--implementation",
+            "cp",
+            "--abi",
+            "cp311",
             "--platform",
             "manylinux_2_17_x86_64",
             "--platform",
             "manylinux2014_x86_64",
-        ])
+        ],
+    )
+}
+
+/// The wheel `name` in `dir`, checked against `sha256` (as PyPI lists it): kept when present
+/// with the right hash, else copied from `$PICKPLACE_WHEELS/` when a file there has the right
+/// hash, else fetched with `pip download --no-deps --only-binary :all: REQUIREMENT` and the
+/// `platform` arguments. `task` names the command in messages.
+///
+/// # Errors
+/// pip fails, or the file's hash differs.
+pub fn fetch_pinned_wheel(
+    task: &str,
+    dir: &Path,
+    name: &str,
+    sha256_hex: &str,
+    requirement: &str,
+    platform: &[&str],
+) -> anyhow::Result<PathBuf> {
+    std::fs::create_dir_all(dir)?;
+    let wheel = dir.join(name);
+    if wheel.is_file() && sha256(&wheel)? == sha256_hex {
+        return Ok(wheel);
+    }
+    if let Some(wheels) = std::env::var_os("PICKPLACE_WHEELS") {
+        let candidate = Path::new(&wheels).join(name);
+        if candidate.is_file() && sha256(&candidate)? == sha256_hex {
+            eprintln!("{task}: using {}", candidate.display());
+            std::fs::copy(&candidate, &wheel)?;
+            return Ok(wheel);
+        }
+    }
+    eprintln!("{task}: pip download --no-deps {requirement}");
+    let status = Command::new("python3")
+        .args(["-m", "pip", "download", "--no-deps", requirement])
+        .args(["--only-binary", ":all:"])
+        .args(platform)
         .arg("-d")
         .arg(dir)
         .status()
         .context("running python3 -m pip download")?;
     if !status.success() {
-        bail!("pip download pybullet==3.2.7 failed ({status})");
+        bail!("pip download {requirement} failed ({status})");
     }
     let got = sha256(&wheel)?;
-    if got != WHEEL_SHA256 {
-        bail!("{}: sha256 {got}, expected {WHEEL_SHA256}", wheel.display());
+    if got != sha256_hex {
+        bail!("{}: sha256 {got}, expected {sha256_hex}", wheel.display());
     }
     Ok(wheel)
 }
