@@ -470,7 +470,7 @@ pub(super) fn scenes() -> Vec<Spec> {
         let mut sc = base(name, about, object, start, target);
         if name == "scan-stone-handover" {
             sc.open = Some(
-                "no plan on seeds 1-3: the left hand's pick at (0.46, 0.34) keeps 2 of the 324 grasps of the 4.4 cm tall stone clear of the table (gripper hits table x322), and neither has IK",
+                "no plan on seeds 1-3: of the 4.4 cm tall stone's grasps only those from above clear the table (the palm or a finger tip hits it under every side grasp: gripper hits table x326 of 328 at the start), and neither of the two has IK for the left hand at (0.46, 0.34); a handover would need two grasps from above at once, so the way left is a regrasp by placing, whose grasps from above on the curved, noisy sides are too few (pads drawn back on narrow clusters: docs/grasp.md)",
             );
         }
         add(sc, &["handover"]);
