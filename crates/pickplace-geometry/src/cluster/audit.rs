@@ -28,6 +28,7 @@
 //! a margin against rounding: widths below `h_max` by [`AUDIT_MARGIN`], angles below their
 //! limits by 1e-6 rad.
 
+use super::geometry::tangent_pair;
 use super::grow::Moments;
 use super::hull::convex_hull;
 use super::width::{edge_pair_directions, extent_along, face_directions};
@@ -556,18 +557,4 @@ fn caps_meet(caps: &[(Vector3, Real)], toward: &Vector3) -> Option<Vector3> {
         .into_iter()
         .filter_map(|d| d.try_normalize(0.0))
         .find(|d| inside(d))
-}
-
-/// Two unit vectors orthogonal to unit `n` and to each other.
-fn tangent_pair(n: &Vector3) -> (Vector3, Vector3) {
-    let a = n.abs();
-    let e = if a.x <= a.y && a.x <= a.z {
-        Vector3::x()
-    } else if a.y <= a.z {
-        Vector3::y()
-    } else {
-        Vector3::z()
-    };
-    let u = n.cross(&e).normalize();
-    (u, n.cross(&u))
 }

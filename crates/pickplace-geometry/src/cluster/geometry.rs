@@ -16,20 +16,27 @@ pub struct PlaneFrame {
     pub v: Vector3,
 }
 
+/// Two unit vectors completing the unit `normal` to a right-handed orthonormal frame
+/// (`u × v = normal`): `u` is the normal crossed with the world axis least aligned with it,
+/// so the frame is deterministic.
+pub(crate) fn tangent_pair(normal: &Vector3) -> (Vector3, Vector3) {
+    let a = normal.abs();
+    let e = if a.x <= a.y && a.x <= a.z {
+        Vector3::x()
+    } else if a.y <= a.z {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let u = normal.cross(&e).normalize();
+    (u, normal.cross(&u))
+}
+
 impl PlaneFrame {
     /// A frame on the plane through `origin` with unit normal `normal`. The first axis is the
     /// normal crossed with the world axis least aligned with it, so frames are deterministic.
     pub fn new(origin: Point3, normal: &Vector3) -> Self {
-        let a = normal.abs();
-        let e = if a.x <= a.y && a.x <= a.z {
-            Vector3::x()
-        } else if a.y <= a.z {
-            Vector3::y()
-        } else {
-            Vector3::z()
-        };
-        let u = normal.cross(&e).normalize();
-        let v = normal.cross(&u);
+        let (u, v) = tangent_pair(normal);
         Self { origin, u, v }
     }
 

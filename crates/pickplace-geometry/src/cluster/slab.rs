@@ -29,6 +29,7 @@
 //! convex-concave procedure), which settles the pairs whose thinnest admissible plane lies at
 //! the edge of the 20° cone.
 
+use super::geometry::tangent_pair;
 use super::hull::convex_hull;
 use super::width::{edge_pair_directions, face_directions};
 use crate::math::{Real, Vector3};
@@ -62,7 +63,7 @@ pub(crate) struct SlabProblem<'a> {
 /// `None` when the search proves there is none, or gives up. Deterministic.
 pub(crate) fn find_slab_normal(problem: &SlabProblem<'_>) -> Option<Vector3> {
     let m = problem.mean;
-    let (u, v) = orthonormal_pair(&m);
+    let (u, v) = tangent_pair(&m);
     let cos_facet = (problem.max_facet_angle * (1.0 - 1e-9)).cos();
     let cos_deviation = (problem.max_deviation * (1.0 - 1e-9)).cos();
     // A normal at least max_facet_angle + max_deviation from m cannot be within the facet
@@ -345,21 +346,6 @@ impl Search<'_> {
     }
 }
 
-/// Two unit vectors completing `n` (unit) to a right-handed orthonormal frame, chosen from the
-/// world axis least aligned with `n` (deterministic).
-fn orthonormal_pair(n: &Vector3) -> (Vector3, Vector3) {
-    let a = n.abs();
-    let e = if a.x <= a.y && a.x <= a.z {
-        Vector3::x()
-    } else if a.y <= a.z {
-        Vector3::y()
-    } else {
-        Vector3::z()
-    };
-    let u = n.cross(&e).normalize();
-    (u, n.cross(&u))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -383,7 +369,7 @@ mod tests {
     fn a_tilted_slab_is_found_away_from_the_mean_normal() {
         // Points in a 4 mm slab whose normal is 12° from m: along m they span 1 cm.
         let n = Vector3::new(12f64.to_radians().sin(), 0.0, 12f64.to_radians().cos());
-        let (u, v) = orthonormal_pair(&n);
+        let (u, v) = tangent_pair(&n);
         let mut points = Vec::new();
         for i in 0..10 {
             for j in 0..10 {
