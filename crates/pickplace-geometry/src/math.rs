@@ -25,3 +25,35 @@ pub type UnitQuaternion = nalgebra::UnitQuaternion<Real>;
 pub type Matrix3 = nalgebra::Matrix3<Real>;
 /// A translation.
 pub type Translation3 = nalgebra::Translation3<Real>;
+
+/// Möller–Trumbore line/triangle intersection, two-sided: the parameter `t` of the crossing
+/// `o + t d` (either sign), `None` when the line misses the triangle or runs parallel to it.
+/// A crossing within `edge_tolerance` (barycentric) of an edge counts, so a line through an
+/// edge shared by two triangles meets both.
+pub fn line_triangle(
+    o: &Point3,
+    d: &Vector3,
+    [a, b, c]: [&Point3; 3],
+    edge_tolerance: Real,
+) -> Option<Real> {
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = d.cross(&e2);
+    let det = e1.dot(&p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = s.dot(&p) * inv;
+    if !(-edge_tolerance..=1.0 + edge_tolerance).contains(&u) {
+        return None;
+    }
+    let q = s.cross(&e1);
+    let v = d.dot(&q) * inv;
+    if v < -edge_tolerance || u + v > 1.0 + edge_tolerance {
+        return None;
+    }
+    let t = e2.dot(&q) * inv;
+    t.is_finite().then_some(t)
+}

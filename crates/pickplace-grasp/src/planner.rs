@@ -16,6 +16,7 @@ use pickplace_geometry::cluster::{Cluster, ClusterPair, Clustering};
 use pickplace_geometry::math::nalgebra::Rotation3;
 use pickplace_geometry::math::{
     Isometry3, Matrix3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
+    line_triangle,
 };
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
 use pickplace_geometry::polygon::Polygon;
@@ -410,7 +411,8 @@ impl GraspPlanner {
                 continue;
             };
             let [a, b, c] = tri.map(|v| self.vertices[v as usize]);
-            if let Some(s) = line_triangle(origin, dir, &a, &b, &c)
+            // A crossing on an edge counts (1e-9), so a line through a shared edge meets the patch.
+            if let Some(s) = line_triangle(origin, dir, [&a, &b, &c], 1e-9)
                 && best.is_none_or(|b| s > b)
             {
                 best = Some(s);
@@ -418,33 +420,6 @@ impl GraspPlanner {
         }
         best
     }
-}
-
-/// Möller–Trumbore line/triangle intersection (two-sided, either direction along the line):
-/// the line parameter of the crossing, `None` when the line misses the triangle or runs
-/// parallel to it. A crossing on an edge counts (tolerance 1e-9 in barycentric coordinates),
-/// so a line through a shared edge meets the patch.
-fn line_triangle(o: &Point3, d: &Vector3, a: &Point3, b: &Point3, c: &Point3) -> Option<Real> {
-    let e1 = b - a;
-    let e2 = c - a;
-    let p = d.cross(&e2);
-    let det = e1.dot(&p);
-    if det.abs() < 1e-300 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = o - a;
-    let u = s.dot(&p) * inv;
-    if !(-1e-9..=1.0 + 1e-9).contains(&u) {
-        return None;
-    }
-    let q = s.cross(&e1);
-    let v = d.dot(&q) * inv;
-    if v < -1e-9 || u + v > 1.0 + 1e-9 {
-        return None;
-    }
-    let t = e2.dot(&q) * inv;
-    t.is_finite().then_some(t)
 }
 
 /// How far the rest of a finger's inner face may reach nearer the object than its pad (m):

@@ -96,27 +96,11 @@ fn ray_meets_box(origin: &Vector3, inverse: &Vector3, lo: &Vector3, hi: &Vector3
     true
 }
 
-/// Möller–Trumbore ray/triangle intersection (two-sided); returns the ray parameter.
+/// The ray parameter where the ray from `o` along `d` crosses triangle `abc` (either side)
+/// ([`crate::math::line_triangle`], edge tolerance 1e-12).
 fn ray_triangle(o: &Vector3, d: &Vector3, a: &Vector3, b: &Vector3, c: &Vector3) -> Option<Real> {
-    let e1 = b - a;
-    let e2 = c - a;
-    let p = d.cross(&e2);
-    let det = e1.dot(&p);
-    if det.abs() < 1e-300 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = o - a;
-    let u = s.dot(&p) * inv;
-    if !(-1e-12..=1.0 + 1e-12).contains(&u) {
-        return None;
-    }
-    let q = s.cross(&e1);
-    let v = d.dot(&q) * inv;
-    if v < -1e-12 || u + v > 1.0 + 1e-12 {
-        return None;
-    }
-    Some(e2.dot(&q) * inv)
+    let p = |v: &Vector3| crate::math::Point3::from(*v);
+    crate::math::line_triangle(&p(o), d, [&p(a), &p(b), &p(c)], 1e-12)
 }
 
 #[cfg(test)]
