@@ -14,16 +14,19 @@ with the tool point over the stone (centre and 1 cm either way along its length,
 above the table). A pose counts as a grasp when the left arm reaches it (1 mm, 1 degree),
 with the fingers fully open no link touches the table and no link but the two fingers
 touches the stone, and, closing them, both pads (the last 2.5 cm of each finger) meet the
-stone within 2 mm of travel of each other before any other part of the hand does.
+stone within 2 mm of travel of each other before any other part of the hand does, at points
+where the line between them lies within the friction cone (coefficient 0.5) of the stone's
+normal at both (an antipodal grasp, which holds the stone when lifted).
 
-Usage: python stone_reach.py [X Y]   (the stone's position on the table; default the scene's)
+Usage: python stone_reach.py [X Y] [--tilts 0,10,...] [--list]
+(X Y: the stone's position on the table, default the scene's; --list prints every grasp)
 Needs `pip install pybullet==3.2.7 numpy`. Prints one line per tilt and a summary.
 """
 
+import argparse
 import math
 import os
 import random
-import sys
 
 import numpy as np
 import pybullet as p
@@ -38,6 +41,8 @@ STONE_Z = 0.7209672
 ARM = [f"LARM_JOINT{i}" for i in range(6)]
 FINGERS = ["LARM_FINGER0_JOINT", "LARM_FINGER1_JOINT"]
 TOOL = "LARM_TCP"
+# Friction coefficient between pad and stone (rubber on stone, a cautious value).
+MU = 0.5
 
 
 def quat_from_axes(x, y, z):
@@ -59,7 +64,14 @@ def quat_from_axes(x, y, z):
 
 
 def main():
-    sx, sy = (float(sys.argv[1]), float(sys.argv[2])) if len(sys.argv) == 3 else (0.4572718, 0.3405427)
+    ap = argparse.ArgumentParser(description="independent reach check of the far-left stone")
+    ap.add_argument("xy", nargs="*", type=float, default=[0.4572718, 0.3405427])
+    ap.add_argument("--tilts", default=",".join(str(t) for t in range(0, 91, 10)))
+    ap.add_argument("--list", action="store_true")
+    args = ap.parse_args()
+    if len(args.xy) != 2:
+        ap.error("give both X and Y, or neither")
+    sx, sy = args.xy
     p.connect(p.DIRECT)
     robot = p.loadURDF(URDF, basePosition=[0, 0, BASE_Z], useFixedBase=True)
     names = {p.getJointInfo(robot, j)[1].decode(): j for j in range(p.getNumJoints(robot))}
@@ -135,14 +147,25 @@ def main():
                     return True, False
                 # On the pad: within half the pad depth of the tool point along the approach.
                 along = float(np.dot(np.array(c[5]) - pos, approach))
-                if abs(along) <= 0.0125 + 1e-9:
-                    first.setdefault(c[3], v)
-            if len(first) == 2 or any(v0 - v > 0.002 for v0 in first.values()):
+                if abs(along) <= 0.0125 + 1e-9 and c[3] not in first:
+                    # The point on the stone and the stone's outward normal there.
+                    first[c[3]] = (v, np.array(c[6]), np.array(c[7]))
+            if len(first) == 2 or any(v0 - v > 0.002 for v0, _, _ in first.values()):
                 break
-        return True, len(first) == 2 and abs(first[names[FINGERS[0]]] - first[names[FINGERS[1]]]) <= 0.002
+        if len(first) != 2:
+            return True, False
+        (v1, p1, n1), (v2, p2, n2) = first.values()
+        if abs(v1 - v2) > 0.002:
+            return True, False
+        # Antipodal within the friction cone: the squeeze line lies within atan(MU) of
+        # the inward normal at both contacts, else the stone slips out of the pads.
+        u = p2 - p1
+        u /= np.linalg.norm(u)
+        cone = math.cos(math.atan(MU))
+        return True, bool(np.dot(-n1, u) >= cone and np.dot(-n2, -u) >= cone)
 
     total_reach = total_clear = total_grasp = 0
-    for tilt in range(0, 91, 10):
+    for tilt in (int(t) for t in args.tilts.split(",")):
         reach = clear_n = grasp_n = tried = 0
         for az in range(0, 360, 30 if tilt else 360):
             t, a = math.radians(tilt), math.radians(az)
@@ -165,6 +188,10 @@ def main():
                             free, grasp = clear(pos, z)
                             clear_n += free
                             grasp_n += grasp
+                            if grasp and args.list:
+                                print(f"  grasp: tilt {tilt} az {az} roll {roll} dx {dx:+.3f} "
+                                      f"height {h:.3f} approach {np.round(z, 3).tolist()} "
+                                      f"closing {np.round(y, 3).tolist()}")
         total_reach += reach
         total_clear += clear_n
         total_grasp += grasp_n

@@ -20,9 +20,9 @@ pub const FORMAT_VERSION: u32 = 1;
 
 /// Version of the grasp planner's output: bumped whenever the same input gives other grasps
 /// (2: pad contact measured on the mesh, issue 17; 3: its triangles summed in BVH order; 4:
-/// triangles stored twice welded, issue 31; 5: pads drawn back on thin objects, issue 31), so
-/// an older build's entries are rebuilt.
-pub const ALGORITHM_VERSION: u32 = 5;
+/// triangles stored twice welded, issue 31; 5: pads drawn back on thin objects, issue 31; 6:
+/// drawn back on narrow curved strips too), so an older build's entries are rebuilt.
+pub const ALGORITHM_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 4] = b"PPGS";
 const HEADER: usize = 4 + 4 + 8 + 8 + 8;

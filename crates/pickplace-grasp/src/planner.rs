@@ -426,8 +426,10 @@ impl GraspPlanner {
 /// a tenth of a millimetre, well within the pads' squeeze.
 const FACE_TOLERANCE: Real = 1e-4;
 
-/// The least depth a pad drawn back on a thin object must have on it, as a fraction of the
-/// pad's depth (5 mm of NX-HIRO's 25 mm pads).
+/// The least depth of contact a pad drawn back on a thin object is asked for, as a fraction
+/// of the pad's depth (5 mm of NX-HIRO's 25 mm pads): where the region offers less (a
+/// narrow strip on a curved, noisy side), the pad must still touch that much of the mesh
+/// within the sheet's reach.
 const THIN_MIN_DEPTH: Real = 0.2;
 
 /// Most grid nodes scanned over one pair's overlap region.
@@ -549,7 +551,9 @@ impl Context<'_> {
         // short of that edge; the contact check then measures what the pad still covers.
         let count = self.options.approach_count;
         // Such a pad must cover `min_contact_ratio` of what the region offers in front of the
-        // tip, and that at least `THIN_MIN_DEPTH` of the pad's depth.
+        // tip, or of `THIN_MIN_DEPTH` of the pad's depth where the region offers less: a
+        // finger cluster on a curved scanned side is a strip of 2-3 mm, while the mesh
+        // under the pad, within the sheet's reach, holds more (measured by the contact check).
         let clearance = self.options.clearance;
         let shifts: Vec<(Real, Real)> = (0..count)
             .map(|k| {
@@ -558,8 +562,9 @@ impl Context<'_> {
                 let ahead = exit_distance(&pair.overlap, &site.on_first, &dir);
                 let behind = exit_distance(&pair.overlap, &site.on_first, &(-dir));
                 let offered = ahead + behind - clearance;
-                if ahead + behind < g.pad_depth && offered >= THIN_MIN_DEPTH * g.pad_depth {
-                    ((hd + clearance - ahead).max(0.0), g.pad_width * offered)
+                if ahead + behind < g.pad_depth && offered > 0.0 {
+                    let depth = offered.max(THIN_MIN_DEPTH * g.pad_depth);
+                    ((hd + clearance - ahead).max(0.0), g.pad_width * depth)
                 } else {
                     (0.0, 0.0)
                 }

@@ -467,12 +467,7 @@ pub(super) fn scenes() -> Vec<Spec> {
             on_table(0.44, -0.34),
         ),
     ] {
-        let mut sc = base(name, about, object, start, target);
-        if name == "scan-stone-handover" {
-            sc.open = Some(
-                "no plan on seeds 1-3: of the 4.4 cm tall stone's grasps only those from above clear the table (the palm or a finger tip hits it under the side grasps: gripper hits table x150 of 154 at the start), and the left hand reaches none of the four there (straight down, it stops 1-2 cm short of the stone). An independent check (xtask/scripts/stone_reach.py: pybullet's kinematics and collision) finds grasps tilted 10-20 degrees with the pads 3 cm up, meeting the stone at their lower edge; the grasp set lacks them because the stone's curved, noisy sides give finger clusters 2-3 mm deep, too shallow for pads drawn back (docs/grasp.md). scan-stone-left-to-right, the same move from within reach, plans",
-            );
-        }
+        let sc = base(name, about, object, start, target);
         add(sc, &["handover"]);
     }
     // The same move from within reach: only grasps from above clear the table under the

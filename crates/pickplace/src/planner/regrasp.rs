@@ -25,7 +25,7 @@ use crate::contact::supports;
 use crate::error::Result;
 use crate::plan::StrategyReport;
 use crate::strategy::{Arm, Strategy};
-use pickplace_geometry::math::{Isometry3, Point3, Real};
+use pickplace_geometry::math::{Isometry3, Point3, Real, Vector2};
 use pickplace_placement::{Placement, PlacementOptions};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -35,6 +35,9 @@ use std::sync::OnceLock;
 /// Radius (m) around the object's start within which intermediate resting poses are sought
 /// on the surfaces there.
 pub const REST_RADIUS: Real = 0.15;
+
+/// How far (m) the third anchor of the rests lies from halfway, towards the robot's base.
+const REST_INWARD: Real = 0.10;
 
 /// Spacing (m) of the positions searched for rests.
 const REST_POSITION_STEP: Real = 0.02;
@@ -47,7 +50,9 @@ impl Ctx<'_> {
     /// Algorithm 2 with every resting face) on the surface the object starts on, within
     /// [`REST_RADIUS`] of its start, then within [`REST_RADIUS`] of the point halfway to the
     /// target on that surface (where both arms reach when one hand picks and the other
-    /// places), the start pose itself and duplicates left out.
+    /// places), then of that point drawn [`REST_INWARD`] towards the robot's base (where
+    /// both reach down when start and target lie far out on either side); the start pose
+    /// itself and duplicates left out.
     pub(super) fn rests(&self) -> &[Placement] {
         self.rests.get_or_init(|| {
             let setup = self.setup;
@@ -61,9 +66,18 @@ impl Ctx<'_> {
                 .fold(Real::INFINITY, Real::min);
             let cog = start * setup.cog;
             let target = setup.scene.target_point();
+            let half = Point3::new(0.5 * (cog.x + target.x), 0.5 * (cog.y + target.y), lowest);
+            // Halfway drawn towards the robot's base by REST_INWARD: far out on both sides,
+            // the hands reach down to the middle only nearer the robot (the suite's stone
+            // from far left to far right is put down 10 cm in from halfway).
+            let base = setup.world_from_root.translation.vector;
+            let inward = Vector2::new(base.x - half.x, base.y - half.y);
+            let step = REST_INWARD.min(inward.norm());
+            let inward = inward.try_normalize(1e-12).unwrap_or_else(Vector2::zeros) * step;
             let anchors = [
                 Point3::new(cog.x, cog.y, lowest),
-                Point3::new(0.5 * (cog.x + target.x), 0.5 * (cog.y + target.y), lowest),
+                half,
+                Point3::new(half.x + inward.x, half.y + inward.y, lowest),
             ];
             // A rest needs a few stable poses per resting face near the anchor, not the
             // exhaustive search of the target's cluster: a small effort bounds its cost on
