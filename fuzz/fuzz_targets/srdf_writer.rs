@@ -3,14 +3,15 @@
 //! starting SRDF (`pickplace_robot::assistant::starting_srdf`, with one sampled
 //! configuration, the fewest the API allows, so an input costs milliseconds), and its XML
 //! (`StarterSrdf::to_xml`). The XML written must parse back (`Srdf::from_xml_str`) to the same
-//! SRDF, and resolve against the model it was made from (`Semantics::resolve`), as the CLI
-//! demands before writing the file.
+//! SRDF, and resolve against the model it was made from (`Semantics::resolve`) with nothing
+//! left out (the resolver is lenient: it leaves out what names unknown things, with a
+//! warning), as the CLI demands before writing the file.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use pickplace_robot::assistant::{StarterOptions, starting_srdf};
 use pickplace_robot::collision::AcmOptions;
-use pickplace_robot::{LoadOptions, RobotModel, Semantics, Srdf};
+use pickplace_robot::{LoadOptions, RobotModel, Semantics, Srdf, SrdfWarning};
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
@@ -38,7 +39,16 @@ fuzz_target!(|data: &[u8]| {
         back, starter.srdf,
         "the SRDF changed on a write and read\n{xml}"
     );
-    if let Err(e) = Semantics::resolve(&model, &back, Path::new("fuzz.srdf")) {
-        panic!("the written SRDF does not resolve against its model: {e}\n{xml}");
+    match Semantics::resolve(&model, &back, Path::new("fuzz.srdf")) {
+        Err(e) => panic!("the written SRDF does not resolve against its model: {e}\n{xml}"),
+        Ok(semantics) => {
+            if let Some(w) = semantics
+                .warnings()
+                .iter()
+                .find(|w| matches!(w, SrdfWarning::LeftOut { .. }))
+            {
+                panic!("the written SRDF names what its model lacks: {w}\n{xml}");
+            }
+        }
     }
 });

@@ -335,7 +335,14 @@ impl Torture {
                 let c = self.slot_command(slot, &file, &out)?;
                 let mut needles = vec![file_name.as_str()];
                 needles.extend_from_slice(expected);
-                self.expect(&name, c, 2, &needles)?;
+                if *slot == "srdf" && kind == "nested" {
+                    // Valid XML: the group that includes itself is left out with a warning,
+                    // as MoveIt leaves it out (issue 32), so it is read (fast, no panic), not
+                    // refused.
+                    self.expect(&name, c, 0, &[])?;
+                } else {
+                    self.expect(&name, c, 2, &needles)?;
+                }
                 let left = out.exists() || self.path("bad-view").exists();
                 self.check(&format!("{name}: no output left"), !left, || {
                     "an output was written for a failed command".into()

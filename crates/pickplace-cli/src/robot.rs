@@ -381,9 +381,16 @@ fn write_srdf(
         },
     )?;
     let xml = starter.to_xml(seed);
-    // What is written must resolve against the model it was made from.
-    Semantics::resolve(&model, &Srdf::from_xml_str(&xml)?, out)
+    // What is written must resolve against the model it was made from, nothing left out.
+    let written = Semantics::resolve(&model, &Srdf::from_xml_str(&xml)?, out)
         .context("the generated SRDF does not resolve (a bug)")?;
+    if let Some(w) = written
+        .warnings()
+        .iter()
+        .find(|w| matches!(w, pickplace_robot::SrdfWarning::LeftOut { .. }))
+    {
+        bail!("the generated SRDF names what the model lacks (a bug): {w}");
+    }
     pickplace_geometry::export::write_atomic(out, xml.as_bytes())?;
     let mut text = String::new();
     for (reason, count) in AllowedCollisionMatrix::from_srdf(&starter.srdf).counts_by_reason() {

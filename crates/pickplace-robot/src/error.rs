@@ -78,6 +78,15 @@ pub enum Error {
         /// The name given.
         name: String,
     },
+    /// A planning group of the SRDF that was left out because a member of it is malformed
+    /// ([`crate::srdf::SrdfWarning::LeftOut`]).
+    #[error("group {name:?} was left out of the SRDF: {reason}")]
+    GroupLeftOut {
+        /// The name given.
+        name: String,
+        /// Why it was left out.
+        reason: String,
+    },
     /// A group with no single tip link was used where one is needed (IK, Jacobian).
     #[error("group {group:?} has no single tip link (define one chain or an end effector)")]
     GroupWithoutTip {
@@ -311,6 +320,22 @@ impl MeshProblem {
             Self::Geometry(_) => {
                 "the file is damaged or empty: export it again from its source".to_owned()
             }
+        }
+    }
+}
+
+impl Error {
+    /// The file this error names at the start of its message, when it names one: a caller
+    /// that adds the file itself leaves it out then, so that no message says `P: P: …`.
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            Self::Io { path, .. }
+            | Self::UrdfSyntax { path, .. }
+            | Self::InvalidModel { path, .. }
+            | Self::EnvironmentMesh { path, .. }
+            | Self::Srdf { path, .. } => Some(path),
+            Self::Mesh { urdf, .. } => Some(urdf),
+            _ => None,
         }
     }
 }

@@ -21,7 +21,7 @@ pub enum Error {
         source: Box<pickplace_geometry::Error>,
     },
     /// The robot (URDF, SRDF) could not be read or is not what the planner needs.
-    #[error("{}: {source}", path.display())]
+    #[error("{}", robot_message(path, source))]
     Robot {
         /// The URDF or SRDF file.
         path: PathBuf,
@@ -156,5 +156,13 @@ pub(crate) fn internal<E: std::fmt::Display>(stage: &'static str) -> impl FnOnce
 impl From<SceneError> for Error {
     fn from(e: SceneError) -> Self {
         Error::Scene(Box::new(e))
+    }
+}
+
+/// `path: source`, or `source` alone when it starts with that file already.
+fn robot_message(path: &std::path::Path, source: &pickplace_robot::Error) -> String {
+    match source.file() {
+        Some(file) if file == path => source.to_string(),
+        _ => format!("{}: {source}", path.display()),
     }
 }

@@ -178,7 +178,7 @@ pub struct RobotSetup {
 }
 
 /// The file a robot error names: the URDF.
-fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
+pub(crate) fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
     move |source| Error::Robot {
         path: path.to_path_buf(),
         source: Box::new(source),
@@ -355,7 +355,14 @@ impl RobotSetup {
                     )
                 })?;
                 if g.variables.is_empty() {
-                    return Err(invalid(f, format!("group {group:?} has no actuated joint")));
+                    let why = semantics
+                        .left_out_of(&group)
+                        .map(|w| format!(" ({w})"))
+                        .unwrap_or_default();
+                    return Err(invalid(
+                        f,
+                        format!("group {group:?} has no actuated joint{why}"),
+                    ));
                 }
                 chosen.push((arm, group, g.variables.clone(), f));
             }

@@ -13,7 +13,7 @@ use crate::cache::{Cache, CacheWarning};
 use crate::error::{Error, Result};
 use crate::reach::ReachMap;
 use crate::roadmaps::{self, RoadmapEntry, RoadmapReport};
-use crate::robot_setup::{RobotArm, RobotSetup};
+use crate::robot_setup::{RobotArm, RobotSetup, robot_err};
 use crate::scene::Scene;
 use crate::strategy::Arm;
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
@@ -190,13 +190,6 @@ pub struct Setup {
     /// What the scene's meshes look like they got wrong (stored twice, in millimetres): the
     /// setup went on. For the caller to show.
     pub mesh_warnings: Vec<crate::mesh_warning::MeshWarning>,
-}
-
-fn robot_err(path: &Path) -> impl FnOnce(pickplace_robot::Error) -> Error + '_ {
-    move |source| Error::Robot {
-        path: path.to_path_buf(),
-        source: Box::new(source),
-    }
 }
 
 impl Setup {

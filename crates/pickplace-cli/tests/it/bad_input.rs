@@ -207,6 +207,26 @@ point = [0.40, -0.20, 0.72]
     dir.file(name, text.as_bytes())
 }
 
+/// NX-HIRO's scene (as [`nx_scene`]) with its robot file `shipped` (`nx-hiro.urdf`,
+/// `nx-hiro.srdf`) replaced by `file`, written as `name`.
+fn nx_scene_with(
+    dir: &Scratch,
+    name: &str,
+    shipped: &str,
+    file: &std::path::Path,
+) -> std::path::PathBuf {
+    let s = nx_scene(dir, name, "", "");
+    let text = std::fs::read_to_string(&s).expect("scene").replace(
+        &crate::root()
+            .join("robots/nx-hiro")
+            .join(shipped)
+            .display()
+            .to_string(),
+        &file.display().to_string(),
+    );
+    dir.file(name, text.as_bytes())
+}
+
 /// Exit 2, a message naming `expected`, no panic, no plan written.
 fn refused(dir: &Scratch, scene: &std::path::Path, expected: &[&str]) {
     let o = run_in(dir.path(), args!["plan", scene, "--out", "plan.json"]);
@@ -217,6 +237,25 @@ fn refused(dir: &Scratch, scene: &std::path::Path, expected: &[&str]) {
         assert!(err.contains(e), "{e:?} not in {err}");
     }
     assert!(!dir.join("plan.json").exists());
+}
+
+#[test]
+fn a_broken_srdf_is_named_once() {
+    // Regression (issue 32): the message printed the SRDF's path twice (`error: P: P: …`).
+    let dir = Scratch::new("bad-srdf-once");
+    let broken = dir.file(
+        "broken.srdf",
+        b"<robot name=\"x\"><group name=\"a\"></robot>",
+    );
+    let s = nx_scene_with(&dir, "scene.toml", "nx-hiro.srdf", &broken);
+    refused(&dir, &s, &["broken.srdf", "malformed XML"]);
+    let o = run_in(dir.path(), args!["plan", &s, "--out", "plan.json"]);
+    let err = crate::support::stderr(&o);
+    let error_line = err
+        .lines()
+        .find(|l| l.starts_with("error:"))
+        .expect("error line");
+    assert_eq!(error_line.matches("broken.srdf").count(), 1, "{error_line}");
 }
 
 #[test]
@@ -249,15 +288,7 @@ fn arms_and_grippers_that_cannot_work_exit_2_naming_what_is_wrong() {
             r#"<limit lower="0.02" upper="0.02" velocity="0.1" effort="20"/>"#,
         );
     let stuck = dir.file("stuck.urdf", urdf.as_bytes());
-    let s = nx_scene(&dir, "stuck.toml", "", "");
-    let text = std::fs::read_to_string(&s).expect("scene").replace(
-        &crate::root()
-            .join("robots/nx-hiro/nx-hiro.urdf")
-            .display()
-            .to_string(),
-        &stuck.display().to_string(),
-    );
-    let s = dir.file("stuck.toml", text.as_bytes());
+    let s = nx_scene_with(&dir, "stuck.toml", "nx-hiro.urdf", &stuck);
     refused(&dir, &s, &["FINGER", "cannot move"]);
     // A URDF joint naming a link that does not exist.
     let broken = std::fs::read_to_string(crate::root().join("robots/nx-hiro/nx-hiro.urdf"))
@@ -268,10 +299,6 @@ fn arms_and_grippers_that_cannot_work_exit_2_naming_what_is_wrong() {
             1,
         );
     let broken_path = dir.file("broken.urdf", broken.as_bytes());
-    let text = std::fs::read_to_string(&s).expect("scene").replace(
-        &stuck.display().to_string(),
-        &broken_path.display().to_string(),
-    );
-    let s = dir.file("broken.toml", text.as_bytes());
+    let s = nx_scene_with(&dir, "broken.toml", "nx-hiro.urdf", &broken_path);
     refused(&dir, &s, &["broken.urdf", "NOWHERE"]);
 }

@@ -179,19 +179,51 @@ fn robot_check_reports_srdf_warnings_and_keeps_its_fields() {
     );
     assert!(text.contains("<gripper>"), "{text}");
     assert!(text.contains("gripper: opening 0.0 to 80.0 mm"), "{text}");
-    // An SRDF naming a joint the URDF does not have: exit 2, naming the file and the joint.
-    let bad = dir.file(
-        "bad.srdf",
+    // The SRDF details MoveIt ignores (issue 32): a group naming a joint the URDF does not
+    // have, a group state naming a robot's toes, an end effector whose parent link is not a
+    // link, a group state without a group. Each is left out with one warning naming it, in
+    // the text and in the JSON; the arms and the collision pairs stay.
+    let lenient = dir.file(
+        "lenient.srdf",
         srdf.replacen(
             "</robot>",
-            r#"<group name="x"><joint name="NO_SUCH_JOINT"/></group></robot>"#,
+            r#"<group name="x"><joint name="NO_SUCH_JOINT"/></group>
+               <group_state name="half_sitting" group="right_arm"><joint name="RARM_JOINT0" value="0"/><joint name="LEFT_TOE" value="0"/></group_state>
+               <end_effector name="foot" parent_link="left_sole" group="right_hand"/>
+               <group_state name="nogroup"><joint name="RARM_JOINT0" value="0"/></group_state></robot>"#,
             1,
         )
         .as_bytes(),
     );
+    let urdf = nx("nx-hiro.urdf");
+    let check = |json: bool| {
+        let mut a = args!["robot", "check", urdf, "--srdf", lenient, "--samples", "20"].to_vec();
+        if json {
+            a.push(std::ffi::OsStr::new("--json"));
+        }
+        ok(&run_in(dir.path(), &a))
+    };
+    let text = check(false);
+    assert!(text.contains("SRDF warnings: 4"), "{text}");
+    for needle in ["NO_SUCH_JOINT", "LEFT_TOE", "left_sole", "nogroup"] {
+        assert_eq!(
+            text.lines().filter(|l| l.contains(needle)).count(),
+            1,
+            "{needle}: {text}"
+        );
+    }
+    let doc: serde_json::Value = serde_json::from_str(&check(true)).expect("JSON");
+    assert_eq!(doc["srdf_warnings"].as_array().map(Vec::len), Some(4));
+    assert_eq!(doc["arms"].as_array().map(Vec::len), Some(4));
+    // XML that is not well-formed is refused, the file named once (not `P: P: …`).
+    let broken = dir.file(
+        "broken.srdf",
+        b"<robot name=\"x\"><group name=\"a\"></robot>",
+    );
     let o = run_in(
         dir.path(),
-        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &bad],
+        args!["robot", "check", nx("nx-hiro.urdf"), "--srdf", &broken],
     );
-    fails_with(&o, &["bad.srdf", "NO_SUCH_JOINT"]);
+    fails_with(&o, &["broken.srdf", "malformed XML"]);
+    assert_eq!(crate::support::stderr(&o).matches("broken.srdf").count(), 1);
 }

@@ -67,50 +67,115 @@ fn parse_and_write_round_trip() {
 }
 
 #[test]
-fn bad_srdf_errors_name_the_problem() {
+fn bad_srdf_parts_are_left_out_with_a_warning_and_broken_xml_is_an_error() {
     let (model, _) = nx();
-    let unknown = Srdf::from_xml_str(
+    let warnings = |text: &str| -> Vec<String> {
+        let srdf = Srdf::from_xml_str(text).expect("xml ok");
+        Semantics::resolve(model, &srdf, Path::new("x.srdf"))
+            .expect("resolves")
+            .warnings()
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    };
+    let unknown = warnings(
         r#"<robot><group name="g"><chain base_link="WAIST" tip_link="NOSE"/></group></robot>"#,
-    )
-    .expect("xml ok");
-    let e = Semantics::resolve(model, &unknown, Path::new("x.srdf")).expect_err("unknown link");
-    assert!(
-        matches!(&e, Error::Srdf { kind: SrdfErrorKind::UnknownName { name, .. }, .. } if name == "NOSE"),
-        "{e:?}"
     );
-    assert!(e.to_string().contains("x.srdf"));
-    let backwards = Srdf::from_xml_str(
+    assert!(
+        unknown.len() == 1 && unknown[0].contains("NOSE"),
+        "{unknown:?}"
+    );
+    let backwards = warnings(
         r#"<robot><group name="g"><chain base_link="RARM_TCP" tip_link="WAIST"/></group></robot>"#,
+    );
+    assert!(backwards[0].contains("not below base"), "{backwards:?}");
+    let recursive = warnings(
+        r#"<robot><group name="g"><group name="h"/></group><group name="h"><group name="g"/></group></robot>"#,
+    );
+    assert!(
+        recursive.len() == 1 && recursive[0].contains("again"),
+        "{recursive:?}"
+    );
+    // A value that is not a number: the value is skipped, the state kept.
+    let srdf = Srdf::from_xml_str(
+        r#"<robot><group name="g"><joint name="RARM_JOINT0"/></group><group_state name="s" group="g"><joint name="RARM_JOINT0" value="x"/></group_state></robot>"#,
     )
-    .expect("xml");
+    .expect("skipped, not refused");
     assert!(matches!(
-        Semantics::resolve(model, &backwards, Path::new("x")),
-        Err(Error::Srdf {
-            kind: SrdfErrorKind::BadChain { .. },
-            ..
-        })
+        &srdf.skipped[0].reason,
+        SrdfErrorKind::BadNumber { .. }
     ));
-    let recursive = Srdf::from_xml_str(r#"<robot><group name="g"><group name="h"/></group><group name="h"><group name="g"/></group></robot>"#).expect("xml");
-    assert!(matches!(
-        Semantics::resolve(model, &recursive, Path::new("x")),
-        Err(Error::Srdf {
-            kind: SrdfErrorKind::RecursiveGroup { .. },
-            ..
-        })
-    ));
+    let semantics = Semantics::resolve(model, &srdf, Path::new("x")).expect("resolves");
+    assert_eq!(semantics.srdf().group_states.len(), 1);
+    // XML that is not well-formed is still an error.
     assert!(matches!(
         Srdf::from_xml_str("<robot><group></robot>"),
         Err(Error::Srdf { .. })
     ));
-    assert!(matches!(
-        Srdf::from_xml_str(
-            r#"<robot><group name="g"/><group_state name="s" group="g"><joint name="j" value="x"/></group_state></robot>"#
-        ),
-        Err(Error::Srdf {
-            kind: SrdfErrorKind::BadNumber { .. },
-            ..
-        })
-    ));
+}
+
+/// The three SRDF details of issue 32 that MoveIt and Pinocchio load and this crate refused:
+/// a group state naming joints the URDF lacks, an end effector whose parent link is not a
+/// link, a group state without a group. Each is left out with one warning naming it; the
+/// arm groups and every disabled pair are kept.
+#[test]
+fn details_moveit_ignores_are_left_out_and_the_collision_pairs_kept() {
+    let (model, shipped) = nx();
+    let text = r#"<robot name="nx">
+  <group name="right_arm"><chain base_link="CHEST_JOINT0_Link" tip_link="RARM_TCP"/></group>
+  <group name="right_hand"><joint name="RARM_FINGER0_JOINT"/></group>
+  <group_state name="half_sitting" group="right_arm">
+    <joint name="RARM_JOINT0" value="0.1"/><joint name="LEFT_TOE" value="0"/><joint name="EYE" value="0"/>
+  </group_state>
+  <group_state name="nowhere"><joint name="RARM_JOINT0" value="0"/></group_state>
+  <end_effector name="foot" parent_link="left_sole_frame" group="right_hand"/>
+  <end_effector name="hand" parent_link="RARM_TCP" group="right_hand" parent_group="right_arm"/>
+  <group name="broken"><chain base_link="WAIST"/></group>
+  <disable_collisions link1="WAIST" link2="CHEST_JOINT0_Link" reason="Adjacent"/>
+  <disable_collisions link1="WAIST" link2="TOE_Link" reason="Never"/>
+  <disable_collisions link1="RARM_JOINT4_Link" link2="RARM_JOINT5_Link" reason="Adjacent"/>
+</robot>"#;
+    let srdf = Srdf::from_xml_str(text).expect("parses: malformed elements are skipped");
+    let semantics = Semantics::resolve(model, &srdf, Path::new("nx.srdf")).expect("resolves");
+    let warnings: Vec<String> = semantics
+        .warnings()
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    let about = |needle: &str| warnings.iter().filter(|w| w.contains(needle)).count();
+    assert_eq!(about("LEFT_TOE"), 1, "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("EYE") && w.contains("half_sitting"))
+    );
+    assert_eq!(about("nowhere"), 1, "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("nowhere") && w.contains("\"group\""))
+    );
+    assert_eq!(about("left_sole_frame"), 1, "{warnings:?}");
+    assert_eq!(about("TOE_Link"), 1, "{warnings:?}");
+    assert_eq!(about("broken"), 1, "{warnings:?}");
+    assert_eq!(warnings.len(), 5, "{warnings:?}");
+    // What the planner needs is there.
+    assert_eq!(
+        semantics.group("right_arm").expect("arm").variables,
+        shipped.group("right_arm").expect("arm").variables
+    );
+    assert_eq!(semantics.end_effectors().len(), 1);
+    assert_eq!(semantics.srdf().disabled_collisions.len(), 2);
+    let mut q = model.zero_configuration();
+    semantics
+        .apply_state(model, "half_sitting", &mut q)
+        .expect("the state's known joints");
+    // A group left out says why when it is asked for.
+    let error = semantics.group("broken").expect_err("left out");
+    assert!(
+        matches!(&error, Error::GroupLeftOut { .. }) && error.to_string().contains("tip_link"),
+        "{error}"
+    );
 }
 
 /// A small robot of our own: a four-joint arm with a TCP and a finger, and a two-joint
@@ -220,7 +285,8 @@ fn groups_that_are_not_one_chain_or_have_no_joint_are_named_errors() {
         ),
         "{error:?}"
     );
-    // Unknown names are errors naming the element and the name.
+    // Unknown names are left out, each with one warning naming the element and the name
+    // (MoveIt's loader does the same); the rest of the file is used.
     for (body, name) in [
         (r#"<group name="g"><joint name="nope"/></group>"#, "nope"),
         (r#"<group name="g"><link name="nolink"/></group>"#, "nolink"),
@@ -238,9 +304,15 @@ fn groups_that_are_not_one_chain_or_have_no_joint_are_named_errors() {
             "nowhere",
         ),
     ] {
-        let error = resolve(&model, body).expect_err(body);
-        let text = error.to_string();
-        assert!(text.contains("t.srdf") && text.contains(name), "{text}");
+        let semantics = resolve(&model, body).expect(body);
+        let left_out: Vec<String> = semantics
+            .warnings()
+            .iter()
+            .filter(|w| matches!(w, SrdfWarning::LeftOut { .. }))
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(left_out.len(), 1, "{body}: {left_out:?}");
+        assert!(left_out[0].contains(name), "{}", left_out[0]);
     }
 }
 
@@ -312,13 +384,19 @@ fn a_common_prefix_is_stripped_and_unknown_elements_are_ignored() {
     ));
     assert_eq!(tip_name(&model, &semantics, "arm"), "a4");
     assert_eq!(semantics.srdf().disabled_collisions[0].link1, "a1");
-    // A prefix that does not make every name known is not stripped: the error names it.
-    let error = resolve(
+    // A prefix that does not make every name known is not stripped: the names are left out,
+    // and the warning names them.
+    let semantics = resolve(
         &model,
         r#"<group name="arm"><joint name="bot/j1"/><joint name="bot/nope"/></group>"#,
     )
-    .expect_err("still unknown");
-    assert!(error.to_string().contains("bot/"), "{error}");
+    .expect("unknown names are left out");
+    let text = semantics.warnings()[0].to_string();
+    assert!(
+        text.contains("bot/j1") && text.contains("bot/nope"),
+        "{text}"
+    );
+    assert!(semantics.group("arm").expect("kept").variables.is_empty());
 }
 
 #[test]
