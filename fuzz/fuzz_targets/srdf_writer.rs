@@ -27,6 +27,7 @@ fuzz_target!(|data: &[u8]| {
         acm: AcmOptions {
             samples: 1,
             seed: 0,
+            ..AcmOptions::default()
         },
     };
     let Ok(starter) = starting_srdf(&model, &options) else {

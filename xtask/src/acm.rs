@@ -25,6 +25,7 @@ pub fn run(robot_dir: &Path) -> anyhow::Result<()> {
         &AcmOptions {
             samples: SAMPLES,
             seed: SEED,
+            ..AcmOptions::default()
         },
     )?;
     let text = std::fs::read_to_string(&srdf_path)

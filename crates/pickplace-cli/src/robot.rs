@@ -56,6 +56,11 @@ pub enum RobotCommand {
         /// Seed of the sampling.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// A link pair in collision in at least this fraction of the samples is disabled as
+        /// "Always" (MoveIt's setup assistant: 0.95); 1 keeps only pairs in collision in
+        /// every sample.
+        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION)]
+        min_collision_fraction: f64,
         /// The SRDF file to write (atomically).
         #[arg(long)]
         out: PathBuf,
@@ -156,8 +161,18 @@ pub fn run(command: RobotCommand) -> anyhow::Result<ExitCode> {
             load: args,
             samples,
             seed,
+            min_collision_fraction,
             out,
-        } => write_srdf(&urdf, &args, samples, seed, &out),
+        } => write_srdf(
+            &urdf,
+            &args,
+            AcmOptions {
+                samples,
+                seed,
+                min_collision_fraction,
+            },
+            &out,
+        ),
         RobotCommand::Fk {
             urdf,
             joints,
@@ -365,22 +380,23 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
 fn write_srdf(
     urdf: &Path,
     args: &LoadArgs,
-    samples: usize,
-    seed: u64,
+    acm: AcmOptions,
     out: &Path,
 ) -> anyhow::Result<ExitCode> {
-    if samples == 0 {
+    if acm.samples == 0 {
         bail!("--samples must be at least 1");
+    }
+    let fraction = acm.min_collision_fraction;
+    if !(fraction > 0.0 && fraction <= 1.0) {
+        bail!(
+            "--min-collision-fraction must be in (0, 1], not {}",
+            pickplace_geometry::io::fmt_real(fraction)
+        );
     }
     crate::args::check_output_file(out, "--out", &[("the URDF", urdf)])?;
     let model = load(urdf, args)?;
-    let starter = starting_srdf(
-        &model,
-        &StarterOptions {
-            acm: AcmOptions { samples, seed },
-        },
-    )?;
-    let xml = starter.to_xml(seed);
+    let starter = starting_srdf(&model, &StarterOptions { acm })?;
+    let xml = starter.to_xml(acm.seed);
     // What is written must resolve against the model it was made from, nothing left out.
     let written = Semantics::resolve(&model, &Srdf::from_xml_str(&xml)?, out)
         .context("the generated SRDF does not resolve (a bug)")?;

@@ -59,7 +59,7 @@ pub fn detect_arms(model: &RobotModel) -> Vec<DetectedArm> {
 }
 
 /// Options of [`starting_srdf`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StarterOptions {
     /// The sampling of the collision matrix (default: [`AcmOptions::default`], 10 000
     /// samples, seed 0).
@@ -300,6 +300,7 @@ mod tests {
                 acm: AcmOptions {
                     samples: 10,
                     seed: 1,
+                    ..AcmOptions::default()
                 },
             },
         )

@@ -95,6 +95,19 @@ fn robot_srdf_bad_input_exits_2() {
         args!["robot", "srdf", &urdf, "--samples", "0", "--out", "x.srdf"],
     );
     fails_with(&o, &["--samples"]);
+    let o = run_in(
+        dir.path(),
+        args![
+            "robot",
+            "srdf",
+            &urdf,
+            "--min-collision-fraction",
+            "0",
+            "--out",
+            "x.srdf"
+        ],
+    );
+    fails_with(&o, &["--min-collision-fraction", "(0, 1]"]);
     let broken = dir.file("broken.urdf", b"<robot name=\"b\"><link name=\"a\"/><joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"nope\"/></joint></robot>");
     let o = run_in(
         dir.path(),

@@ -6,23 +6,33 @@ use crate::error::{Error, Result};
 use crate::model::RobotModel;
 use crate::rng::Rng;
 use crate::srdf::{DisableReason, DisabledPair, Srdf};
-use pickplace_geometry::math::Isometry3;
+use pickplace_geometry::math::{Isometry3, Real};
 use std::collections::BTreeMap;
 
 /// Options of [`AllowedCollisionMatrix::generate`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AcmOptions {
     /// Random configurations sampled, uniform within the joint limits (default: 10 000).
     pub samples: usize,
     /// Seed of the sampling (default: 0).
     pub seed: u64,
+    /// A pair in collision in at least this fraction of the samples is disabled as
+    /// [`DisableReason::Always`] (default: 0.95, MoveIt's setup assistant's "usually in
+    /// collision"): a wrist roll link and the palm it carries overlap in most, not all,
+    /// sampled configurations, and checking them would leave no free configuration. 1.0
+    /// keeps only the pairs in collision in every sample.
+    pub min_collision_fraction: Real,
 }
+
+/// Default of [`AcmOptions::min_collision_fraction`].
+pub const DEFAULT_MIN_COLLISION_FRACTION: Real = 0.95;
 
 impl Default for AcmOptions {
     fn default() -> Self {
         Self {
             samples: 10_000,
             seed: 0,
+            min_collision_fraction: DEFAULT_MIN_COLLISION_FRACTION,
         }
     }
 }
@@ -96,12 +106,14 @@ impl AllowedCollisionMatrix {
     /// Generates the matrix the way MoveIt's setup assistant does: links joined by a joint
     /// are [`DisableReason::Adjacent`]; then `options.samples` random configurations
     /// (uniform within the limits, seeded) are checked for self-collision of every pair of
-    /// links with geometry (no matrix applied): pairs in collision in every sample are
-    /// [`DisableReason::Always`], pairs never in collision are [`DisableReason::Never`].
-    /// Links without collision geometry are left out: they never collide.
+    /// links with geometry (no matrix applied): pairs in collision in at least
+    /// `options.min_collision_fraction` of the samples are [`DisableReason::Always`], pairs
+    /// never in collision are [`DisableReason::Never`]. Links without collision geometry are
+    /// left out: they never collide.
     ///
     /// # Errors
-    /// [`Error::InvalidParameter`] for zero samples; errors of the collision queries.
+    /// [`Error::InvalidParameter`] for zero samples or a fraction outside (0, 1]; errors of
+    /// the collision queries.
     pub fn generate(model: &RobotModel, options: &AcmOptions) -> Result<AcmReport> {
         if options.samples == 0 {
             return Err(Error::InvalidParameter {
@@ -110,6 +122,17 @@ impl AllowedCollisionMatrix {
                 reason: "at least one configuration must be sampled",
             });
         }
+        let fraction = options.min_collision_fraction;
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(Error::InvalidParameter {
+                name: "min_collision_fraction",
+                value: fraction,
+                reason: "must be in (0, 1]",
+            });
+        }
+        // The least count that is "usually": ceil(fraction x samples), at least one sample.
+        let usually =
+            ((fraction * options.samples as Real).ceil() as usize).clamp(1, options.samples);
         let world = CollisionWorld::new(model, Self::new())?;
         let mut scratch = CollisionScratch::default();
         let link_count = model.links().len();
@@ -142,7 +165,7 @@ impl AllowedCollisionMatrix {
                 }
                 match counts[a * link_count + b] {
                     0 => acm.allow(na, nb, DisableReason::Never),
-                    n if n == options.samples => acm.allow(na, nb, DisableReason::Always),
+                    n if n >= usually => acm.allow(na, nb, DisableReason::Always),
                     n => sometimes.push((na.clone(), nb.clone(), n)),
                 }
             }

@@ -21,7 +21,7 @@ mod hull;
 mod support;
 mod view;
 
-pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix};
+pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix, DEFAULT_MIN_COLLISION_FRACTION};
 pub use view::{MovingView, StaticPairs};
 
 use crate::error::{Error, Result};

@@ -4,8 +4,8 @@
 use crate::common::{TABLE_TOP_Z, home, nx, pallet_world, random_configuration};
 use pickplace_geometry::math::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use pickplace_robot::collision::{
-    AllowedCollisionMatrix, BodyId, CheckOptions, CollisionScratch, CollisionShape, CollisionWorld,
-    PairScope, StaticPairs,
+    AcmOptions, AllowedCollisionMatrix, BodyId, CheckOptions, CollisionScratch, CollisionShape,
+    CollisionWorld, PairScope, StaticPairs,
 };
 use pickplace_robot::rng::Rng;
 use pickplace_robot::srdf::DisableReason;
@@ -432,5 +432,61 @@ fn a_moving_view_refuses_a_changed_rest_or_world() {
             name: "moving view",
             ..
         })
+    ));
+}
+
+/// Two sibling links: a fixed bar 2 m long, and a 10 cm block on a slider (0 to 1.08 m)
+/// that overlaps the bar until 1.05 m, in about 97 % of the sliders' range.
+const USUALLY_COLLIDING: &str = r#"<robot name="u">
+  <link name="base"/>
+  <link name="bar"><collision><geometry><box size="2 0.2 0.2"/></geometry></collision></link>
+  <link name="block"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="fix" type="fixed"><parent link="base"/><child link="bar"/></joint>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="block"/>
+    <axis xyz="1 0 0"/><limit lower="0" upper="1.08" velocity="1" effort="1"/></joint>
+</robot>"#;
+
+#[test]
+fn pairs_usually_in_collision_are_disabled_as_moveit_does() {
+    // Issue 32: MoveIt's setup assistant disables pairs in collision in 95 % of the samples;
+    // only pairs in collision in every sample were disabled, which left a wrist roll link
+    // and its palm checked and the roadmap empty.
+    let model = pickplace_robot::RobotModel::from_urdf_str(
+        USUALLY_COLLIDING,
+        std::path::Path::new("."),
+        &pickplace_robot::LoadOptions::default(),
+    )
+    .expect("model");
+    let generate = |fraction: f64| {
+        AllowedCollisionMatrix::generate(
+            &model,
+            &AcmOptions {
+                samples: 2_000,
+                seed: 3,
+                min_collision_fraction: fraction,
+            },
+        )
+        .expect("generate")
+    };
+    let usual = generate(AcmOptions::default().min_collision_fraction);
+    assert_eq!(
+        usual.acm.reason("bar", "block"),
+        Some(&DisableReason::Always)
+    );
+    assert!(usual.sometimes.is_empty());
+    let every = generate(1.0);
+    assert_eq!(every.acm.reason("bar", "block"), None);
+    let (_, _, n) = &every.sometimes[0];
+    let share = *n as f64 / 2_000.0;
+    assert!((0.95..1.0).contains(&share), "{share}");
+    assert!(matches!(
+        AllowedCollisionMatrix::generate(
+            &model,
+            &AcmOptions {
+                min_collision_fraction: 0.0,
+                ..AcmOptions::default()
+            }
+        ),
+        Err(Error::InvalidParameter { .. })
     ));
 }
