@@ -156,6 +156,11 @@ fn prefixed_warning(warning: &LoadWarning, prefix: &str) -> LoadWarning {
         LoadWarning::FrozenJoint { joint } => LoadWarning::FrozenJoint {
             joint: format!("{prefix}{joint}"),
         },
+        // The mimicked name is not a joint of the model: it keeps its spelling.
+        LoadWarning::MimicOfUnknownJoint { joint, mimicked } => LoadWarning::MimicOfUnknownJoint {
+            joint: format!("{prefix}{joint}"),
+            mimicked: mimicked.clone(),
+        },
     }
 }
 

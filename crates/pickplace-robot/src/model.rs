@@ -284,6 +284,14 @@ pub enum LoadWarning {
         /// The joint.
         joint: String,
     },
+    /// A joint whose `<mimic>` names a joint the URDF does not have: it moves on its own,
+    /// as MoveIt and Pinocchio load it.
+    MimicOfUnknownJoint {
+        /// The joint.
+        joint: String,
+        /// The name its `<mimic>` gives.
+        mimicked: String,
+    },
 }
 
 impl std::fmt::Display for LoadWarning {
@@ -307,6 +315,10 @@ impl std::fmt::Display for LoadWarning {
                     "joint {joint:?} has lower = upper = 0 (no <limit>?): it cannot move"
                 )
             }
+            Self::MimicOfUnknownJoint { joint, mimicked } => write!(
+                f,
+                "joint {joint:?} mimics {mimicked:?}, which the URDF does not have: it moves on its own"
+            ),
         }
     }
 }

@@ -254,11 +254,22 @@ pub(crate) fn build(
         });
     }
 
-    // Variables (actuated, non-mimic joints, in joint order), then mimics.
+    // Variables (actuated, non-mimic joints, in joint order), then mimics. A joint that
+    // mimics a joint the URDF does not have moves on its own, with a warning, as MoveIt and
+    // Pinocchio load it (alex_psyonic_hands of example-robot-data names `index_q1` for
+    // `Left_index_q1`).
+    let mimics_nothing = |old: usize| {
+        robot.joints[old]
+            .mimic
+            .as_ref()
+            .is_some_and(|m| !joint_names.contains_key(m.joint.as_str()))
+    };
     let mut variable_of_joint: Vec<Option<usize>> = vec![None; joints.len()];
     let mut next_variable = 0;
     for (new, &old) in joint_order.iter().enumerate() {
-        if joints[new].joint_type != JointType::Fixed && robot.joints[old].mimic.is_none() {
+        if joints[new].joint_type != JointType::Fixed
+            && (robot.joints[old].mimic.is_none() || mimics_nothing(old))
+        {
             variable_of_joint[new] = Some(next_variable);
             joints[new].source = JointValueSource::Variable(next_variable);
             next_variable += 1;
@@ -269,6 +280,13 @@ pub(crate) fn build(
             continue;
         };
         if joints[new].joint_type == JointType::Fixed {
+            continue;
+        }
+        if mimics_nothing(old) {
+            warnings.push(LoadWarning::MimicOfUnknownJoint {
+                joint: joints[new].name.clone(),
+                mimicked: m.joint.clone(),
+            });
             continue;
         }
         let bad = |reason| {

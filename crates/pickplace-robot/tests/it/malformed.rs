@@ -110,11 +110,38 @@ fn zero_axis_two_roots_duplicate_and_unsupported() {
         kind(&format!(r#"<link name="a"/><link name="b"/>{j}"#)),
         ModelErrorKind::UnsupportedJointType { .. }
     ));
+    // A mimic of a mimic is still refused.
+    let mimic = |name: &str, parent: &str, child: &str, of: &str| {
+        JOINT
+            .replace(r#"name="j""#, &format!(r#"name="{name}""#))
+            .replace(
+                r#"<parent link="a"/><child link="b"/>"#,
+                &format!(r#"<parent link="{parent}"/><child link="{child}"/>"#),
+            )
+            .replace("<axis", &format!(r#"<mimic joint="{of}"/><axis"#))
+    };
+    let chained = format!(
+        r#"<link name="a"/><link name="b"/><link name="c"/><link name="d"/>{JOINT}{}{}"#,
+        mimic("k", "b", "c", "j"),
+        mimic("m", "c", "d", "k"),
+    );
+    assert!(matches!(kind(&chained), ModelErrorKind::BadMimic { .. }));
+}
+
+#[test]
+fn a_mimic_of_a_joint_the_urdf_lacks_moves_on_its_own_with_a_warning() {
+    // Issue 32: example-robot-data's alex_psyonic_hands names `index_q1` for `Left_index_q1`;
+    // MoveIt and Pinocchio load it, the joint moving on its own.
     let bad_mimic = JOINT.replace("<axis", r#"<mimic joint="nope"/><axis"#);
-    assert!(matches!(
-        kind(&format!(r#"<link name="a"/><link name="b"/>{bad_mimic}"#)),
-        ModelErrorKind::BadMimic { .. }
-    ));
+    let model = load(&format!(r#"<link name="a"/><link name="b"/>{bad_mimic}"#))
+        .expect("loads with a warning");
+    assert_eq!(model.variable_count(), 1);
+    assert_eq!(model.warnings().len(), 1);
+    let text = model.warnings()[0].to_string();
+    assert!(
+        text.contains("\"j\"") && text.contains("\"nope\""),
+        "{text}"
+    );
 }
 
 #[test]
