@@ -36,6 +36,17 @@ pub enum RobotCommand {
         /// Seed of that sampling.
         #[arg(long, default_value_t = 0)]
         seed: u64,
+        /// Random configurations sampled for the collision matrix of a robot without one
+        /// (no SRDF, or no disable_collisions in it), as the planner samples it.
+        #[arg(long, default_value_t = 10_000)]
+        matrix_samples: usize,
+        /// Seed of the collision matrix's sampling (the planner's default: 0).
+        #[arg(long, default_value_t = 0)]
+        matrix_seed: u64,
+        /// A link pair in collision in at least this fraction of those samples is disabled
+        /// as "Always" (MoveIt's setup assistant and the planner's default: 0.95).
+        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION)]
+        min_collision_fraction: f64,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
@@ -144,16 +155,26 @@ pub fn run(command: RobotCommand) -> anyhow::Result<ExitCode> {
             load: args,
             samples,
             seed,
+            matrix_samples,
+            matrix_seed,
+            min_collision_fraction,
             json,
         } => check(
             &urdf,
             srdf.as_deref(),
             &args,
-            &CloseOptions {
-                samples,
-                seed,
-                ..CloseOptions::default()
-            },
+            (
+                &CloseOptions {
+                    samples,
+                    seed,
+                    ..CloseOptions::default()
+                },
+                &AcmOptions {
+                    samples: matrix_samples,
+                    seed: matrix_seed,
+                    min_collision_fraction,
+                },
+            ),
             json,
         ),
         RobotCommand::Srdf {
@@ -206,7 +227,7 @@ fn check(
     urdf: &Path,
     srdf: Option<&Path>,
     args: &LoadArgs,
-    close: &CloseOptions,
+    (close, matrix): (&CloseOptions, &AcmOptions),
     json: bool,
 ) -> anyhow::Result<ExitCode> {
     // A check reports unreadable meshes (with their fix) instead of stopping at the first.
@@ -219,7 +240,7 @@ fn check(
     let semantics = srdf
         .map(|path| Semantics::from_file(&model, path))
         .transpose()?;
-    let report = CheckJson::with_options(&model, urdf, semantics.as_ref(), close)?;
+    let report = CheckJson::with_options(&model, urdf, semantics.as_ref(), close, matrix)?;
     if json {
         crate::output::print_json(&report)?;
     } else {
@@ -334,6 +355,25 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
             acm.link_pairs_with_geometry,
             acm.checked_shape_pairs
         );
+    }
+    if let Some(m) = &report.sampled_collision_matrix {
+        outln!(
+            text,
+            "collision matrix: none in the SRDF; the planner samples one as MoveIt's setup assistant does ({} configurations, seed {}, always in collision from {:.0} % of them): {} disabled pairs {}, {} pairs checked that collide in some samples",
+            m.samples,
+            m.seed,
+            m.min_collision_fraction * 100.0,
+            m.disabled_pairs,
+            serde_json::to_string(&m.by_reason)?,
+            m.sometimes_in_collision
+        );
+        outln!(
+            text,
+            "  fix: add these lines to the SRDF (or write one with `pickplace robot srdf`) and review them:"
+        );
+        for line in &m.srdf_lines {
+            outln!(text, "  {line}");
+        }
     }
     if let Some(warnings) = &report.srdf_warnings {
         outln!(text, "SRDF warnings: {}", warnings.len());

@@ -183,23 +183,31 @@ pub struct RejectionCounts {
     pub palm_collision: usize,
 }
 
+impl RejectionCounts {
+    /// The non-zero counts with their reason, most frequent first (ties by reason):
+    /// `("palm hits the object", 1452)`, …
+    pub fn by_reason(&self) -> Vec<(&'static str, usize)> {
+        let mut counts = [
+            ("palm hits the object", self.palm_collision),
+            ("finger hits the object", self.finger_collision),
+            ("too wide or too narrow for the opening", self.width),
+            ("surface too uneven under a pad", self.pad_tilt),
+            ("too little pad contact", self.contact),
+            ("surface pairs too wide or too narrow", self.pair_width),
+        ];
+        counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        counts.into_iter().filter(|(_, n)| *n > 0).collect()
+    }
+}
+
 impl std::fmt::Display for RejectionCounts {
     /// The non-zero counts, most frequent first: `palm hits the object ×1452, finger hits the
     /// object ×132, too wide or too narrow ×1`; `nothing rejected` when all are zero.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let mut counts = [
-            (self.palm_collision, "palm hits the object"),
-            (self.finger_collision, "finger hits the object"),
-            (self.width, "too wide or too narrow for the opening"),
-            (self.pad_tilt, "surface too uneven under a pad"),
-            (self.contact, "too little pad contact"),
-            (self.pair_width, "surface pairs too wide or too narrow"),
-        ];
-        counts.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(b.1)));
-        let parts: Vec<String> = counts
-            .iter()
-            .filter(|(n, _)| *n > 0)
-            .map(|(n, what)| format!("{what} ×{n}"))
+        let parts: Vec<String> = self
+            .by_reason()
+            .into_iter()
+            .map(|(what, n)| format!("{what} ×{n}"))
             .collect();
         if parts.is_empty() {
             f.write_str("nothing rejected")

@@ -5,7 +5,7 @@
 //! `pickplace robot check` that need sampling ([`always_close_pairs`]).
 
 use crate::collision::{
-    AcmOptions, AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
+    AcmOptions, AcmReport, AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
 };
 use crate::error::{Error, Result};
 use crate::model::{JointValueSource, RobotModel};
@@ -99,16 +99,17 @@ impl StarterSrdf {
     }
 }
 
-/// A starting SRDF for `model`: MoveIt's disabled pairs (`Adjacent`, `Default` at the zero
-/// configuration, `Always`, `Never` over seeded samples) and a group, a hand group and an
-/// end effector per detected arm.
+/// MoveIt's sampled collision matrix for `model`: [`AllowedCollisionMatrix::generate`]
+/// (`Adjacent`, `Always` at or above `options.min_collision_fraction` of the samples,
+/// `Never`), then the pairs in collision at the zero configuration become `Default`
+/// (MoveIt's order: Adjacent, Default, the sampled reasons). What `pickplace robot srdf`
+/// writes and what the planner uses when a robot comes without a matrix.
 ///
 /// # Errors
-/// As [`AllowedCollisionMatrix::generate`] (zero samples, collision-library errors).
-pub fn starting_srdf(model: &RobotModel, options: &StarterOptions) -> Result<StarterSrdf> {
-    let mut report = AllowedCollisionMatrix::generate(model, &options.acm)?;
-    // MoveIt's order: Adjacent, then Default (in collision at the default pose), then the
-    // sampled reasons. Pairs in collision at the zero pose become Default.
+/// As [`AllowedCollisionMatrix::generate`] (zero samples, a fraction outside (0, 1],
+/// collision-library errors).
+pub fn sampled_matrix(model: &RobotModel, options: &AcmOptions) -> Result<AcmReport> {
+    let mut report = AllowedCollisionMatrix::generate(model, options)?;
     let world = CollisionWorld::new(model, AllowedCollisionMatrix::new())?;
     let mut scratch = CollisionScratch::default();
     let mut poses = vec![Isometry3::identity(); model.links().len()];
@@ -123,6 +124,16 @@ pub fn starting_srdf(model: &RobotModel, options: &StarterOptions) -> Result<Sta
                 .retain(|(x, y, _)| !((x == na && y == nb) || (x == nb && y == na)));
         }
     }
+    Ok(report)
+}
+
+/// A starting SRDF for `model`: MoveIt's disabled pairs ([`sampled_matrix`]) and a group,
+/// a hand group and an end effector per detected arm.
+///
+/// # Errors
+/// As [`sampled_matrix`].
+pub fn starting_srdf(model: &RobotModel, options: &StarterOptions) -> Result<StarterSrdf> {
+    let report = sampled_matrix(model, &options.acm)?;
     let arms = detect_arms(model);
     let mut srdf = Srdf {
         robot_name: model.name().to_owned(),

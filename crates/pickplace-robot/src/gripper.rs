@@ -583,6 +583,17 @@ impl Gripper {
         &self.finger_links
     }
 
+    /// The links that carry each finger's pads (the pieces of geometry reaching farthest
+    /// towards the finger tips: what touches a grasped object), sorted, without repeats.
+    pub fn pad_links(&self) -> [Vec<usize>; 2] {
+        self.pieces.clone().map(|pieces| {
+            let mut links: Vec<usize> = pieces.iter().map(|p| p.link).collect();
+            links.sort_unstable();
+            links.dedup();
+            links
+        })
+    }
+
     /// The actuated joints that close the gripper.
     pub fn drives(&self) -> &[Drive] {
         &self.drives

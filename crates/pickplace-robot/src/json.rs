@@ -5,8 +5,10 @@
 //! The fields of every object are declared, and so printed, in alphabetical order, as these
 //! documents have been written since their first version.
 
-use crate::assistant::{CloseOptions, always_close_pairs};
-use crate::collision::{AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld};
+use crate::assistant::{CloseOptions, always_close_pairs, sampled_matrix};
+use crate::collision::{
+    AcmOptions, AllowedCollisionMatrix, CheckOptions, CollisionScratch, CollisionWorld,
+};
 use crate::error::Result;
 use crate::ik::IkSolution;
 use crate::model::RobotModel;
@@ -369,6 +371,11 @@ pub struct CheckJson {
     pub robot: String,
     /// The root link's name.
     pub root: String,
+    /// With no SRDF, or an SRDF without `disable_collisions`: the matrix the planner
+    /// samples for the robot ([`crate::assistant::sampled_matrix`]), with the lines to add
+    /// to an SRDF to keep it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampled_collision_matrix: Option<SampledMatrixJson>,
     /// The SRDF file, if one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub srdf: Option<String>,
@@ -386,6 +393,25 @@ pub struct CheckJson {
     pub warnings: Vec<String>,
 }
 
+/// [`CheckJson::sampled_collision_matrix`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SampledMatrixJson {
+    /// Pairs never checked, by reason (`Adjacent`, `Default`, `Always`, `Never`).
+    pub by_reason: BTreeMap<String, usize>,
+    /// Pairs never checked.
+    pub disabled_pairs: usize,
+    /// The fraction of the samples from which a pair counts as always in collision.
+    pub min_collision_fraction: Real,
+    /// Configurations sampled.
+    pub samples: usize,
+    /// Seed of the sampling.
+    pub seed: u64,
+    /// Link pairs still checked that collided in some samples.
+    pub sometimes_in_collision: usize,
+    /// The `<disable_collisions …/>` lines to add to an SRDF, sorted by link names.
+    pub srdf_lines: Vec<String>,
+}
+
 impl CheckJson {
     /// The summary of `model` loaded from `urdf`, with its semantics when an SRDF was given:
     /// groups, the collision matrix, and a warning for every named state in self-collision;
@@ -394,18 +420,27 @@ impl CheckJson {
     /// # Errors
     /// When the collision world cannot be built or a named state cannot be applied.
     pub fn new(model: &RobotModel, urdf: &Path, semantics: Option<&Semantics>) -> Result<Self> {
-        Self::with_options(model, urdf, semantics, &CloseOptions::default())
+        Self::with_options(
+            model,
+            urdf,
+            semantics,
+            &CloseOptions::default(),
+            &AcmOptions::default(),
+        )
     }
 
-    /// As [`CheckJson::new`], sampling always-close pairs with `close`.
+    /// As [`CheckJson::new`], sampling always-close pairs with `close` and, for a robot
+    /// without a collision matrix, the matrix with `matrix`.
     ///
     /// # Errors
-    /// As [`CheckJson::new`]; [`crate::Error::InvalidParameter`] for zero samples.
+    /// As [`CheckJson::new`]; [`crate::Error::InvalidParameter`] for zero samples or a
+    /// fraction outside (0, 1].
     pub fn with_options(
         model: &RobotModel,
         urdf: &Path,
         semantics: Option<&Semantics>,
         close: &CloseOptions,
+        matrix: &AcmOptions,
     ) -> Result<Self> {
         let finite = |x: Real| x.is_finite().then_some(x);
         let joints = model
@@ -483,6 +518,7 @@ impl CheckJson {
             links: model.links().len(),
             robot: model.name().to_owned(),
             root: model.links()[model.root()].name.clone(),
+            sampled_collision_matrix: None,
             srdf: None,
             srdf_warnings: None,
             unreadable_meshes,
@@ -560,6 +596,34 @@ impl CheckJson {
                 link_pairs_with_geometry: with_geometry * with_geometry.saturating_sub(1) / 2,
             });
         }
+        if semantics.is_none_or(|s| s.srdf().disabled_collisions.is_empty()) {
+            let report = sampled_matrix(model, matrix)?;
+            let pairs = report.acm.to_disabled_pairs();
+            doc.sampled_collision_matrix = Some(SampledMatrixJson {
+                by_reason: report
+                    .acm
+                    .counts_by_reason()
+                    .into_iter()
+                    .map(|(r, n)| (r.as_str().to_owned(), n))
+                    .collect(),
+                disabled_pairs: pairs.len(),
+                min_collision_fraction: matrix.min_collision_fraction,
+                samples: matrix.samples,
+                seed: matrix.seed,
+                sometimes_in_collision: report.sometimes.len(),
+                srdf_lines: pairs
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "<disable_collisions link1=\"{}\" link2=\"{}\" reason=\"{}\"/>",
+                            p.link1,
+                            p.link2,
+                            p.reason.as_str()
+                        )
+                    })
+                    .collect(),
+            });
+        }
         Ok(doc)
     }
 }
@@ -604,6 +668,19 @@ mod tests {
         );
         let bare = CheckJson::new(&model, &urdf, None).expect("check");
         assert!(bare.groups.is_none() && bare.collision_matrix.is_none() && bare.srdf.is_none());
+        // Without an SRDF, the matrix the planner samples, as SRDF lines.
+        let sampled = bare
+            .sampled_collision_matrix
+            .expect("sampled without an SRDF");
+        assert_eq!(sampled.srdf_lines.len(), sampled.disabled_pairs);
+        assert!(sampled.by_reason.get("Adjacent").is_some_and(|&n| n > 0));
+        assert!(
+            sampled
+                .srdf_lines
+                .iter()
+                .all(|l| l.starts_with("<disable_collisions link1="))
+        );
+        assert!(check.sampled_collision_matrix.is_none());
 
         let fk = FkJson::new(&model, &model.zero_configuration()).expect("fk");
         assert_eq!(fk.links.len(), model.links().len());

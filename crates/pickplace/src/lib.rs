@@ -42,6 +42,7 @@
 pub mod batch;
 pub mod cache;
 pub mod checker;
+mod collision_matrix;
 pub mod contact;
 pub mod error;
 pub mod export;

@@ -262,6 +262,11 @@ pub struct Stats {
     pub placement_candidates: usize,
     /// Grasp candidates found (per arm, the same object grasps).
     pub grasp_candidates: usize,
+    /// The candidate stages before any strategy, `grasp` (the object's grasp set: candidates
+    /// tried, accepted, rejected per reason) and `placement` (placements on the target's
+    /// surface, rejected per reason), so that a stage that ends empty says why.
+    #[serde(default)]
+    pub candidates: BTreeMap<String, StageCount>,
     /// Samples in the trajectory.
     pub trajectory_points: usize,
     /// Duration of the motion (s).

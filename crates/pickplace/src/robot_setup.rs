@@ -448,6 +448,14 @@ impl RobotSetup {
             });
         }
         key_text.push_str(&format!("{overrides:?}"));
+        // A sampled collision matrix (a robot without one) depends on its options too.
+        if srdf.disabled_collisions.is_empty() {
+            key_text.push_str(&format!(
+                "{:?}{}",
+                scene.collision_matrix,
+                pickplace_robot::collision::SAMPLING_VERSION
+            ));
+        }
         // Semantics again, on the model with the tool links.
         let semantics =
             Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;

@@ -222,6 +222,49 @@ pub struct Scene {
     /// Timing of the trajectory: limits and scaling.
     #[serde(default)]
     pub trajectory: TrajectorySpec,
+    /// How the collision matrix is sampled when the robot's SRDF has none (or there is no
+    /// SRDF).
+    #[serde(default)]
+    pub collision_matrix: CollisionMatrixSpec,
+}
+
+/// The scene's `[collision_matrix]`: the sampling that completes the allowed-collision
+/// matrix of a robot whose SRDF lists no `disable_collisions` (or that has no SRDF), as
+/// MoveIt's setup assistant and `pickplace robot srdf` do. Unused when the SRDF has a
+/// matrix.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CollisionMatrixSpec {
+    /// Random configurations sampled, uniform within the joint limits (default: 10 000,
+    /// MoveIt's setup assistant's sampling density).
+    pub samples: usize,
+    /// Seed of the sampling (default: 0, as `pickplace robot srdf`).
+    pub seed: u64,
+    /// A link pair in collision in at least this fraction of the samples is never checked
+    /// ("usually in collision", in (0, 1]; default: 0.95 as MoveIt's setup assistant).
+    pub min_collision_fraction: Real,
+}
+
+impl Default for CollisionMatrixSpec {
+    fn default() -> Self {
+        let o = pickplace_robot::collision::AcmOptions::default();
+        Self {
+            samples: o.samples,
+            seed: o.seed,
+            min_collision_fraction: o.min_collision_fraction,
+        }
+    }
+}
+
+impl CollisionMatrixSpec {
+    /// The sampling options.
+    pub fn options(&self) -> pickplace_robot::collision::AcmOptions {
+        pickplace_robot::collision::AcmOptions {
+            samples: self.samples,
+            seed: self.seed,
+            min_collision_fraction: self.min_collision_fraction,
+        }
+    }
 }
 
 /// The scene's `[trajectory]`: how fast the robot may move (issue 19).
@@ -580,6 +623,20 @@ impl Scene {
                     ));
                 }
             }
+        }
+        let matrix = &scene.collision_matrix;
+        if matrix.samples == 0 {
+            return Err(invalid(
+                "collision_matrix.samples",
+                "sample at least one configuration".into(),
+            ));
+        }
+        let fraction = matrix.min_collision_fraction;
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(invalid(
+                "collision_matrix.min_collision_fraction",
+                format!("{fraction} is not in (0, 1]"),
+            ));
         }
         pose("object.start_pose", &scene.object.start_pose)?;
         for (i, env) in scene.environment.iter().enumerate() {

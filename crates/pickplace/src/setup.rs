@@ -25,7 +25,7 @@ use pickplace_grasp::collide::ObjectCollider;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GraspSet, GripperParams};
 use pickplace_placement::{EnvironmentModel, ObjectModel};
 use pickplace_prm::{JointSpace, Roadmap};
-use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
+use pickplace_robot::collision::{CollisionShape, CollisionWorld};
 use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{IkSolver, RobotModel, Semantics};
 use std::path::{Path, PathBuf};
@@ -106,8 +106,11 @@ pub struct ArmSetup {
     pub gripper: Gripper,
     /// The gripper's actuated variables (its drives; mimic joints follow them).
     pub finger_variables: Vec<usize>,
-    /// Links of the hand (they may touch a grasped object).
+    /// Links of the hand (they may touch an object the hand closes on or opens from).
     pub finger_links: Vec<String>,
+    /// The links carrying the finger pads ([`Gripper::pad_links`]): the only links of the
+    /// hand that may touch a held object, and press into it by the squeeze at most.
+    pub pad_links: Vec<String>,
     /// The arm's base (its first joint's position), world frame: the paper's "which hand is
     /// closer" is measured from here.
     pub shoulder: Point3,
@@ -343,9 +346,17 @@ impl Setup {
             ));
         }
 
-        // The collision world: robot, SRDF's disabled pairs, environment meshes.
-        let acm =
-            complete_acm(&model, &semantics, &start, &mut log).map_err(robot_err(&urdf_path))?;
+        // The collision world: robot, SRDF's disabled pairs (else sampled), environment meshes.
+        let mut cache = Cache::open(options.cache_dir.as_deref());
+        let acm = crate::collision_matrix::complete_acm(
+            &model,
+            &semantics,
+            &start,
+            (&scene.collision_matrix, &robot.key_text),
+            &mut cache,
+            &mut log,
+        )
+        .map_err(robot_err(&urdf_path))?;
         let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(&urdf_path))?;
         self_world.set_world_from_root(world_from_root);
         let mut world = self_world.clone();
@@ -359,7 +370,6 @@ impl Setup {
             h_max: scene.planner.h_max_finger,
             ..ClusterParams::finger()
         };
-        let mut cache = Cache::open(options.cache_dir.as_deref());
         let mut mesh_warnings = Vec::new();
         let mut environment = Vec::new();
         for (i, env) in scene.environment.iter().enumerate() {
@@ -716,6 +726,12 @@ fn arm_setup(
         .chain(std::iter::once(&tcp_link))
         .map(|&l| model.links()[l].name.clone())
         .collect();
+    let pad_links: Vec<String> = gripper
+        .pad_links()
+        .iter()
+        .flatten()
+        .map(|&l| model.links()[l].name.clone())
+        .collect();
     let space = roadmaps::arm_space(model, &variables)?;
     let (roadmap, roadmap_report) = roadmaps::load_or_build(
         model, self_world, group, &variables, start, &space, cache, progress,
@@ -759,6 +775,7 @@ fn arm_setup(
         gripper,
         finger_variables,
         finger_links,
+        pad_links,
         shoulder,
         reach: reach * 1.02,
     })
@@ -783,63 +800,6 @@ fn missing_arm(scene: &Scene, robot: &RobotSetup) -> Option<String> {
                 .join(" and ")
         )
     })
-}
-
-/// The SRDF's allowed-collision matrix, completed: links joined by a joint may touch (the
-/// SRDF often lists them, not always); with no matrix in the SRDF at all, the link pairs that
-/// touch at the start state are allowed too (MoveIt's "Default" pairs), each said in the log,
-/// so that a robot without an SRDF can plan (`pickplace robot srdf` writes a sampled matrix
-/// to review).
-fn complete_acm(
-    model: &RobotModel,
-    semantics: &Semantics,
-    start: &[Real],
-    log: &mut Vec<String>,
-) -> std::result::Result<AllowedCollisionMatrix, pickplace_robot::Error> {
-    use pickplace_robot::collision::{BodyId, CheckOptions, CollisionScratch};
-    use pickplace_robot::srdf::DisableReason;
-    let mut acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
-    let adjacent = AllowedCollisionMatrix::adjacent_links(model);
-    let added = adjacent
-        .iter()
-        .filter(|(a, b, _)| !acm.is_allowed(a, b))
-        .count();
-    acm.merge(&adjacent);
-    if added > 0 {
-        log.push(format!(
-            "{added} pairs of links joined by a joint may touch (the SRDF does not list them)"
-        ));
-    }
-    if semantics.srdf().disabled_collisions.is_empty() {
-        let world = CollisionWorld::new(model, acm.clone())?;
-        let pairs = world.colliding_pairs(
-            model,
-            start,
-            &mut CollisionScratch::default(),
-            &CheckOptions::default(),
-        )?;
-        let mut names = Vec::new();
-        for (a, b) in pairs {
-            // Only within one chain (a link and one of its ancestors: geometry overlapping
-            // across a joint); two branches touching at the start is a collision, reported
-            // by the start check.
-            if let (BodyId::Link(a), BodyId::Link(b)) = (a, b)
-                && (model.is_ancestor(a, b) || model.is_ancestor(b, a))
-            {
-                let (a, b) = (&model.links()[a].name, &model.links()[b].name);
-                acm.allow(a, b, DisableReason::Default);
-                names.push(format!("{a} ~ {b}"));
-            }
-        }
-        if !names.is_empty() {
-            log.push(format!(
-                "no collision matrix in the SRDF: {} link pairs touching at the start state may touch ({}); `pickplace robot srdf` samples a full matrix",
-                names.len(),
-                names.join(", ")
-            ));
-        }
-    }
-    Ok(acm)
 }
 
 #[cfg(test)]

@@ -6,9 +6,10 @@
 //! moves more than 1° and no tool frame more than 1 cm between two checked states. At every
 //! state: joint limits; between samples: time running forward and velocity limits;
 //! robot–robot and robot–environment collision; the two hands' clearance
-//! ([`HAND_CLEARANCE`]); the held object against the environment and against the robot
-//! (except the holding hands' links, and the fingers of a hand closing on it or opening from
-//! it). Near a resting pose (the start, every intermediate rest of a regrasp, the final pose:
+//! ([`HAND_CLEARANCE`]); the held object against the environment and against the robot,
+//! the holding hands included: only the finger pads of a hand holding it, closing on it or
+//! opening from it may touch it, and they may press into it by the gripper's squeeze and no
+//! more, at every state it is held (issue 32). Near a resting pose (the start, every intermediate rest of a regrasp, the final pose:
 //! within [`CONTACT_ZONE`]) the object may touch the support it rests on there.
 //!
 //! The object follows the events, whatever their sequence (a direct plan, a handover, a
@@ -661,14 +662,15 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                 }
             }
             v.check_state(now, &q, (&holders, holding), &obj, closing_at(now))?;
-            // The grip is checked while the held object moves (the fingers open and close
-            // with the hand at rest).
+            // The pads' depth is checked at every state the object is held (a squeeze ramped
+            // in while the hand rests is no better than one while it moves); their gap while
+            // the held object moves (the fingers open and close with the hand at rest).
             let moved = last_object.is_some_and(|l: Isometry3| {
                 (l.translation.vector - obj.translation.vector).norm() > 1e-6
                     || l.rotation.angle_to(&obj.rotation) > 1e-6
             });
-            if moved {
-                v.check_grip(now, &q, &holders, &obj)?;
+            if !holders.is_empty() {
+                v.check_grip(now, &q, &holders, &obj, moved)?;
             }
             last_object = Some(obj);
         }
@@ -896,9 +898,10 @@ impl<'a> Validator<'a> {
         Ok(rests)
     }
 
-    /// The grip (issue: fingers that never close): while an arm holds the object, both of
-    /// its finger pads touch it, no more than [`GRIP_GAP`] away and no deeper than the
-    /// gripper's squeeze (and [`GRIP_TOLERANCE`]). Reported once per hold.
+    /// The grip (issue: fingers that never close): while an arm holds the object, its
+    /// finger pads press into it no deeper than the gripper's squeeze (and
+    /// [`GRIP_TOLERANCE`]), and, while the object moves (`moved`), both touch it, no more
+    /// than [`GRIP_GAP`] away. Reported once per hold.
     ///
     /// # Errors
     /// [`Error::Internal`] when the collision library cannot measure a finger.
@@ -908,6 +911,7 @@ impl<'a> Validator<'a> {
         q: &[Real],
         holders: &[(Arm, Isometry3)],
         object: &Isometry3,
+        moved: bool,
     ) -> Result<()> {
         if holders.iter().all(|(a, _)| self.grip_reported.contains(a)) {
             return Ok(());
@@ -929,7 +933,7 @@ impl<'a> Validator<'a> {
                 .finger_gaps(&poses, &self.grip_object, object)
                 .map_err(internal("grip check"))?;
             for (pad, &gap) in gaps.iter().enumerate() {
-                let problem = if gap > GRIP_GAP {
+                let problem = if moved && gap > GRIP_GAP {
                     Some(format!(
                         "the {arm} hand holds the object but its finger pad {} is {:.1} mm from it (at most {:.0} mm): the grip does not close",
                         pad + 1,
@@ -996,7 +1000,7 @@ impl<'a> Validator<'a> {
                 // opening from it may touch it.
                 for (a, on) in closing {
                     if on && setup.has_arm(a) {
-                        for link in &setup.arm(a).finger_links {
+                        for link in &setup.arm(a).pad_links {
                             acm.allow(
                                 OBJECT_NAME,
                                 link,
@@ -1021,12 +1025,14 @@ impl<'a> Validator<'a> {
                 w.set_acm(acm);
                 if let Some(&(arm, link_from_object)) = holders.first() {
                     let mut touch: Vec<&str> = Vec::new();
+                    // Only the pads may touch it (their depth is the grip check's); every
+                    // other link of the hands is checked against it like any other body.
                     for (h, _) in holders {
-                        touch.extend(setup.arm(*h).finger_links.iter().map(String::as_str));
+                        touch.extend(setup.arm(*h).pad_links.iter().map(String::as_str));
                     }
                     for (a, on) in closing {
                         if on && setup.has_arm(a) {
-                            touch.extend(setup.arm(a).finger_links.iter().map(String::as_str));
+                            touch.extend(setup.arm(a).pad_links.iter().map(String::as_str));
                         }
                     }
                     w.attach(

@@ -7,6 +7,7 @@ use crate::model::RobotModel;
 use crate::rng::Rng;
 use crate::srdf::{DisableReason, DisabledPair, Srdf};
 use pickplace_geometry::math::{Isometry3, Real};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// Options of [`AllowedCollisionMatrix::generate`].
@@ -23,6 +24,16 @@ pub struct AcmOptions {
     /// keeps only the pairs in collision in every sample.
     pub min_collision_fraction: Real,
 }
+
+/// Version of the sampling of [`AllowedCollisionMatrix::generate`]: a cached matrix made by
+/// another version is sampled again.
+pub const SAMPLING_VERSION: u32 = 2;
+
+/// Samples per block of [`AllowedCollisionMatrix::generate`] (one generator per block).
+const SAMPLE_BLOCK: usize = 250;
+
+/// The stream of [`Rng::derive`] the matrix samples are drawn from.
+const ACM_STREAM: u64 = 0x4143_4d;
 
 /// Default of [`AcmOptions::min_collision_fraction`].
 pub const DEFAULT_MIN_COLLISION_FRACTION: Real = 0.95;
@@ -134,24 +145,54 @@ impl AllowedCollisionMatrix {
         let usually =
             ((fraction * options.samples as Real).ceil() as usize).clamp(1, options.samples);
         let world = CollisionWorld::new(model, Self::new())?;
-        let mut scratch = CollisionScratch::default();
         let link_count = model.links().len();
-        let mut counts = vec![0usize; link_count * link_count];
-        let mut poses = vec![Isometry3::identity(); link_count];
-        let mut rng = Rng::new(options.seed);
-        let limits = model.sampling_limits();
-        let mut q = vec![0.0; model.variable_count()];
-        for _ in 0..options.samples {
-            for (value, &(lower, upper)) in q.iter_mut().zip(&limits) {
-                *value = rng.uniform(lower, upper);
-            }
-            model.forward_kinematics(&q, &mut poses)?;
-            for (a, b) in world.colliding_link_pairs_all(&poses, &mut scratch)? {
-                counts[a * link_count + b] += 1;
+        let adjacent = Self::adjacent_links(model);
+        // Pairs joined by a joint are decided already: not tested (they usually touch, and
+        // their narrow phase is the costliest).
+        let mut wanted = vec![false; link_count * link_count];
+        for a in 0..link_count {
+            for b in a + 1..link_count {
+                let (na, nb) = (&model.links()[a].name, &model.links()[b].name);
+                wanted[a * link_count + b] = !adjacent.is_allowed(na, nb);
             }
         }
+        let limits = model.sampling_limits();
+        // Fixed blocks of samples, each with a generator of its own, counted in parallel and
+        // summed: the counts do not depend on the number of threads.
+        let blocks = options.samples.div_ceil(SAMPLE_BLOCK);
+        let counts = (0..blocks)
+            .into_par_iter()
+            .map(|block| -> Result<Vec<usize>> {
+                let mut counts = vec![0usize; link_count * link_count];
+                let mut scratch = CollisionScratch::default();
+                let mut poses = vec![Isometry3::identity(); link_count];
+                let mut rng = Rng::derive(options.seed, ACM_STREAM, block as u64);
+                let mut q = vec![0.0; model.variable_count()];
+                let n = SAMPLE_BLOCK.min(options.samples - block * SAMPLE_BLOCK);
+                for _ in 0..n {
+                    for (value, &(lower, upper)) in q.iter_mut().zip(&limits) {
+                        *value = rng.uniform(lower, upper);
+                    }
+                    model.forward_kinematics(&q, &mut poses)?;
+                    let pairs =
+                        world.colliding_link_pairs_where(&poses, &mut scratch, |a, b| {
+                            wanted[a * link_count + b]
+                        })?;
+                    for (a, b) in pairs {
+                        counts[a * link_count + b] += 1;
+                    }
+                }
+                Ok(counts)
+            })
+            .try_reduce(
+                || vec![0usize; link_count * link_count],
+                |mut a, b| {
+                    a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
+                    Ok(a)
+                },
+            )?;
 
-        let mut acm = Self::adjacent_links(model);
+        let mut acm = adjacent;
         let mut sometimes = Vec::new();
         let links = model.links();
         for a in 0..link_count {

@@ -21,7 +21,9 @@ mod hull;
 mod support;
 mod view;
 
-pub use acm::{AcmOptions, AcmReport, AllowedCollisionMatrix, DEFAULT_MIN_COLLISION_FRACTION};
+pub use acm::{
+    AcmOptions, AcmReport, AllowedCollisionMatrix, DEFAULT_MIN_COLLISION_FRACTION, SAMPLING_VERSION,
+};
 pub use view::{MovingView, StaticPairs};
 
 use crate::error::{Error, Result};
@@ -1255,6 +1257,21 @@ impl CollisionWorld {
         root_from_links: &[Isometry3],
         scratch: &mut CollisionScratch,
     ) -> Result<Vec<(usize, usize)>> {
+        self.colliding_link_pairs_where(root_from_links, scratch, |_, _| true)
+    }
+
+    /// As [`CollisionWorld::colliding_link_pairs_all`], testing only the link pairs
+    /// `(a, b)` (`a < b`, link indices) for which `wanted(a, b)` holds; the matrix
+    /// generator leaves out the pairs it has already decided (links joined by a joint).
+    ///
+    /// # Errors
+    /// As [`CollisionWorld::colliding_link_pairs_all`].
+    pub fn colliding_link_pairs_where(
+        &self,
+        root_from_links: &[Isometry3],
+        scratch: &mut CollisionScratch,
+        wanted: impl Fn(usize, usize) -> bool,
+    ) -> Result<Vec<(usize, usize)>> {
         if root_from_links.len() != self.link_names.len() {
             return Err(Error::WrongLength {
                 what: "link poses",
@@ -1269,7 +1286,10 @@ impl CollisionWorld {
         for a in 0..self.robot_shapes.len() {
             for b in a + 1..self.robot_shapes.len() {
                 let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
-                if sa.link == sb.link || !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                let (la, lb) = (sa.link.min(sb.link), sa.link.max(sb.link));
+                if la == lb
+                    || !scratch.shape_aabbs[a].intersects(&scratch.shape_aabbs[b])
+                    || !wanted(la, lb)
                 {
                     continue;
                 }
@@ -1280,7 +1300,7 @@ impl CollisionWorld {
                     sb,
                     0.0,
                 )? {
-                    pairs.push((sa.link.min(sb.link), sa.link.max(sb.link)));
+                    pairs.push((la, lb));
                 }
             }
         }

@@ -33,7 +33,7 @@ pub use regrasp::REST_RADIUS;
 
 use crate::contact::supports;
 use crate::error::{Error, Result};
-use crate::plan::{Stats, StrategyReport};
+use crate::plan::{StageCount, Stats, StrategyReport};
 use crate::scene::StrategyChoice;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
@@ -272,6 +272,50 @@ fn end_of(path: &[Vec<Real>]) -> Result<&Vec<Real>> {
     })
 }
 
+/// The candidate stages' counts for [`Stats::candidates`]: `grasp` (tried = candidates
+/// evaluated, accepted = grasps, rejected per reason, whole pairs of surfaces counted as
+/// such) and `placement` (over the clusters searched; `far` placements beyond the target's
+/// tolerance).
+fn candidate_counts(
+    placements: &PlacementSet,
+    grasps: &GraspSet,
+    far: usize,
+) -> BTreeMap<String, StageCount> {
+    let mut grasp = StageCount {
+        tried: grasps.candidates,
+        accepted: grasps.grasps.len(),
+        ..StageCount::default()
+    };
+    for (reason, n) in grasps.rejected.by_reason() {
+        grasp.rejected.insert(reason.to_owned(), n);
+    }
+    let mut placement = StageCount {
+        accepted: placements.placements.len(),
+        ..StageCount::default()
+    };
+    for (_, r) in &placements.rejections {
+        for (reason, n) in [
+            ("did not fit", r.did_not_fit),
+            ("unstable", r.unstable),
+            ("penetrates the environment", r.penetrates),
+        ] {
+            if n > 0 {
+                *placement.rejected.entry(reason.to_owned()).or_default() += n;
+            }
+        }
+    }
+    if far > 0 {
+        placement
+            .rejected
+            .insert("beyond the target's tolerance".to_owned(), far);
+    }
+    placement.tried = placement.accepted + placement.rejected.values().sum::<usize>();
+    BTreeMap::from([
+        ("grasp".to_owned(), grasp),
+        ("placement".to_owned(), placement),
+    ])
+}
+
 /// Beyond the target's tolerance, how far (m) placement positions are still searched.
 const PLACEMENT_SEARCH_MARGIN: Real = 0.01;
 
@@ -395,6 +439,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     let mut stats = Stats {
         placement_candidates: placement_set.placements.len(),
         grasp_candidates: grasp_set.grasps.len(),
+        candidates: candidate_counts(&placement_set, &grasp_set, far),
         ..Stats::default()
     };
     let mut ctx = Ctx::new(setup, options, t_all, &placement_set, &grasp_set, timings);

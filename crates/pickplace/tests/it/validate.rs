@@ -367,6 +367,106 @@ fn a_grip_that_does_not_touch_is_refused() {
     only(&report, "the grip does not close");
 }
 
+#[test]
+fn a_squeeze_ramped_in_while_the_hand_rests_is_refused() {
+    // Issue 32: right after the grasp, with the arm at rest, the fingers close 6 mm past the
+    // grasp and open again over two seconds (a pause inserted there, smoothly, within the
+    // fingers' limits), then the plan goes on. The pads may press in by the squeeze and no
+    // more, at every instant the hand holds the object, not only while it moves.
+    let (setup, plan) = near();
+    let grasp = &plan.events[0];
+    let arm = setup.arm(grasp.arm);
+    let width = plan.grasps[0].width;
+    let i = sample_at(plan, grasp.time);
+    let at_grasp = plan.trajectory[i].clone();
+    assert!(
+        at_grasp.velocities.iter().all(|v| v.abs() < 1e-9),
+        "at rest"
+    );
+    let pause = 2.0;
+    let offset = |t: Real| -> Vec<Real> {
+        let x = (t / (pause / 2.0))
+            .min((pause - t) / (pause / 2.0))
+            .clamp(0.0, 1.0);
+        let ease = x * x * (3.0 - 2.0 * x);
+        let (mut tight, mut held) = (at_grasp.positions.clone(), at_grasp.positions.clone());
+        arm.gripper.set_opening(&mut tight, width - ease * 0.006);
+        arm.gripper.set_opening(&mut held, width);
+        arm.finger_variables
+            .iter()
+            .map(|&v| tight[v] - held[v])
+            .collect()
+    };
+    let h = 1e-4;
+    let mut faulty = plan.clone();
+    let mut inserted = Vec::new();
+    let steps = 40;
+    for k in 1..steps {
+        let t = pause * k as Real / steps as Real;
+        let mut p = at_grasp.clone();
+        p.time_from_start = at_grasp.time_from_start + t;
+        let (before, now, after) = (offset(t - h), offset(t), offset(t + h));
+        for (c, &v) in arm.finger_variables.iter().enumerate() {
+            p.positions[v] += now[c];
+            p.velocities[v] = (after[c] - before[c]) / (2.0 * h);
+            p.accelerations[v] = (after[c] - 2.0 * now[c] + before[c]) / (h * h);
+        }
+        inserted.push(p);
+    }
+    for p in &mut faulty.trajectory[i + 1..] {
+        p.time_from_start += pause;
+    }
+    let mut later = faulty.trajectory.split_off(i + 1);
+    faulty.trajectory.extend(inserted);
+    faulty.trajectory.append(&mut later);
+    for e in &mut faulty.events[1..] {
+        e.time += pause;
+    }
+    for k in &mut faulty.key_poses {
+        if k.time > grasp.time + 1e-9 {
+            k.time += pause;
+        }
+    }
+    // The same plan with the pause and no squeeze is valid: the pause alone breaks nothing.
+    let mut paused = faulty.clone();
+    for p in &mut paused.trajectory[i + 1..i + steps] {
+        p.positions.clone_from(&at_grasp.positions);
+        p.velocities.clone_from(&at_grasp.velocities);
+        p.accelerations.clone_from(&at_grasp.accelerations);
+    }
+    let report = check(setup, &paused);
+    assert!(report.problems.is_empty(), "{:#?}", report.problems);
+    let report = check(setup, &faulty);
+    only(&report, "inside the object");
+}
+
+#[test]
+fn a_hand_link_that_is_not_a_pad_must_not_touch_the_held_object() {
+    // Issue 32: only the pads may touch a held object. Here one finger's pad links are no
+    // longer pads for the validator: that finger presses into the object by the squeeze
+    // while it is held, which is now a collision like any other link's.
+    let (_, plan) = near();
+    let mut setup = load("fig9-near.toml");
+    let arm = plan.events[0].arm;
+    let k = setup.arms.iter().position(|a| a.arm == arm).expect("arm");
+    let pads = setup.arms[k].gripper.pad_links();
+    let second: Vec<String> = pads[1]
+        .iter()
+        .map(|&l| setup.model.links()[l].name.clone())
+        .collect();
+    setup.arms[k].pad_links.retain(|l| !second.contains(l));
+    let report = check(&setup, plan);
+    assert!(!report.problems.is_empty(), "the plan passed");
+    assert!(
+        report
+            .problems
+            .iter()
+            .all(|p| p.contains("held object") && second.iter().any(|l| p.contains(l.as_str()))),
+        "{second:?}: {:#?}",
+        report.problems
+    );
+}
+
 /// The last joint of the idle arm (its wrist roll).
 fn idle_wrist(setup: &Setup, plan: &Plan) -> usize {
     *setup
