@@ -313,6 +313,19 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
             (None, None) => {}
         }
     }
+    if !report.not_arms.is_empty() {
+        outln!(text, "not arms: {}", report.not_arms.len());
+        for n in &report.not_arms {
+            outln!(
+                text,
+                "  {} joints from {} to {}: {}",
+                n.joints.len(),
+                n.base_link,
+                n.tip_link,
+                n.reason
+            );
+        }
+    }
     outln!(text, "tree:");
     print_tree(&mut text, model, model.root(), 1);
     outln!(text, "joints:");

@@ -367,6 +367,9 @@ pub struct CheckJson {
     pub joints_without_limits: Vec<JointIssueJson>,
     /// Number of links.
     pub links: usize,
+    /// Chains of four or more actuated joints that are not usable arms, each with one reason
+    /// ([`crate::limbs::unusable_limbs`]).
+    pub not_arms: Vec<NotArmJson>,
     /// The robot's name.
     pub robot: String,
     /// The root link's name.
@@ -391,6 +394,19 @@ pub struct CheckJson {
     pub variables: Vec<String>,
     /// Loading warnings, and named states in self-collision.
     pub warnings: Vec<String>,
+}
+
+/// A chain that is not a usable arm, in [`CheckJson::not_arms`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct NotArmJson {
+    /// The link where the chain starts.
+    pub base_link: String,
+    /// Its actuated joints, from the base.
+    pub joints: Vec<String>,
+    /// Why it is not an arm.
+    pub reason: String,
+    /// Its last link.
+    pub tip_link: String,
 }
 
 /// [`CheckJson::sampled_collision_matrix`].
@@ -516,6 +532,19 @@ impl CheckJson {
             joints,
             joints_without_limits,
             links: model.links().len(),
+            not_arms: crate::limbs::unusable_limbs(model, crate::assistant::MIN_ARM_JOINTS)
+                .into_iter()
+                .map(|l| NotArmJson {
+                    base_link: model.links()[l.base_link].name.clone(),
+                    joints: l
+                        .variables
+                        .iter()
+                        .map(|&v| model.variable_joint(v).name.clone())
+                        .collect(),
+                    reason: l.reason.to_string(),
+                    tip_link: model.links()[l.tip_link].name.clone(),
+                })
+                .collect(),
             robot: model.name().to_owned(),
             root: model.links()[model.root()].name.clone(),
             sampled_collision_matrix: None,

@@ -60,6 +60,7 @@ pub mod gripper;
 pub mod ik;
 pub mod json;
 pub mod kinematics;
+pub mod limbs;
 pub mod model;
 pub mod rng;
 pub mod srdf;
