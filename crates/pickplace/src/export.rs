@@ -624,6 +624,7 @@ mod tests {
                 world_from_object: pose,
             }],
             stats: Stats::default(),
+            warnings: Vec::new(),
         }
     }
 

@@ -90,6 +90,10 @@ pub struct Plan {
     pub key_poses: Vec<KeyPose>,
     /// How the plan was found.
     pub stats: Stats,
+    /// What the setup went on from: the robot's files (URDF load warnings, SRDF elements left
+    /// out) and the scene's meshes, one line each (absent when there is none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// One sample of the trajectory.
@@ -878,6 +882,7 @@ mod tests {
             grasps: vec![],
             key_poses: vec![],
             stats: Stats::default(),
+            warnings: Vec::new(),
         }
     }
 

@@ -163,6 +163,9 @@ pub struct RobotSetup {
     pub arms: Vec<RobotArm>,
     /// What was completed or skipped, one line each (said once).
     pub notes: Vec<String>,
+    /// What the robot's files got wrong and loading went on from (URDF load warnings, SRDF
+    /// elements left out), `file: warning`, also among the notes.
+    pub warnings: Vec<String>,
     /// Every input that defines the robot, for cache keys.
     pub key_text: String,
     /// The (first) URDF file, resolved.
@@ -210,6 +213,7 @@ impl RobotSetup {
         };
         let mut notes = Vec::new();
         let mut key_text = String::new();
+        let mut warnings = Vec::new();
         let mut parts: Vec<(RobotModel, Srdf, Isometry3, RobotSpec)> = Vec::new();
         for (i, spec) in scene.robots.iter().enumerate() {
             let mut dirs = spec.package_dirs.clone();
@@ -286,6 +290,7 @@ impl RobotSetup {
             let model =
                 RobotModel::from_urdf_file(&spec.urdf, &options).map_err(robot_err(&spec.urdf))?;
             for w in model.warnings() {
+                warnings.push(format!("{}: {w}", spec.urdf.display()));
                 notes.push(format!("{}: {w}", spec.urdf.display()));
             }
             let mut srdf = match &spec.srdf {
@@ -460,6 +465,7 @@ impl RobotSetup {
         let semantics =
             Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
         for w in semantics.warnings() {
+            warnings.push(format!("{}: {w}", srdf_path.display()));
             notes.push(format!("{}: {w}", srdf_path.display()));
         }
         let variables: Vec<String> = model.variable_names().map(str::to_owned).collect();
@@ -509,6 +515,7 @@ impl RobotSetup {
             world_from_root,
             arms,
             notes,
+            warnings,
             key_text,
             urdf_path: first_urdf,
             srdf_path,

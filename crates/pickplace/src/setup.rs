@@ -190,6 +190,9 @@ pub struct Setup {
     /// Why the cache could not be used, or only in part (at most one warning: the setup went
     /// on in memory, with the same result). For the caller to show; the library prints nothing.
     pub warnings: Vec<CacheWarning>,
+    /// What the robot's files got wrong and loading went on from
+    /// ([`RobotSetup::warnings`]). For the caller to show; plans carry them.
+    pub robot_warnings: Vec<String>,
     /// What the scene's meshes look like they got wrong (stored twice, in millimetres): the
     /// setup went on. For the caller to show.
     pub mesh_warnings: Vec<crate::mesh_warning::MeshWarning>,
@@ -222,6 +225,7 @@ impl Setup {
         let t = Instant::now();
         let robot = RobotSetup::load(&scene, scene_path, &options.package_dirs)?;
         log.extend(robot.notes.iter().cloned());
+        let robot_warnings = robot.warnings.clone();
         let timing = robot.timing.clone();
         let scaling = (
             scene
@@ -539,6 +543,7 @@ impl Setup {
             log,
             warnings: cache.into_warnings(),
             mesh_warnings,
+            robot_warnings,
         })
     }
 

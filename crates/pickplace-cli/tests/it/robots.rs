@@ -152,8 +152,16 @@ fn baxter_as_shipped_plans_with_collada_meshes_and_fingers_closed_at_zero() {
 #[test]
 fn talos_as_shipped_plans_with_mirrored_meshes_and_a_mimic_chain() {
     let dir = Scratch::new("robots-talos");
-    let (_, log) = plan_and_validate("talos", &dir);
+    let (plan, log) = plan_and_validate("talos", &dir);
     assert!(log.contains("root_joint"), "{log}");
+    // What the SRDF reader went on from is in the plan too, naming the file.
+    let warnings = plan["warnings"].as_array().expect("warnings");
+    assert!(
+        warnings.iter().any(|w| w
+            .as_str()
+            .is_some_and(|w| w.contains("talos.srdf") && w.contains("root_joint"))),
+        "{warnings:?}"
+    );
 }
 
 #[test]

@@ -142,6 +142,7 @@ fn plan(points: usize) -> Plan {
             duration: 3.0,
             ..Stats::default()
         },
+        warnings: Vec::new(),
     }
 }
 

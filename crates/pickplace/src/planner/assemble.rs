@@ -462,6 +462,13 @@ impl Ctx<'_> {
             grasps,
             key_poses,
             stats,
+            warnings: self
+                .setup
+                .robot_warnings
+                .iter()
+                .cloned()
+                .chain(self.setup.mesh_warnings.iter().map(ToString::to_string))
+                .collect(),
         })
     }
 
