@@ -158,6 +158,17 @@ pub fn unusable_limbs(model: &RobotModel, min_joints: usize) -> Vec<UnusableLimb
             reason,
         });
     }
+    // The fingers of a hand reported above are part of it, not limbs of their own.
+    let hands: Vec<usize> = out
+        .iter()
+        .filter(|l| !matches!(l.reason, LimbReason::NoHand { .. }))
+        .map(|l| l.tip_link)
+        .collect();
+    out.retain(|l| {
+        !hands
+            .iter()
+            .any(|&h| l.base_link == h || model.is_ancestor(h, l.base_link))
+    });
     out
 }
 
