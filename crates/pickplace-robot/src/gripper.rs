@@ -30,6 +30,9 @@ use pickplace_geometry::parry;
 
 /// Samples of the opening table.
 const TABLE_SAMPLES: usize = 129;
+/// How far (m) a fixed jaw's pad stands from the object at a grasp, so that the hand comes
+/// down past the object without rubbing it; the moving jaw closes that much farther.
+pub const FIXED_JAW_CLEARANCE: Real = 0.001;
 /// Points within this distance (m) of a finger's innermost point, along the closing axis, are
 /// its pad.
 const PAD_TOLERANCE: Real = 0.001;
@@ -167,6 +170,9 @@ pub struct Gripper {
     finger_length: Real,
     finger_thickness: Real,
     palm: (Point3, Point3),
+    /// One jaw moves against one fixed to the hand (side 1): the tool point lies on the fixed
+    /// jaw's pad.
+    fixed_jaw: bool,
 }
 
 impl Gripper {
@@ -251,6 +257,25 @@ impl Gripper {
                 with_geometry.push((driver(*j), links.clone(), pieces));
             }
         }
+        // One moving jaw closing against the hand: the fixed jaw is the hand's geometry that
+        // no drive moves (the links below the arm's tip, else the tip's own geometry).
+        let fixed_jaw = drive_vars.len() == 1 && with_geometry.len() == 1;
+        if fixed_jaw {
+            let moving: Vec<usize> = groups.iter().flat_map(|(_, l)| l.iter().copied()).collect();
+            let mut links: Vec<usize> = subtree
+                .iter()
+                .copied()
+                .filter(|l| !moving.contains(l))
+                .collect();
+            let mut pieces: Vec<Piece> = links.iter().flat_map(|&l| pieces_of(model, l)).collect();
+            if pieces.is_empty() {
+                links = vec![arm_tip];
+                pieces = pieces_of(model, arm_tip);
+            }
+            if !pieces.is_empty() {
+                with_geometry.push((usize::MAX, links, pieces));
+            }
+        }
         if drive_vars.len() > 2 {
             return Err(GripperError::BadDrive {
                 joint: model.variable_joint(drive_vars[2]).name.clone(),
@@ -285,7 +310,12 @@ impl Gripper {
         // Split the moving groups into the two fingers. Two drives: one finger each. One drive:
         // the fingers move towards each other, so a group's side is the sign of its motion
         // over the drive's stroke along the largest motion.
-        let side_of: Vec<usize> = if drive_vars.len() == 2 {
+        let side_of: Vec<usize> = if fixed_jaw {
+            // The moving jaw first, the fixed one second.
+            (0..with_geometry.len())
+                .map(|i| usize::from(i > 0))
+                .collect()
+        } else if drive_vars.len() == 2 {
             with_geometry
                 .iter()
                 .map(|(v, _, _)| usize::from(*v == drive_vars[1]))
@@ -487,7 +517,13 @@ impl Gripper {
         let face_depth = (a_hi - a_lo).max(1e-4);
         let pad_depth = options.pad_depth.map_or(face_depth, |d| d.min(face_depth));
         let pad_width = options.pad_width.unwrap_or((l_hi - l_lo).max(1e-4));
-        let c_mid = 0.5 * (inner_a + inner_b);
+        // Midway between the pads when closed; with a fixed jaw, on its pad (a grasp's centre
+        // is then half the width away: [`Gripper::centre_from_tcp`]).
+        let c_mid = if fixed_jaw {
+            inner_b
+        } else {
+            0.5 * (inner_a + inner_b)
+        };
         let tcp_origin =
             closing * c_mid + approach * (a_hi - pad_depth / 2.0) + lateral * (0.5 * (l_lo + l_hi));
         let rotation =
@@ -560,7 +596,27 @@ impl Gripper {
             finger_length,
             finger_thickness,
             palm,
+            fixed_jaw,
         })
+    }
+
+    /// Whether one jaw is fixed to the hand and the other closes against it (a jaw turning
+    /// or sliding against a fixed one, as on many small arms). The tool point then lies on
+    /// the fixed jaw's pad.
+    pub fn has_fixed_jaw(&self) -> bool {
+        self.fixed_jaw
+    }
+
+    /// The tool point seen from the centre of a grasp `width` wide (the point midway between
+    /// the two contact patches, where the grasp planner puts it): the identity when both
+    /// jaws move; with a fixed jaw, `width / 2 +` [`FIXED_JAW_CLEARANCE`] along the closing
+    /// axis `y`, so that the fixed jaw's pad stands that clearance off the object's side.
+    pub fn centre_from_tcp(&self, width: Real) -> Isometry3 {
+        if self.fixed_jaw {
+            Isometry3::translation(0.0, width / 2.0 + FIXED_JAW_CLEARANCE, 0.0)
+        } else {
+            Isometry3::identity()
+        }
     }
 
     /// The arm's last moving link, to which the hand is attached.
@@ -663,9 +719,16 @@ impl Gripper {
         self.set_parameter(q, self.parameter_for(opening));
     }
 
-    /// Sets the drives of `q` to grasp an object `width` wide: the pads at `width − squeeze`.
+    /// Sets the drives of `q` to grasp an object `width` wide: the pads at `width − squeeze`
+    /// (with a fixed jaw, at `width +` [`FIXED_JAW_CLEARANCE`] `− squeeze`: the fixed jaw
+    /// stands that clearance off the object).
     pub fn set_grasp(&self, q: &mut [Real], width: Real) {
-        self.set_opening(q, width - self.squeeze);
+        let clearance = if self.fixed_jaw {
+            FIXED_JAW_CLEARANCE
+        } else {
+            0.0
+        };
+        self.set_opening(q, width + clearance - self.squeeze);
     }
 
     /// Sets the drives of `q` fully open (at the largest opening used).
@@ -1283,17 +1346,57 @@ mod tests {
     }
 
     #[test]
-    fn a_hand_with_one_moving_finger_is_refused() {
-        let model = robot(&finger(
-            "l",
-            "hand",
-            "prismatic",
-            "0 0 0",
-            "0 1 0",
-            (0.0, 0.04),
-            "",
-            "0 0.005 0.03",
+    fn a_jaw_closing_against_a_fixed_one_is_a_gripper_with_its_tool_point_on_the_fixed_jaw() {
+        // The fixed jaw's inner face at y = +0.01, the moving jaw's at y = +0.01 − 0 when
+        // closed, sliding towards −y to open 40 mm.
+        let model = robot(&format!(
+            r#"<link name="fixed"><collision><origin xyz="0 0.015 0.03"/><geometry><box size="0.02 0.01 0.06"/></geometry></collision></link>
+  <joint name="fixed_joint" type="fixed"><parent link="hand"/><child link="fixed"/></joint>
+  {}"#,
+            finger(
+                "moving",
+                "hand",
+                "prismatic",
+                "0 0 0",
+                "0 -1 0",
+                (0.0, 0.04),
+                "",
+                "0 0.005 0.03",
+            )
         ));
+        let g = derive(&model);
+        assert!(g.has_fixed_jaw());
+        let (lo, hi) = g.opening_range();
+        assert!(lo.abs() < 1e-6 && (hi - 0.04).abs() < 1e-6, "{lo} {hi}");
+        // The tool point is on the fixed jaw's pad (y = 0.01 in the hand's frame), its y axis
+        // towards the fixed jaw.
+        let t = g.tip_from_tcp();
+        assert!((t.translation.y - 0.01).abs() < 1e-6, "{t}");
+        assert!((t.rotation * Vector3::y()).y > 0.99, "{t}");
+        // A grasp 30 mm wide: its centre 16 mm from the tool point, the moving jaw at 31 mm
+        // (the fixed jaw 1 mm off the object; squeeze 0 here).
+        let c = g.centre_from_tcp(0.03);
+        assert!((c.translation.y - 0.016).abs() < 1e-9, "{c}");
+        let mut q = model.zero_configuration();
+        g.set_grasp(&mut q, 0.03);
+        let v = model.variable_index("moving_joint").expect("jaw");
+        assert!((q[v] - 0.031).abs() < 1e-6, "{}", q[v]);
+        // The pads: the moving jaw and the fixed jaw, not the hand's box.
+        let pads = g.pad_links();
+        let name = |l: &usize| model.links()[*l].name.as_str();
+        assert_eq!(pads[0].iter().map(name).collect::<Vec<_>>(), ["moving"]);
+        assert_eq!(pads[1].iter().map(name).collect::<Vec<_>>(), ["fixed"]);
+    }
+
+    #[test]
+    fn a_single_moving_finger_with_nothing_to_close_against_is_refused() {
+        let text = r#"<robot name="t"><link name="base"/><link name="hand"/>
+  <joint name="wrist" type="revolute"><parent link="base"/><child link="hand"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="1" effort="1"/></joint>
+  <link name="l"><collision><origin xyz="0 0.005 0.03"/><geometry><box size="0.02 0.01 0.06"/></geometry></collision></link>
+  <joint name="l_joint" type="prismatic"><parent link="hand"/><child link="l"/><axis xyz="0 1 0"/><limit lower="0" upper="0.04" velocity="1" effort="1"/></joint>
+</robot>"#;
+        let model = RobotModel::from_urdf_str(text, Path::new("."), &LoadOptions::default())
+            .expect("test URDF");
         let wrist = model.variable_index("wrist").expect("wrist");
         let e =
             Gripper::derive(&model, &[wrist], &GripperOptions::default()).expect_err("one finger");

@@ -555,6 +555,11 @@ impl CheckJson {
             variables: model.variable_names().map(str::to_owned).collect(),
             warnings: model.warnings().iter().map(ToString::to_string).collect(),
         };
+        // A robot without a matrix: the one the planner samples (also for the named states).
+        let sampled = semantics
+            .is_none_or(|s| s.srdf().disabled_collisions.is_empty())
+            .then(|| sampled_matrix(model, matrix))
+            .transpose()?;
         if let Some(semantics) = semantics {
             doc.groups = Some(
                 semantics
@@ -571,7 +576,10 @@ impl CheckJson {
                     })
                     .collect(),
             );
-            let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+            let mut acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+            if let Some(report) = &sampled {
+                acm.merge(&report.acm);
+            }
             let with_geometry = model
                 .links()
                 .iter()
@@ -625,8 +633,7 @@ impl CheckJson {
                 link_pairs_with_geometry: with_geometry * with_geometry.saturating_sub(1) / 2,
             });
         }
-        if semantics.is_none_or(|s| s.srdf().disabled_collisions.is_empty()) {
-            let report = sampled_matrix(model, matrix)?;
+        if let Some(report) = sampled {
             let pairs = report.acm.to_disabled_pairs();
             doc.sampled_collision_matrix = Some(SampledMatrixJson {
                 by_reason: report

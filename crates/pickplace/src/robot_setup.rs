@@ -543,7 +543,12 @@ pub fn grasp_model(
     let (lo, hi) = gripper.opening_range();
     let (pad_width, pad_depth) = gripper.pad_size();
     let (finger_length, finger_thickness) = gripper.finger_size();
-    let (pmin, pmax) = gripper.palm_box();
+    let (pmin, mut pmax) = gripper.palm_box();
+    if gripper.has_fixed_jaw() {
+        // The palm in the grasp's centre frame moves with the width (the tool point is on
+        // the fixed jaw): the box covers every width.
+        pmax.y += hi / 2.0 + pickplace_robot::gripper::FIXED_JAW_CLEARANCE;
+    }
     let params = GripperParams {
         opening_min: o.opening_min.unwrap_or(lo),
         opening_max: o.opening_max.map_or(hi, |m| m.min(hi)),

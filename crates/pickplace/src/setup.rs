@@ -470,7 +470,16 @@ impl Setup {
             },
         );
         let (object_env, placement_object) = env_side?;
-        let (object_finger, grasp_set) = finger_side?;
+        let (object_finger, mut grasp_set) = finger_side?;
+        // The grasp planner puts a grasp's centre midway between the contacts; a gripper with
+        // a fixed jaw has its tool point on that jaw (issue 32), half the width away.
+        if let Some(first) = robot.arms.first()
+            && first.gripper.has_fixed_jaw()
+        {
+            for g in &mut grasp_set.grasps {
+                g.object_from_tcp *= first.gripper.centre_from_tcp(g.width);
+            }
+        }
         log.append(&mut finger_log);
         cache.absorb(finger_cache);
         let parts: Vec<_> = environment

@@ -193,3 +193,17 @@ fn one_panda_plans_with_one_arm_and_says_why_no_handover() {
     assert_ne!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("left"), "{}", text(&o));
 }
+
+#[test]
+fn tiago_pro_without_an_srdf_hands_over_with_its_linkage_grippers() {
+    // Issue 32: no SRDF is shipped; the collision matrix is sampled (its linkage fingers
+    // overlap by design) and the two arms hand the can over.
+    let dir = Scratch::new("robots-tiago-pro");
+    let (plan, log) = plan_and_validate("tiago-pro", &dir);
+    assert!(log.contains("no collision matrix in the SRDF"), "{log}");
+    let strategy = plan["strategy"].as_str().expect("strategy");
+    assert!(
+        strategy == "right-left" || strategy == "left-right",
+        "{strategy}"
+    );
+}

@@ -180,3 +180,56 @@ fn handover_poses_are_in_front_of_the_torso_between_the_shoulders() {
     );
     assert_eq!(order[0].pick_arm(), Arm::Left);
 }
+
+#[test]
+fn a_gripper_with_one_moving_jaw_plans_and_validates() {
+    // Issue 32: our own small arm, whose jaw slides against one fixed to the palm, found in
+    // the URDF without an SRDF (the collision matrix sampled).
+    let setup = setup("robots/one-jaw-arm.toml");
+    let arm = setup.arm(Arm::Right);
+    assert!(arm.gripper.has_fixed_jaw());
+    assert!(
+        setup
+            .log
+            .iter()
+            .any(|l| l.contains("no collision matrix in the SRDF")),
+        "{:?}",
+        setup.log
+    );
+    let plan = plan_with_threads(&setup, 1);
+    let report =
+        pickplace::validate::validate(&setup, &plan, Path::new("plan.json")).expect("fits");
+    assert!(report.problems.is_empty(), "{:#?}", report.problems);
+    // At the grasp, the fixed jaw stands off the object by the clearance and the moving jaw
+    // presses in by the squeeze at most.
+    let grasp = &plan.events[0];
+    let i = plan
+        .trajectory
+        .iter()
+        .position(|p| (p.time_from_start - grasp.time).abs() < 1e-6)
+        .expect("a sample at the grasp");
+    let q = &plan.trajectory[i].positions;
+    let links: Vec<_> = setup
+        .model
+        .link_poses(q)
+        .expect("fk")
+        .into_iter()
+        .map(|p| setup.world_from_root * p)
+        .collect();
+    let object = setup.world_from_root
+        * arm.ik.chain().pose(q)
+        * grasp.link_from_object.to_isometry().expect("pose");
+    let grip = pickplace::robot::gripper::GripObject::new(&setup.object_mesh).expect("grip");
+    let [moving, fixed] = arm
+        .gripper
+        .finger_gaps(&links, &grip, &object)
+        .expect("gaps");
+    assert!(
+        (fixed - pickplace::robot::gripper::FIXED_JAW_CLEARANCE).abs() < 3e-4,
+        "{fixed}"
+    );
+    assert!(
+        moving <= 1e-4 && -moving <= arm.gripper.squeeze() + 5e-4,
+        "{moving}"
+    );
+}
