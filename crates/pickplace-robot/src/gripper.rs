@@ -30,6 +30,8 @@ use pickplace_geometry::parry;
 
 /// Samples of the opening table.
 const TABLE_SAMPLES: usize = 129;
+/// The least largest opening (m) of a gripper: one that opens less holds nothing.
+const MIN_OPENING: Real = 0.005;
 /// How far (m) a fixed jaw's pad stands from the object at a grasp, so that the hand comes
 /// down past the object without rubbing it; the moving jaw closes that much farther.
 pub const FIXED_JAW_CLEARANCE: Real = 0.001;
@@ -452,6 +454,15 @@ impl Gripper {
                 reason: format!(
                     "opens only from {:.1} mm to {:.1} mm between its closed and open joint limits",
                     measured_min * 1e3,
+                    measured_max * 1e3
+                ),
+            });
+        }
+        if measured_max < MIN_OPENING {
+            return Err(GripperError::CannotOpen {
+                tip: tip_name,
+                reason: format!(
+                    "opens to {:.1} mm at most: its fingers' geometry overlaps at every opening (a jaw whose convex hull takes in the other)",
                     measured_max * 1e3
                 ),
             });

@@ -10,13 +10,17 @@ use crate::model::{JointValueSource, RobotModel};
 pub enum LimbReason {
     /// Nothing actuated below the chain's last link.
     #[error(
-        "nothing moves below {tip:?} ({fixed} links below it on fixed joints): no gripper with moving fingers at its end (a leg, a bare arm, fixed fingers, or a last joint that moves one jaw, not supported yet)"
+        "nothing moves below {tip:?} ({fixed} links below it on fixed joints): no gripper with moving fingers at its end (a leg, a bare arm, fixed fingers){}",
+        as_jaw.as_ref().map_or(String::new(), |e| format!("; its last joint read as a jaw against the arm before it: {e}"))
     )]
     NoHand {
         /// The chain's last link.
         tip: String,
         /// Links below it, all on fixed joints.
         fixed: usize,
+        /// Why the chain's last joint is not a jaw closing against the link before it (one
+        /// moving jaw), when the chain is long enough to be an arm without it.
+        as_jaw: Option<GripperError>,
     },
     /// More independent finger drives than a parallel gripper has.
     #[error(
@@ -131,11 +135,22 @@ pub fn unusable_limbs(model: &RobotModel, min_joints: usize) -> Vec<UnusableLimb
             .filter_map(variable_of)
             .collect();
         let reason = if below.is_empty() {
+            let as_jaw = (variables.len() > min_joints)
+                .then(|| {
+                    Gripper::derive(
+                        model,
+                        &variables[..variables.len() - 1],
+                        &GripperOptions::default(),
+                    )
+                    .err()
+                })
+                .flatten();
             LimbReason::NoHand {
                 tip: name(tip),
                 fixed: (0..n)
                     .filter(|&l| l != tip && model.is_ancestor(tip, l))
                     .count(),
+                as_jaw,
             }
         } else if drives.len() > 2 {
             LimbReason::ManyDrives {
