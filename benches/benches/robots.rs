@@ -1,5 +1,6 @@
-//! Benchmarks of robots as their makers ship them (issue 16): PR2, Baxter, TALOS and two
-//! Franka Pandas from the PyPI package example-robot-data 6.0.0 (`scenes/robots/`), found
+//! Benchmarks of robots as their makers ship them (issues 16 and 32): PR2, Baxter, TALOS, two
+//! Franka Pandas and TIAGo Pro from the PyPI package example-robot-data 6.0.0, and our own
+//! one-jaw arm (`scenes/robots/`), found
 //! through `PICKPLACE_ROBOTS_PACKAGES` (the folder holding `example-robot-data/`; `cargo xtask
 //! test` installs it into `target/robots-venv`).
 //!
@@ -17,7 +18,16 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-const ROBOTS: [&str; 4] = ["pr2", "baxter", "talos", "two-pandas"];
+/// The scenes of `scenes/robots/` that plan: the four of issue 16, TIAGo Pro (no SRDF: the
+/// collision matrix sampled, linkage grippers) and our own one-jaw arm (issue 32).
+const ROBOTS: [&str; 6] = [
+    "pr2",
+    "baxter",
+    "talos",
+    "two-pandas",
+    "tiago-pro",
+    "one-jaw-arm",
+];
 
 fn packages() -> PathBuf {
     match std::env::var_os("PICKPLACE_ROBOTS_PACKAGES").map(PathBuf::from) {

@@ -46,6 +46,7 @@ mod collision_matrix;
 pub mod contact;
 pub mod error;
 pub mod export;
+mod hand_fit;
 pub mod joint_limits;
 pub mod mesh_warning;
 pub mod plan;

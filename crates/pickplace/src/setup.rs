@@ -28,6 +28,7 @@ use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{CollisionShape, CollisionWorld};
 use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{IkSolver, RobotModel, Semantics};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -190,6 +191,9 @@ pub struct Setup {
     /// Why the cache could not be used, or only in part (at most one warning: the setup went
     /// on in memory, with the same result). For the caller to show; the library prints nothing.
     pub warnings: Vec<CacheWarning>,
+    /// Grasps of the grasp set dropped because the robot's hand, closed on the object, puts
+    /// a link other than its pads into it, by link name ([`crate::hand_fit`]).
+    pub grasp_hand_rejections: BTreeMap<String, usize>,
     /// What the robot's files got wrong and loading went on from
     /// ([`RobotSetup::warnings`]). For the caller to show; plans carry them.
     pub robot_warnings: Vec<String>,
@@ -471,6 +475,7 @@ impl Setup {
         );
         let (object_env, placement_object) = env_side?;
         let (object_finger, mut grasp_set) = finger_side?;
+        let mut grasp_hand_rejections = BTreeMap::new();
         // The grasp planner puts a grasp's centre midway between the contacts; a gripper with
         // a fixed jaw has its tool point on that jaw (issue 32), half the width away.
         if let Some(first) = robot.arms.first()
@@ -491,6 +496,30 @@ impl Setup {
         let object_shape = CollisionShape::mesh(&object_mesh)
             .map_err(robot_err(&scene.object.mesh))?
             .with_hull();
+        // The grasps the robot's own hand can close: no link but the pads in the object.
+        if let Some(first) = robot.arms.first() {
+            let t = Instant::now();
+            let before = grasp_set.grasps.len();
+            let dropped = crate::hand_fit::drop_grasps_the_hand_cannot_close(
+                &model,
+                &self_world,
+                first,
+                &start,
+                &object_shape,
+                &mut grasp_set,
+            )
+            .map_err(robot_err(&urdf_path))?;
+            if !dropped.is_empty() {
+                let what: Vec<String> = dropped.iter().map(|(l, n)| format!("{l} ×{n}")).collect();
+                log.push(format!(
+                    "object grasps: {} of {before} dropped, a link of the hand other than the pads in the object when closed ({}), in {:.1} ms",
+                    before - grasp_set.grasps.len(),
+                    what.join(", "),
+                    ms(t)
+                ));
+            }
+            grasp_hand_rejections = dropped;
+        }
 
         // The arms.
         let mut arms = Vec::with_capacity(robot.arms.len());
@@ -553,6 +582,7 @@ impl Setup {
             warnings: cache.into_warnings(),
             mesh_warnings,
             robot_warnings,
+            grasp_hand_rejections,
         })
     }
 

@@ -207,3 +207,18 @@ fn tiago_pro_without_an_srdf_hands_over_with_its_linkage_grippers() {
         "{strategy}"
     );
 }
+
+#[test]
+fn alex_sake_hands_are_refused_with_the_finger_link_that_enters_the_object() {
+    // example-robot-data 6.0.0's SAKE fingers have collision origins without their visuals'
+    // rotation: a finger's base link lies across the gap. The planner must not plan what the
+    // validator refuses: every grasp is dropped, naming the link.
+    let scene = root().join("scenes/robots/alex-sake.toml");
+    let o = run(crate::args!["plan", &scene, "--package-dir", &packages()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("hand link RightSakeBaseFingerLink1 in the object"),
+        "{}",
+        text(&o)
+    );
+}

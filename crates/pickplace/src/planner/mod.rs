@@ -278,7 +278,7 @@ fn end_of(path: &[Vec<Real>]) -> Result<&Vec<Real>> {
 /// tolerance).
 fn candidate_counts(
     placements: &PlacementSet,
-    grasps: &GraspSet,
+    (grasps, hand): (&GraspSet, &BTreeMap<String, usize>),
     far: usize,
 ) -> BTreeMap<String, StageCount> {
     let mut grasp = StageCount {
@@ -288,6 +288,11 @@ fn candidate_counts(
     };
     for (reason, n) in grasps.rejected.by_reason() {
         grasp.rejected.insert(reason.to_owned(), n);
+    }
+    for (link, n) in hand {
+        grasp
+            .rejected
+            .insert(format!("hand link {link} in the object"), *n);
     }
     let mut placement = StageCount {
         accepted: placements.placements.len(),
@@ -439,7 +444,11 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     let mut stats = Stats {
         placement_candidates: placement_set.placements.len(),
         grasp_candidates: grasp_set.grasps.len(),
-        candidates: candidate_counts(&placement_set, &grasp_set, far),
+        candidates: candidate_counts(
+            &placement_set,
+            (&grasp_set, &setup.grasp_hand_rejections),
+            far,
+        ),
         ..Stats::default()
     };
     let mut ctx = Ctx::new(setup, options, t_all, &placement_set, &grasp_set, timings);
@@ -465,9 +474,18 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
         reasons.push(if grasp_set.pairs == 0 {
             "no grasp: the object has no two opposite surfaces the fingers can hold (no finger-contact cluster pair; planner.h_max_finger, docs/grasp.md)".to_owned()
         } else {
+            let hand: Vec<String> = setup
+                .grasp_hand_rejections
+                .iter()
+                .map(|(l, n)| format!("hand link {l} in the object ×{n}"))
+                .collect();
             format!(
-                "no grasp: {} candidates on {} cluster pairs, all rejected ({})",
-                grasp_set.candidates, grasp_set.pairs, grasp_set.rejected
+                "no grasp: {} candidates on {} cluster pairs, all rejected ({}{}{})",
+                grasp_set.candidates,
+                grasp_set.pairs,
+                grasp_set.rejected,
+                if hand.is_empty() { "" } else { ", " },
+                hand.join(", ")
             )
         });
     }
