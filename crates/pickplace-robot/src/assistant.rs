@@ -29,14 +29,14 @@ pub struct DetectedArm {
     pub finger_joints: Vec<usize>,
 }
 
-/// Finds the arms of a robot: [`crate::gripper::find_arms`] (serial chains of at least
+/// Finds the arms of a robot: [`crate::limbs::find_arms`] (serial chains of at least
 /// [`MIN_ARM_JOINTS`] actuated joints ending in a parallel gripper that
 /// [`crate::gripper::Gripper::derive`] accepts, cut where another actuated branch leaves),
 /// with their joints as joint indices and the hand's actuated joints. Arms are returned in
 /// the order of their last joint.
 pub fn detect_arms(model: &RobotModel) -> Vec<DetectedArm> {
     let joints = model.joints();
-    let mut arms: Vec<DetectedArm> = crate::gripper::find_arms(model, MIN_ARM_JOINTS)
+    let mut arms: Vec<DetectedArm> = crate::limbs::find_arms(model, MIN_ARM_JOINTS)
         .into_iter()
         .map(|a| DetectedArm {
             joints: a

@@ -208,7 +208,8 @@ fn split<T>(r: Result<T, String>) -> (Option<T>, Option<String>) {
 
 /// The arms of a robot for [`CheckJson::arms`].
 fn arms_report(model: &RobotModel, semantics: Option<&Semantics>) -> Vec<ArmJson> {
-    use crate::gripper::{Gripper, GripperOptions, find_arms};
+    use crate::gripper::{Gripper, GripperOptions};
+    use crate::limbs::find_arms;
     let name = |l: usize| model.links()[l].name.clone();
     let gripper = |variables: &[usize]| -> Result<GripperJson, String> {
         let g = Gripper::derive(model, variables, &GripperOptions::default())

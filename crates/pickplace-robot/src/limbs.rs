@@ -2,7 +2,7 @@
 //! check` (issue 32): a user whose robot shows `arms: 0` learns, per chain, what its hand
 //! lacks.
 
-use crate::gripper::{Gripper, GripperError, GripperOptions, find_arms};
+use crate::gripper::{Gripper, GripperError, GripperOptions};
 use crate::model::{JointValueSource, RobotModel};
 
 /// Why a limb is not an arm the planner can use.
@@ -185,6 +185,97 @@ pub fn unusable_limbs(model: &RobotModel, min_joints: usize) -> Vec<UnusableLimb
             .any(|&h| l.base_link == h || model.is_ancestor(h, l.base_link))
     });
     out
+}
+
+/// An arm found in the URDF by [`find_arms`]: a serial chain of actuated joints ending in a
+/// parallel gripper.
+#[derive(Debug, Clone)]
+pub struct FoundArm {
+    /// The arm's variables, root side first.
+    pub variables: Vec<usize>,
+    /// The link where the chain starts (where it branches off the rest of the robot).
+    pub base_link: usize,
+    /// The arm's last moving link (the hand hangs from it).
+    pub tip_link: usize,
+}
+
+/// The arms of a robot that has no SRDF groups for them: for every link whose subtree holds
+/// one or two actuated finger joints (and nothing else actuated), the chain of actuated joints
+/// above it up to the first link where the robot branches into another actuated chain, when
+/// it has at least `min_joints` joints and [`Gripper::derive`] accepts its hand. Sorted by
+/// tip link.
+pub fn find_arms(model: &RobotModel, min_joints: usize) -> Vec<FoundArm> {
+    let n = model.links().len();
+    // Actuated (variable) joints in each link's subtree, counted bottom-up (children come
+    // after parents).
+    let mut actuated_below = vec![0usize; n];
+    for l in (1..n).rev() {
+        if let Some(j) = model.links()[l].parent_joint {
+            let own = usize::from(matches!(
+                model.joints()[j].source,
+                JointValueSource::Variable(_)
+            ));
+            let parent = model.joints()[j].parent_link;
+            actuated_below[parent] += actuated_below[l] + own;
+        }
+    }
+    let is_variable = |l: usize| {
+        model.links()[l]
+            .parent_joint
+            .is_some_and(|j| matches!(model.joints()[j].source, JointValueSource::Variable(_)))
+    };
+    let children = |l: usize| -> Vec<usize> {
+        (0..n)
+            .filter(|&c| model.parent_link(c) == Some(l))
+            .collect()
+    };
+    let mut arms = Vec::new();
+    for tip in 0..n {
+        // The hand: one or two actuated joints below, each with nothing actuated below it.
+        let below = actuated_below[tip];
+        if !is_variable(tip) || !(1..=2).contains(&below) {
+            continue;
+        }
+        let fingers_are_leaves = (0..n)
+            .filter(|&l| l != tip && model.is_ancestor(tip, l))
+            .all(|l| !is_variable(l) || actuated_below[l] == 0);
+        if !fingers_are_leaves {
+            continue;
+        }
+        // Up the chain to the branch point.
+        let mut variables = Vec::new();
+        let mut link = tip;
+        let base_link = loop {
+            if let Some(j) = model.links()[link].parent_joint
+                && let JointValueSource::Variable(v) = model.joints()[j].source
+            {
+                variables.push(v);
+            }
+            let Some(parent) = model.parent_link(link) else {
+                break link;
+            };
+            let branches = children(parent)
+                .into_iter()
+                .filter(|&c| c != link && (actuated_below[c] > 0 || is_variable(c)))
+                .count();
+            if branches > 0 {
+                break parent;
+            }
+            link = parent;
+        };
+        variables.reverse();
+        if variables.len() < min_joints {
+            continue;
+        }
+        if Gripper::derive(model, &variables, &GripperOptions::default()).is_ok() {
+            arms.push(FoundArm {
+                variables,
+                base_link,
+                tip_link: tip,
+            });
+        }
+    }
+    arms
 }
 
 #[cfg(test)]

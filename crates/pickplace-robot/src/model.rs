@@ -695,3 +695,53 @@ pub fn resolve_uri(
         Ok(base_dir.join(uri))
     }
 }
+
+impl RobotModel {
+    /// This model with one more link, `name`, fixed to `parent` at `parent_from_link` (no
+    /// geometry): a tool frame. Indices of existing links, joints and variables are unchanged.
+    ///
+    /// # Errors
+    /// [`crate::Error::UnknownLink`] for a bad parent; [`crate::Error::InvalidModel`] when the
+    /// name is taken.
+    pub fn with_fixed_link(
+        &self,
+        name: &str,
+        parent: usize,
+        parent_from_link: Isometry3,
+    ) -> crate::Result<Self> {
+        if parent >= self.links().len() {
+            return Err(crate::Error::UnknownLink {
+                name: format!("#{parent}"),
+            });
+        }
+        if self.link_index(name).is_some() || self.joint_index(&format!("{name}_joint")).is_some() {
+            return Err(crate::Error::InvalidModel {
+                path: self.source().to_path_buf(),
+                kind: crate::error::ModelErrorKind::DuplicateLink {
+                    name: name.to_owned(),
+                },
+            });
+        }
+        let mut links = self.links().to_vec();
+        let mut joints = self.joints().to_vec();
+        joints.push(crate::model::Joint::fixed(
+            format!("{name}_joint"),
+            parent,
+            links.len(),
+            parent_from_link,
+        ));
+        links.push(crate::model::Link {
+            name: name.to_owned(),
+            parent_joint: Some(joints.len() - 1),
+            collisions: Vec::new(),
+            visuals: Vec::new(),
+        });
+        Ok(Self::from_parts(
+            self.name().to_owned(),
+            self.source().to_path_buf(),
+            links,
+            joints,
+            self.warnings().to_vec(),
+        ))
+    }
+}

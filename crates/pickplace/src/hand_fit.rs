@@ -76,7 +76,7 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
         });
         match hit {
             Some(l) => *dropped.entry(model.links()[l].name.clone()).or_default() += 1,
-            None => keep.push(g.clone()),
+            None => keep.push(*g),
         }
     }
     grasps.grasps = keep;

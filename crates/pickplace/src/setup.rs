@@ -192,7 +192,7 @@ pub struct Setup {
     /// on in memory, with the same result). For the caller to show; the library prints nothing.
     pub warnings: Vec<CacheWarning>,
     /// Grasps of the grasp set dropped because the robot's hand, closed on the object, puts
-    /// a link other than its pads into it, by link name ([`crate::hand_fit`]).
+    /// a link other than its pads into it, by link name (`crate::hand_fit`).
     pub grasp_hand_rejections: BTreeMap<String, usize>,
     /// What the robot's files got wrong and loading went on from
     /// ([`RobotSetup::warnings`]). For the caller to show; plans carry them.

@@ -1242,7 +1242,7 @@ fn hand_links(setup: &Setup, arm: Arm) -> Result<Vec<usize>> {
 }
 
 /// The two hands' clearance (§III-B.3 handover, issue 17): a collision world of the robot
-/// in which only the pairs of a right-hand link and a left-hand link ([`hand_links`]) are
+/// in which only the pairs of a right-hand link and a left-hand link (`hand_links`) are
 /// checked, so that the margin and distance queries of the collision crate measure the hands
 /// on their real link geometry. The planner keeps [`HAND_CLEARANCE`] with it; the validator
 /// reports states below `HAND_CLEARANCE - HAND_CLEARANCE_SLACK`.

@@ -33,7 +33,7 @@ pub const SAMPLING_VERSION: u32 = 2;
 const SAMPLE_BLOCK: usize = 250;
 
 /// The stream of [`Rng::derive`] the matrix samples are drawn from.
-const ACM_STREAM: u64 = 0x4143_4d;
+const ACM_STREAM: u64 = 0x0041_434d;
 
 /// Default of [`AcmOptions::min_collision_fraction`].
 pub const DEFAULT_MIN_COLLISION_FRACTION: Real = 0.95;

@@ -14,7 +14,7 @@
 //! boxes. Self-collision pairs are expanded to shape pairs once, when the world is built.
 //! Two robot shapes, one of them a link hull of many vertices, are tested by the same GJK
 //! query with a support function that climbs the hull's vertex graph instead of scanning
-//! every vertex ([`support`]).
+//! every vertex (`support`).
 
 mod acm;
 mod hull;

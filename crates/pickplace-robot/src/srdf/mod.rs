@@ -1,7 +1,7 @@
 //! MoveIt's SRDF: planning groups, group states, end effectors and disabled collision pairs.
 //!
 //! [`Srdf`] is the file as written (names); [`Semantics`] is the SRDF resolved against a
-//! [`RobotModel`] (indices), ready for IK and collision checking.
+//! [`RobotModel`](crate::RobotModel) (indices), ready for IK and collision checking.
 
 mod lenient;
 mod semantics;
@@ -588,7 +588,7 @@ impl Srdf {
 
     /// A copy with `prefix` put before every name: links, joints, groups, states, end
     /// effectors, disabled pairs, passive and virtual joints — the SRDF of one robot of a
-    /// [`RobotModel::combine`]d model.
+    /// [`RobotModel::combine`](crate::RobotModel::combine)d model.
     pub fn prefixed(&self, prefix: &str) -> Srdf {
         self.map_names(&|_, name| format!("{prefix}{name}"))
     }
