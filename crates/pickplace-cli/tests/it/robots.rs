@@ -222,3 +222,17 @@ fn alex_sake_hands_are_refused_with_the_finger_link_that_enters_the_object() {
         text(&o)
     );
 }
+
+#[test]
+fn pr2_baxter_and_talos_hand_over_as_shipped() {
+    // Issue 32: every public robot with two arms and two-jaw grippers hands over.
+    for name in ["pr2-handover", "baxter-handover", "talos-handover"] {
+        let dir = Scratch::new(&format!("robots-{name}"));
+        let (plan, _) = plan_and_validate(name, &dir);
+        let strategy = plan["strategy"].as_str().expect("strategy");
+        assert!(
+            strategy == "right-left" || strategy == "left-right",
+            "{name}: {strategy}"
+        );
+    }
+}
