@@ -83,19 +83,15 @@ impl StarterSrdf {
     /// The SRDF as XML text, with a comment saying how it was made (samples, seed, the
     /// meaning of each reason, the arm rule).
     pub fn to_xml(&self, seed: u64) -> String {
-        let xml = self.srdf.to_xml();
         let comment = format!(
             "<!-- Starting SRDF written by `pickplace robot srdf` ({} random configurations, seed {seed}).\n     \
              disable_collisions reasons: Adjacent = joined by a joint; Default = in collision at the zero pose;\n     \
-             Always = in collision in every sample; Never = in no sample.\n     \
+             Always = in collision in at least the given fraction of the samples (default 95 %); Never = in no sample.\n     \
              Groups arm_<n>: serial chains of >= {MIN_ARM_JOINTS} actuated joints ending at a hand with finger joints\n     \
              (group hand_<n>, end effector hand_<n>). Review before use. -->\n",
             self.samples
         );
-        match xml.split_once('\n') {
-            Some((declaration, rest)) => format!("{declaration}\n{comment}{rest}"),
-            None => format!("{comment}{xml}"),
-        }
+        self.srdf.to_xml_with_comment(&comment)
     }
 }
 

@@ -156,7 +156,6 @@ fn entry_text(
         disabled_collisions: acm.to_disabled_pairs(),
         ..Srdf::default()
     };
-    let xml = srdf.to_xml();
     let comment = format!(
         "{}\n<!-- {} random configurations, seed {}, Always from {} of the samples; written by pickplace for a robot whose SRDF has no disable_collisions. -->\n",
         key_line(key),
@@ -164,10 +163,7 @@ fn entry_text(
         spec.seed,
         spec.min_collision_fraction
     );
-    match xml.split_once('\n') {
-        Some((declaration, rest)) => format!("{declaration}\n{comment}{rest}"),
-        None => format!("{comment}{xml}"),
-    }
+    srdf.to_xml_with_comment(&comment)
 }
 
 /// The matrix of a cache entry made for `key`; none when missing, made for another key,

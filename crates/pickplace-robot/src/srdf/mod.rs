@@ -622,6 +622,16 @@ impl Srdf {
         out
     }
 
+    /// As [`Srdf::to_xml`], with `comment` (whole lines, `<!-- … -->` included) right after
+    /// the XML declaration: how the file was made.
+    pub fn to_xml_with_comment(&self, comment: &str) -> String {
+        let xml = self.to_xml();
+        match xml.split_once('\n') {
+            Some((declaration, rest)) => format!("{declaration}\n{comment}{rest}"),
+            None => format!("{comment}{xml}"),
+        }
+    }
+
     /// Writes the SRDF (groups, states, end effectors, disabled pairs) as XML text.
     pub fn to_xml(&self) -> String {
         use std::fmt::Write as _;
