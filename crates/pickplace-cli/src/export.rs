@@ -93,7 +93,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<ExitCode> {
             if args.format == ExportFormat::Ros2Json {
                 json(&messages)?
             } else {
-                yaml(&messages)
+                yaml(&plan, &messages)
             }
         }
     };
@@ -112,9 +112,10 @@ fn json<T: serde::Serialize>(value: &T) -> anyhow::Result<String> {
     Ok(text)
 }
 
-/// Every message as a YAML document, each preceded by its comment line.
-fn yaml(messages: &[ExportedTrajectory]) -> String {
-    let mut text = String::new();
+/// Every message as a YAML document, each preceded by its comment line, after the comment
+/// lines of the tool frames of their arms.
+fn yaml(plan: &Plan, messages: &[ExportedTrajectory]) -> String {
+    let mut text = pickplace::tool_frame::yaml_comments(plan, messages);
     for m in messages {
         text.push_str(&pickplace::export::yaml_comment(m));
         text.push_str("\n---\n");

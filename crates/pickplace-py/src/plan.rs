@@ -174,7 +174,9 @@ impl Plan {
         to_python(py, &self.inner.rests)
     }
 
-    /// Each arm's joints and gripper joints (list of dicts).
+    /// Each arm's joints and gripper joints, and where its tool link is (list of dicts:
+    /// `tool` is `{link, parent, parent_from_tool}`, absent in plans written before it was
+    /// stated).
     #[getter]
     fn arms<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         to_python(py, &self.inner.arms)

@@ -1,7 +1,8 @@
 //! A plan as ROS 2 messages (`docs/ros2.md`): one `trajectory_msgs/msg/JointTrajectory` per
 //! motion and per moving arm or gripper ([`joint_trajectories`]), for a ros2_control
 //! `joint_trajectory_controller`, and one `moveit_msgs/msg/DisplayTrajectory` of the whole
-//! plan ([`display_trajectory`]), for RViz.
+//! plan ([`display_trajectory`]), for RViz. Each arm's tool frame goes with its
+//! trajectories as the static transform ROS has for it ([`crate::tool_frame`]).
 //!
 //! The structs serialize (serde) with the field names and order of the ROS 2 message
 //! definitions, so their JSON is what `rosidl_runtime_py.set_message_fields` takes;
@@ -10,6 +11,7 @@
 
 use crate::plan::{ArmJoints, Plan};
 use crate::strategy::Arm;
+use crate::tool_frame::{ToolFrame, TransformStamped};
 use pickplace_geometry::io::fmt_real;
 use pickplace_geometry::math::Real;
 use serde::Serialize;
@@ -132,6 +134,10 @@ pub struct ExportedTrajectory {
     pub start: Real,
     /// The message.
     pub message: JointTrajectory,
+    /// Where the arm's tool link is, as a static transform from its parent link
+    /// ([`crate::tool_frame`]; absent when the plan does not state it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tool_frame: Option<TransformStamped>,
 }
 
 /// `trajectory_msgs/msg/MultiDOFJointTrajectory`, always empty here.
@@ -319,6 +325,7 @@ pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String
                 group,
                 joints,
                 gripper_joints,
+                tool,
             } = arm_joints;
             for (kind, names) in [
                 (GroupKind::Arm, joints),
@@ -336,6 +343,7 @@ pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String
                     kind,
                     start,
                     message: trajectory(plan, names, &cols, motion.first, motion.last)?,
+                    tool_frame: tool.as_ref().map(ToolFrame::to_transform_stamped),
                 });
             }
         }
@@ -586,6 +594,7 @@ mod tests {
             group: format!("{}_arm", arm.name()),
             joints: vec![format!("{prefix}1")],
             gripper_joints: vec![format!("{prefix}g")],
+            tool: None,
         };
         Plan {
             format: format.into(),

@@ -59,6 +59,7 @@ pub mod scene;
 pub mod setup;
 mod start;
 pub mod strategy;
+pub mod tool_frame;
 pub mod validate;
 
 #[cfg(test)]

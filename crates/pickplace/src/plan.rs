@@ -38,7 +38,7 @@ pub const KEY_POSE_NAMES: [&str; 19] = [
 ];
 
 /// At most 64 characters of a string from a plan, for messages.
-fn clip(text: &str) -> String {
+pub(crate) fn clip(text: &str) -> String {
     match text.char_indices().nth(64) {
         Some((end, _)) => format!("{}…", &text[..end]),
         None => text.to_string(),
@@ -152,6 +152,11 @@ pub struct ArmJoints {
     pub joints: Vec<String>,
     /// Its gripper's actuated joints (the closing command), in model order.
     pub gripper_joints: Vec<String>,
+    /// Where its tool link (the `link` of its events, the frame of `world_from_tcp`) is on
+    /// the robot's URDF (absent in format `pickplace.plan/1` and in plans written before it
+    /// was stated).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tool: Option<crate::tool_frame::ToolFrame>,
 }
 
 /// What happens to the object at an instant.
@@ -410,8 +415,8 @@ impl Plan {
         s
     }
 
-    /// Checks every pose of the plan (the object's, events', rests', grasps' and key poses'):
-    /// finite numbers and a non-zero quaternion.
+    /// Checks every pose of the plan (the object's, events', rests', grasps', the arms' tool
+    /// frames' and key poses'): finite numbers and a non-zero quaternion.
     ///
     /// # Errors
     /// The first invalid pose, by its field (`key_poses[3].world_from_tcp: orientation
@@ -436,6 +441,14 @@ impl Plan {
         for (i, g) in self.grasps.iter().enumerate() {
             check(format!("grasps[{i}].object_from_tcp"), &g.object_from_tcp)?;
         }
+        for (i, a) in self.arms.iter().enumerate() {
+            if let Some(tool) = &a.tool {
+                check(
+                    format!("arms[{i}].tool.parent_from_tool"),
+                    &tool.parent_from_tool,
+                )?;
+            }
+        }
         for (i, k) in self.key_poses.iter().enumerate() {
             check(format!("key_poses[{i}].world_from_tcp"), &k.world_from_tcp)?;
             check(
@@ -450,8 +463,9 @@ impl Plan {
     /// trajectory starts at time 0; events are in time order, from time 0 on, each
     /// release after a grasp by the same link and no grasp by a link already holding, by the
     /// strategy's arms (the first grasp by the picking arm, the last release by the placing
-    /// arm); one grasp, or two with a handover or a regrasp by placing, the first by the
-    /// picking arm and the last by the placing arm; `rests` exactly in a regrasp by placing;
+    /// arm), each by its arm's tool link where the plan states it (`arms[].tool`); one grasp,
+    /// or two with a handover or a regrasp by placing, the first by the picking arm and the
+    /// last by the placing arm; `rests` exactly in a regrasp by placing;
     /// key poses with the documented names, in time order from time 0 on, by the
     /// strategy's arms; contacts `face-face` or `edge-face`; finite numbers everywhere.
     ///
@@ -521,6 +535,7 @@ impl Plan {
                 }
             }
         }
+        crate::tool_frame::check_events(&self.arms, &self.events).map_err(|e| e.to_string())?;
         let first_grasp = self.events.iter().find(|e| e.kind == EventKind::Grasp);
         let last_release = self
             .events

@@ -91,9 +91,27 @@ fn the_yaml_of_every_message_reads_back_as_its_json() {
             .expect("ros2-json is JSON");
         let entries = json.as_array().expect("an array");
         let messages: Vec<&Value> = entries.iter().map(|e| &e["message"]).collect();
-        // One comment line and one `---` per message, in the JSON's order.
-        let comments: Vec<&str> = yaml.lines().filter(|l| l.starts_with('#')).collect();
+        // One comment line and one `---` per message, in the JSON's order, after two
+        // comment lines per arm that moves: its tool frame (issue 33).
+        let comments: Vec<&str> = yaml
+            .lines()
+            .filter(|l| l.starts_with("# motion "))
+            .collect();
         assert_eq!(comments.len(), entries.len());
+        let header: Vec<&str> = yaml
+            .lines()
+            .take_while(|l| l.starts_with("# tool") || l.starts_with("#   ros2 run"))
+            .collect();
+        let moving = read_plan(plan)
+            .arms
+            .iter()
+            .filter(|a| entries.iter().any(|e| e["arm"] == a.arm.name()))
+            .count();
+        assert_eq!(header.len(), 2 * moving, "{}", plan.display());
+        assert_eq!(
+            yaml.lines().filter(|l| l.starts_with('#')).count(),
+            entries.len() + header.len()
+        );
         assert_eq!(yaml.matches("\n---\n").count(), entries.len());
         for (c, e) in comments.iter().zip(entries) {
             let expected = format!(
@@ -146,6 +164,21 @@ fn each_message_is_a_motion_of_one_arm_or_gripper_as_the_plan_has_it() {
                 .find(|a| e["arm"] == a.arm.name())
                 .expect("an arm of the plan");
             assert_eq!(e["group"], arm.group.as_str());
+            // The arm's tool frame as a geometry_msgs/msg/TransformStamped (issue 33).
+            let tool = arm.tool.as_ref().expect("the plan states the tool frame");
+            let [x, y, z] = tool.parent_from_tool.position;
+            let [qx, qy, qz, qw] = tool.parent_from_tool.orientation;
+            assert_eq!(
+                e["tool_frame"],
+                serde_json::json!({
+                    "header": { "stamp": { "sec": 0, "nanosec": 0 }, "frame_id": tool.parent },
+                    "child_frame_id": tool.link,
+                    "transform": {
+                        "translation": { "x": x, "y": y, "z": z },
+                        "rotation": { "x": qx, "y": qy, "z": qz, "w": qw }
+                    }
+                })
+            );
             let joints = match e["kind"].as_str() {
                 Some("arm") => &arm.joints,
                 Some("gripper") => &arm.gripper_joints,
@@ -229,7 +262,20 @@ fn one_motion_of_one_arm_is_one_document_for_ros2_topic_pub() {
         ],
     );
     assert_eq!(yaml.matches("---").count(), 1, "{yaml}");
-    assert!(yaml.starts_with("# motion 0: grasp (right arm, group right_arm)"));
+    let tool = "# tool frame of the right arm (link of link_from_object and world_from_tcp): \"right_arm_tool\" in \"RARM_JOINT5_Link\" at position [";
+    assert!(yaml.starts_with(tool), "{yaml}");
+    let mut lines = yaml.lines().skip(1);
+    let command = lines.next().expect("the command line");
+    assert!(
+        command.starts_with("#   ros2 run tf2_ros static_transform_publisher --x ")
+            && command.ends_with(" --frame-id RARM_JOINT5_Link --child-frame-id right_arm_tool"),
+        "{command}"
+    );
+    assert!(
+        lines
+            .next()
+            .is_some_and(|l| l.starts_with("# motion 0: grasp (right arm, group right_arm)"))
+    );
     let json: Value = serde_json::from_str(&export(
         path,
         &[

@@ -185,7 +185,8 @@ class Plan:
         """Intermediate resting poses of a regrasp by placing."""
     @property
     def arms(self) -> list[dict[str, Any]]:
-        """Each arm's joints and gripper joints."""
+        """Each arm's joints and gripper joints, and its tool frame (`tool`: `{link, parent,
+        parent_from_tool}`, the frame of `link_from_object` and `world_from_tcp`)."""
     @property
     def stats(self) -> dict[str, Any]:
         """How the plan was found."""

@@ -442,6 +442,7 @@ impl Ctx<'_> {
                         group: a.group.clone(),
                         joints: names(&a.variables),
                         gripper_joints: names(&a.finger_variables),
+                        tool: crate::tool_frame::ToolFrame::of_link(model, a.tcp_link),
                     }
                 })
                 .collect(),
