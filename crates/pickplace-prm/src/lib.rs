@@ -42,6 +42,18 @@
 //! # Ok::<(), pickplace_prm::Error>(())
 //! ```
 //!
+//! # What a returned path guarantees
+//! Every waypoint of a path returned by [`rrt_connect`], [`PrmPlanner::query`] or [`shortcut()`]
+//! was accepted by the checker's [`ValidityChecker::is_state_valid`], every straight segment
+//! between consecutive waypoints by its [`ValidityChecker::is_motion_valid`] at the options'
+//! `resolution`. The default motion test ([`motion_valid_by_interpolation`]) checks states at
+//! most `resolution` apart both in the weighted distance and in every joint (max-norm); the
+//! default `resolution` of every options struct is [`DEFAULT_MAX_JOINT_STEP`] (1°), the
+//! validator's joint step (`pickplace::validate::MAX_JOINT_STEP`). Nothing is claimed between
+//! checked states: a caller choosing a coarser resolution (faster) should give its checker a
+//! margin of half the resolution, and Cartesian spacing (the validator's 1 cm) is the checker's
+//! concern.
+//!
 //! # Limitations
 //! - Local paths are straight lines in joint space, checked by sampling at a resolution (a
 //!   checker may override [`ValidityChecker::is_motion_valid`] with a continuous test).
@@ -72,4 +84,6 @@ pub use space::JointSpace;
 pub use timing::{
     MAX_TRAJECTORY_SAMPLES, TimingOptions, Trajectory, TrajectoryPoint, time_parameterize,
 };
-pub use validity::{AlwaysValid, ValidityChecker, motion_valid_by_interpolation};
+pub use validity::{
+    AlwaysValid, DEFAULT_MAX_JOINT_STEP, ValidityChecker, motion_valid_by_interpolation,
+};

@@ -25,6 +25,10 @@ const NONE: u32 = u32::MAX;
 const HEURISTIC_SCALE: f64 = 1.0 - 1e-9;
 
 /// Options of a roadmap query.
+///
+/// The resolution at which a query checks edges is not here: it is the roadmap's
+/// ([`crate::RoadmapOptions::resolution`], default [`crate::DEFAULT_MAX_JOINT_STEP`]), so that
+/// the query's edges and the roadmap's are checked alike.
 #[derive(Clone, Debug, PartialEq)]
 pub struct QueryOptions {
     /// Roadmap nodes the start and the goal each try to connect to (default: 10).
@@ -281,7 +285,15 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
     /// Finds a valid path from `start` to `goal`.
     ///
     /// The path runs start → roadmap nodes → goal; every waypoint and segment has been checked at
-    /// the roadmap's resolution. It is not shortened: see [`crate::shortcut()`].
+    /// the roadmap's resolution ([`crate::RoadmapOptions::resolution`]) by this planner's checker
+    /// (on a [`Validation::Checked`] roadmap, the roadmap's edges by the construction checker).
+    /// It is not shortened: see [`crate::shortcut()`].
+    ///
+    /// # Guarantee
+    /// With the default resolution ([`crate::DEFAULT_MAX_JOINT_STEP`]) and the default checker
+    /// motion test, consecutive checked states along every segment are at most 1° apart in every
+    /// joint (max-norm) and in the weighted distance: the validator's density. Nothing is claimed
+    /// between checked states, nor for a coarser resolution beyond its own spacing.
     ///
     /// # Errors
     /// [`Error::StateDimension`] / [`Error::StateOutOfBounds`] for a malformed state;

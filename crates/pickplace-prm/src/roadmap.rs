@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::nn::NearestIndex;
 use crate::rng::{Rng, stream};
 use crate::space::JointSpace;
-use crate::validity::{AlwaysValid, ValidityChecker};
+use crate::validity::{AlwaysValid, DEFAULT_MAX_JOINT_STEP, ValidityChecker};
 
 /// Options of roadmap construction.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -23,7 +23,15 @@ pub struct RoadmapOptions {
     pub neighbors: usize,
     /// Longest edge, as a weighted distance; `f64::INFINITY` for no limit (default: `f64::INFINITY`).
     pub max_edge_length: f64,
-    /// Largest weighted distance between two states checked along an edge (default: 0.05).
+    /// Largest distance between two consecutive states checked along an edge, both as a
+    /// weighted distance and per joint (max-norm, joint units; see
+    /// [`crate::motion_valid_by_interpolation`]) (default: [`DEFAULT_MAX_JOINT_STEP`], 1°,
+    /// the validator's joint step).
+    ///
+    /// The roadmap's queries ([`crate::PrmPlanner::query`]) check their edges at this
+    /// resolution too. A coarser value (e.g. 0.05 rad) is faster but only proves the states
+    /// sampled that far apart: a returned path may then cross obstacles thinner than it, unless
+    /// the checker keeps a margin of half the resolution.
     pub resolution: f64,
     /// Seed of every random draw (default: 0).
     pub seed: u64,
@@ -37,7 +45,7 @@ impl Default for RoadmapOptions {
             node_count: 1000,
             neighbors: 10,
             max_edge_length: f64::INFINITY,
-            resolution: 0.05,
+            resolution: DEFAULT_MAX_JOINT_STEP,
             seed: 0,
             max_sample_attempts: 100,
         }
@@ -139,7 +147,11 @@ impl PartialEq for Roadmap {
 /// [`Roadmap::build_prefiltered`] or [`Roadmap::build_lazy`] give other nodes or edges for the
 /// same space, checker and options (a new sampling stream, another neighbour rule): callers
 /// that cache roadmaps put it in their key, so a newer build never reuses an older one's.
-pub const ALGORITHM_VERSION: u32 = 1;
+///
+/// 2: edges are checked at most `resolution` apart per joint as well as in the weighted
+/// distance (issue 33), which removes edges of spaces with a weight below 1 (unit-weight
+/// spaces build the same roadmaps as in 1).
+pub const ALGORITHM_VERSION: u32 = 2;
 
 /// Progress of a construction shared by the pool's threads: `done` out of `total` units,
 /// passed on when it crosses a percent.

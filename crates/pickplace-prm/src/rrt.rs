@@ -4,7 +4,7 @@ use crate::error::{Error, Result};
 use crate::path::Path;
 use crate::rng::{Rng, stream};
 use crate::space::JointSpace;
-use crate::validity::ValidityChecker;
+use crate::validity::{DEFAULT_MAX_JOINT_STEP, ValidityChecker};
 
 /// Options of [`rrt_connect`].
 #[derive(Clone, Debug, PartialEq)]
@@ -13,7 +13,11 @@ pub struct RrtOptions {
     pub max_iterations: usize,
     /// Longest extension step, as a weighted distance (default: 0.3).
     pub step: f64,
-    /// Largest weighted distance between two checked states along a step (default: 0.05).
+    /// Largest distance between two consecutive checked states along a step, both as a
+    /// weighted distance and per joint (max-norm, joint units; see
+    /// [`crate::motion_valid_by_interpolation`]) (default: [`DEFAULT_MAX_JOINT_STEP`], 1°,
+    /// the validator's joint step). A coarser value is faster but proves only the states
+    /// sampled that far apart: the path may cross obstacles thinner than it.
     pub resolution: f64,
     /// Seed of the random samples (default: 0).
     pub seed: u64,
@@ -24,7 +28,7 @@ impl Default for RrtOptions {
         Self {
             max_iterations: 10_000,
             step: 0.3,
-            resolution: 0.05,
+            resolution: DEFAULT_MAX_JOINT_STEP,
             seed: 0,
         }
     }
@@ -113,6 +117,14 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
 ///
 /// Nearest neighbours are found by a linear scan, fine for the few thousand nodes a query grows.
 /// The path is not shortened: see [`crate::shortcut()`].
+///
+/// # Guarantee
+/// The path starts at `start` and ends at `goal`; every waypoint was accepted by
+/// [`ValidityChecker::is_state_valid`] and every segment between consecutive waypoints by
+/// [`ValidityChecker::is_motion_valid`] at `options.resolution`. With the default checker
+/// motion test and the default resolution ([`DEFAULT_MAX_JOINT_STEP`]), consecutive checked
+/// states are at most 1° apart in every joint (max-norm) and in the weighted distance: the
+/// validator's density. Nothing is claimed between checked states.
 ///
 /// # Errors
 /// [`Error::StateDimension`] / [`Error::StateOutOfBounds`]; [`Error::StartInvalid`] /

@@ -4,14 +4,18 @@ use crate::error::{Error, Result};
 use crate::path::Path;
 use crate::rng::{Rng, stream};
 use crate::space::JointSpace;
-use crate::validity::ValidityChecker;
+use crate::validity::{DEFAULT_MAX_JOINT_STEP, ValidityChecker};
 
 /// Options of [`shortcut`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShortcutOptions {
     /// Random shortcut attempts (default: 100).
     pub attempts: usize,
-    /// Largest weighted distance between two checked states on a shortcut (default: 0.05).
+    /// Largest distance between two consecutive checked states on a shortcut, both as a
+    /// weighted distance and per joint (max-norm, joint units; see
+    /// [`crate::motion_valid_by_interpolation`]) (default: [`DEFAULT_MAX_JOINT_STEP`], 1°,
+    /// the validator's joint step). A coarser value is faster but proves only the states
+    /// sampled that far apart on the new segments.
     pub resolution: f64,
     /// Seed of the random shortcut choices (default: 0).
     pub seed: u64,
@@ -21,7 +25,7 @@ impl Default for ShortcutOptions {
     fn default() -> Self {
         Self {
             attempts: 100,
-            resolution: 0.05,
+            resolution: DEFAULT_MAX_JOINT_STEP,
             seed: 0,
         }
     }
@@ -33,6 +37,17 @@ impl Default for ShortcutOptions {
 /// and replaces the part between them by a straight segment when that segment is valid and
 /// shorter. A final pass drops every waypoint whose neighbours can be joined directly. The
 /// metric is a norm, so no step lengthens the path; the ends never move.
+///
+/// # Guarantee
+/// Every new segment (a shortcut, or a join of the final pass) was accepted by
+/// [`ValidityChecker::is_motion_valid`] at `options.resolution`, every new waypoint by
+/// [`ValidityChecker::is_state_valid`]. A shortcut's end splits one of `path`'s segments: the
+/// piece kept is not checked again, its checked states are the old segment's plus the new end,
+/// so they are as far apart as `path`'s were. With the defaults ([`DEFAULT_MAX_JOINT_STEP`])
+/// and a path from [`crate::rrt_connect`] or [`crate::PrmPlanner::query`] at their default
+/// resolution, the checked states along every segment of the result are at most 1° apart per
+/// joint (max-norm). (Sampling the piece afresh, e.g. by [`Path::is_valid`], puts samples
+/// elsewhere: it can find an obstacle thinner than the resolution that both sets straddle.)
 ///
 /// # Errors
 /// [`Error::StateDimension`] when the path's dimension is not the space's; [`Error::EmptyPath`];

@@ -1,5 +1,6 @@
 //! Integration tests of pickplace-prm on 2-D and 7-D toy spaces with analytic obstacles.
 
+mod defaults;
 mod determinism;
 mod paths;
 mod persistence;
