@@ -316,3 +316,44 @@ mod tests {
         assert!(parse_point("a,b,c", "--target").is_err());
     }
 }
+
+/// `clap` value parsers for numbers, each over its range in the one table
+/// ([`pickplace::ranges`]): a value out of range is a usage error (exit 2) naming the flag.
+pub mod number {
+    use pickplace::ranges::{self, FlagError, Range, parse_flag};
+
+    /// A mesh scale factor.
+    pub fn mesh_scale(text: &str) -> Result<f64, FlagError> {
+        parse_flag(text, ranges::MESH_SCALE)
+    }
+
+    /// A cluster thickness h_max (m).
+    pub fn h_max(text: &str) -> Result<f64, FlagError> {
+        parse_flag(text, ranges::H_MAX)
+    }
+
+    /// The "usually in collision" fraction of a sampled collision matrix.
+    pub fn collision_fraction(text: &str) -> Result<f64, FlagError> {
+        parse_flag(text, ranges::COLLISION_FRACTION)
+    }
+
+    /// A number of sampled configurations.
+    pub fn samples(text: &str) -> Result<usize, FlagError> {
+        parse_flag(text, ranges::MATRIX_SAMPLES).map(|v| v as usize)
+    }
+
+    /// The grasp planner's grid step (m).
+    pub fn grid_step(text: &str) -> Result<f64, FlagError> {
+        parse_flag(text, Range::closed(1e-4, 1.0, "m"))
+    }
+
+    /// The grasp planner's clearance (m).
+    pub fn clearance(text: &str) -> Result<f64, FlagError> {
+        parse_flag(text, Range::closed(0.0, 0.1, "m"))
+    }
+
+    /// Approach directions about a grasp axis.
+    pub fn approaches(text: &str) -> Result<usize, FlagError> {
+        parse_flag(text, Range::closed(1.0, 360.0, "")).map(|v| v as usize)
+    }
+}

@@ -72,16 +72,9 @@ pub struct BatchArgs {
     pub package_dirs: Vec<PathBuf>,
 }
 
-/// A time budget: a finite number of seconds, 0 or more.
-fn time_budget(text: &str) -> Result<f64, String> {
-    let v: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{text} s is not a time budget (0 or more seconds)"))
-    }
+/// A time budget in [`pickplace::ranges::TIME_BUDGET`].
+fn time_budget(text: &str) -> Result<f64, pickplace::ranges::FlagError> {
+    pickplace::ranges::parse_flag(text, pickplace::ranges::TIME_BUDGET)
 }
 
 /// How progress is shown on stderr: `PICKPLACE_PROGRESS` as for the other commands
@@ -333,7 +326,11 @@ mod tests {
             lines[7],
             "4 scene(s) in 1.50 s on 2 thread(s): 1 planned, 1 skipped, 1 no-plan, 1 bad-input, 0 error; summary out/summary.jsonl"
         );
-        assert!(time_budget("-1").is_err() && time_budget("inf").is_err());
+        assert!(
+            time_budget("-1").is_err()
+                && time_budget("inf").is_err()
+                && time_budget("1e300").is_err()
+        );
         assert_eq!(time_budget("2.5"), Ok(2.5));
     }
 }

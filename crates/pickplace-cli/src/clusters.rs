@@ -51,14 +51,15 @@ pub struct ClustersArgs {
     #[arg(long, value_enum, default_value = "env")]
     pub mode: ModeArg,
     /// Maximum cluster thickness h_max in metres (default: 0.001 env, 0.005 finger).
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = crate::args::number::h_max)]
     pub h_max: Option<f64>,
     /// Factor applied to the mesh's coordinates, for files not in metres.
     #[arg(
         long,
         value_name = "S",
         default_value_t = 1.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = crate::args::number::mesh_scale
     )]
     pub scale: f64,
     /// Print the clusters as JSON on stdout (format `pickplace.clusters/1`).
@@ -94,7 +95,8 @@ pub struct PrecomputeArgs {
         long,
         value_name = "M",
         requires = "mode",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = crate::args::number::h_max
     )]
     pub h_max: Option<f64>,
     /// Folder for the databases (default: $PICKPLACE_CACHE, else $XDG_CACHE_HOME/pickplace,

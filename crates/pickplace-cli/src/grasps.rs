@@ -16,7 +16,7 @@ pub struct GraspsArgs {
     /// Object mesh (.stl, .obj, .ply), in metres unless --scale is given.
     pub mesh: PathBuf,
     /// Scale applied to the mesh on loading (0.001 for a file in millimetres).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, value_parser = crate::args::number::mesh_scale)]
     pub scale: f64,
     /// The robot directory (its `gripper.toml` is read) or a gripper configuration file.
     #[arg(long, value_name = "DIR_OR_CONFIG")]
@@ -25,16 +25,16 @@ pub struct GraspsArgs {
     #[arg(long)]
     pub json: bool,
     /// Finger-contact cluster thickness h_max (m).
-    #[arg(long, value_name = "M", default_value_t = ClusterParams::finger().h_max)]
+    #[arg(long, value_name = "M", default_value_t = ClusterParams::finger().h_max, allow_negative_numbers = true, value_parser = crate::args::number::h_max)]
     pub h_max: f64,
     /// Spacing of the grid of grasp centres (m).
-    #[arg(long, value_name = "M", default_value_t = GraspOptions::default().grid_step)]
+    #[arg(long, value_name = "M", default_value_t = GraspOptions::default().grid_step, allow_negative_numbers = true, value_parser = crate::args::number::grid_step)]
     pub grid_step: f64,
     /// Number of approach directions about each grasp axis.
-    #[arg(long, value_name = "N", default_value_t = GraspOptions::default().approach_count)]
+    #[arg(long, value_name = "N", default_value_t = GraspOptions::default().approach_count, value_parser = crate::args::number::approaches)]
     pub approaches: usize,
     /// Clearance kept between the gripper and the object (m).
-    #[arg(long, value_name = "M", default_value_t = GraspOptions::default().clearance)]
+    #[arg(long, value_name = "M", default_value_t = GraspOptions::default().clearance, allow_negative_numbers = true, value_parser = crate::args::number::clearance)]
     pub clearance: f64,
 }
 

@@ -39,10 +39,10 @@ pub struct PlacementsArgs {
     )]
     pub target: Option<String>,
     /// Scale applied to both meshes on loading (default: 1, the files are in metres).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, value_parser = crate::args::number::mesh_scale)]
     pub scale: Real,
     /// h_max of the environment-contact clustering (m).
-    #[arg(long, default_value_t = 0.001)]
+    #[arg(long, default_value_t = 0.001, allow_negative_numbers = true, value_parser = crate::args::number::h_max)]
     pub h_max: Real,
     /// Maximum number of placements listed.
     #[arg(long, default_value_t = 32)]

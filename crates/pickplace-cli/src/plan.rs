@@ -91,25 +91,15 @@ pub struct PlanArgs {
     pub package_dirs: Vec<PathBuf>,
 }
 
-/// A scaling factor in (0, 1].
-pub fn scaling_factor(text: &str) -> Result<f64, String> {
-    let v: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    pickplace::scene::scaling(v)?;
-    Ok(v)
+/// A scaling factor in [`pickplace::ranges::SCALING`].
+pub fn scaling_factor(text: &str) -> Result<f64, pickplace::ranges::FlagError> {
+    pickplace::ranges::parse_flag(text, pickplace::ranges::SCALING)
 }
 
-/// A sample period in [0.001, 1] s (finer would make huge files, coarser would hide motion).
-pub fn sample_period(text: &str) -> Result<f64, String> {
-    let v: f64 = text
-        .parse()
-        .map_err(|_| format!("{text:?} is not a number"))?;
-    if (0.001..=1.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err(format!("{text} s is not a sample period in [0.001, 1] s"))
-    }
+/// A sample period in [`pickplace::ranges::SAMPLE_PERIOD`] (finer would make huge files,
+/// coarser would hide motion).
+pub fn sample_period(text: &str) -> Result<f64, pickplace::ranges::FlagError> {
+    pickplace::ranges::parse_flag(text, pickplace::ranges::SAMPLE_PERIOD)
 }
 
 /// Which cache folder a command's setup uses.
@@ -136,6 +126,16 @@ impl CacheChoice {
 
 /// Loads a scene with its log, the cache's warning (if any) and progress on stderr.
 pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyhow::Result<Setup> {
+    setup_with(scene, cache, package_dirs, Setup::load)
+}
+
+/// [`setup`] by another loader: `validate` sets up only what the validator reads (issue 33).
+fn setup_with(
+    scene: &Path,
+    cache: CacheChoice,
+    package_dirs: &[PathBuf],
+    load: fn(&Path, &SetupOptions) -> Result<Setup, pickplace::Error>,
+) -> anyhow::Result<Setup> {
     let t = Instant::now();
     let cache_dir = match cache {
         CacheChoice::Folder(dir) => Some(dir),
@@ -153,7 +153,7 @@ pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyh
         package_dirs: package_dirs.to_vec(),
         progress: crate::progress::receiver(),
     };
-    let setup = Setup::load(scene, &options)?;
+    let setup = load(scene, &options)?;
     for warning in &setup.warnings {
         note!("warning: {warning}");
     }
@@ -259,11 +259,12 @@ pub struct ValidateArgs {
     pub scene: PathBuf,
     /// Plan file.
     pub plan: PathBuf,
-    /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
-    /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
+    /// Folder of the cache (default: $PICKPLACE_CACHE, else $XDG_CACHE_HOME/pickplace, else
+    /// ~/.cache/pickplace); validating reads only the object's clusters there, it clusters no
+    /// environment mesh and builds no roadmap.
     #[arg(long, value_name = "DIR")]
     pub cache: Option<PathBuf>,
-    /// Use no cache: cluster databases and roadmaps are built in memory.
+    /// Use no cache: the object's clusters are built in memory.
     #[arg(long, conflicts_with = "cache")]
     pub no_cache: bool,
     /// A folder searched for `package://` mesh paths (repeatable; after the scene's
@@ -288,7 +289,12 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
     let plan = Plan::from_json(&text)
         .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
     let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let setup = setup(&args.scene, cache, &args.package_dirs)?;
+    let setup = setup_with(
+        &args.scene,
+        cache,
+        &args.package_dirs,
+        Setup::load_for_validation,
+    )?;
     let t = Instant::now();
     let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
     note!(

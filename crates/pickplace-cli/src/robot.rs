@@ -31,21 +31,21 @@ pub enum RobotCommand {
         #[command(flatten)]
         load: LoadArgs,
         /// Random configurations sampled for the always-close pairs (with --srdf).
-        #[arg(long, default_value_t = 200)]
+        #[arg(long, default_value_t = 200, value_parser = crate::args::number::samples)]
         samples: usize,
         /// Seed of that sampling.
         #[arg(long, default_value_t = 0)]
         seed: u64,
         /// Random configurations sampled for the collision matrix of a robot without one
         /// (no SRDF, or no disable_collisions in it), as the planner samples it.
-        #[arg(long, default_value_t = 10_000)]
+        #[arg(long, default_value_t = 10_000, value_parser = crate::args::number::samples)]
         matrix_samples: usize,
         /// Seed of the collision matrix's sampling (the planner's default: 0).
         #[arg(long, default_value_t = 0)]
         matrix_seed: u64,
         /// A link pair in collision in at least this fraction of those samples is disabled
         /// as "Always" (MoveIt's setup assistant and the planner's default: 0.95).
-        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION)]
+        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION, allow_negative_numbers = true, value_parser = crate::args::number::collision_fraction)]
         min_collision_fraction: f64,
         /// Print JSON instead of text.
         #[arg(long)]
@@ -62,7 +62,7 @@ pub enum RobotCommand {
         #[command(flatten)]
         load: LoadArgs,
         /// Random configurations sampled.
-        #[arg(long, default_value_t = 10_000)]
+        #[arg(long, default_value_t = 10_000, value_parser = crate::args::number::samples)]
         samples: usize,
         /// Seed of the sampling.
         #[arg(long, default_value_t = 0)]
@@ -70,7 +70,7 @@ pub enum RobotCommand {
         /// A link pair in collision in at least this fraction of the samples is disabled as
         /// "Always" (MoveIt's setup assistant: 0.95); 1 keeps only pairs in collision in
         /// every sample.
-        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION)]
+        #[arg(long, default_value_t = pickplace_robot::collision::DEFAULT_MIN_COLLISION_FRACTION, allow_negative_numbers = true, value_parser = crate::args::number::collision_fraction)]
         min_collision_fraction: f64,
         /// The SRDF file to write (atomically).
         #[arg(long)]

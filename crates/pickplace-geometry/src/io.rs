@@ -245,6 +245,28 @@ pub fn is_refused(error: &std::io::Error) -> bool {
         .is_some_and(|inner| inner.downcast_ref::<Refusal>().is_some())
 }
 
+/// [`path_kind`] of a path where nothing is.
+pub const MISSING: &str = "missing";
+
+/// What `path` is when it is not a regular file (following symbolic links): `"a character
+/// device"`, `"a folder"`, `"a symbolic link to a missing file"`, `"missing"`, … — `None` for
+/// a regular file. Errors other than a missing file (permissions) are `None` too: reading the
+/// file reports them.
+pub fn path_kind(path: &Path) -> Option<&'static str> {
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => None,
+        Ok(meta) => Some(kind_name(meta.file_type())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            if std::fs::symlink_metadata(path).is_ok() {
+                Some("a symbolic link to a missing file")
+            } else {
+                Some(MISSING)
+            }
+        }
+        Err(_) => None,
+    }
+}
+
 fn kind_name(file_type: std::fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt as _;
     if file_type.is_dir() {

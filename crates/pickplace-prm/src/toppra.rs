@@ -658,8 +658,20 @@ pub fn parameterize(path: &BlendedPath, options: &ToppraOptions) -> Result<Param
     for i in 0..n - 1 {
         let d = grid[i + 1] - grid[i];
         let speed = x[i].sqrt() + x[i + 1].sqrt();
-        // A stage with no speed at both ends only occurs for a zero-length stage.
-        let dt = if speed > 0.0 { 2.0 * d / speed } else { 0.0 };
+        // A stage with no speed at both ends takes no time only when it has no length; with
+        // a length, the limits allow no motion (a limit so small that its square underflows):
+        // the motion would last forever, which no trajectory can sample.
+        let dt = if speed > 0.0 {
+            2.0 * d / speed
+        } else if d > 0.0 {
+            return Err(Error::TooManyPoints {
+                what: "samples (the limits allow no speed along the path)",
+                count: f64::INFINITY,
+                limit: MAX_TRAJECTORY_SAMPLES,
+            });
+        } else {
+            0.0
+        };
         times[i + 1] = times[i] + dt;
     }
     Ok(Parameterization { grid, x, times })
@@ -1417,6 +1429,20 @@ mod tests {
             traj.points.last().map(|p| p.time_from_start),
             Some(timing.duration())
         );
+    }
+
+    #[test]
+    fn limits_so_small_they_allow_no_speed_are_refused_not_timed_at_zero() {
+        // 1e-300 squared underflows to 0: every stage would get no speed, and used to take
+        // no time, so the robot jumped along the path in 0 s.
+        let path = BlendedPath::split(&[vec![0.0, 0.0], vec![1.0, 0.5]], 0.01).unwrap();
+        let o = ToppraOptions {
+            max_velocities: vec![1e-300, 1.0],
+            ..opts(2, 1.0, 1.0)
+        };
+        let e = parameterize(&path[0], &o).unwrap_err();
+        assert!(matches!(e, Error::TooManyPoints { .. }), "{e}");
+        assert!(e.to_string().contains("no speed"), "{e}");
     }
 
     #[test]

@@ -27,15 +27,18 @@ fn load_mesh(path: &Path, scale: Real) -> Result<TriMesh, String> {
     mesh::load(path, &options).map_err(|e| message(&e))
 }
 
-/// `scale` must be a positive number (the CLI's `--scale`).
+/// `scale` in the CLI's `--scale` range ([`pickplace::ranges::MESH_SCALE`]).
 fn check_scale(scale: Real) -> PyResult<()> {
-    if scale.is_finite() && scale > 0.0 {
-        Ok(())
-    } else {
-        Err(input_msg(format!(
-            "scale {scale}: must be a positive number"
-        )))
-    }
+    pickplace::ranges::MESH_SCALE
+        .check(scale)
+        .map_err(|e| input_msg(format!("scale: {e}")))
+}
+
+/// `h_max` in the CLI's `--h-max` range ([`pickplace::ranges::H_MAX`]).
+fn check_h_max(h_max: Real) -> PyResult<()> {
+    pickplace::ranges::H_MAX
+        .check(h_max)
+        .map_err(|e| input_msg(format!("h_max: {e}")))
 }
 
 /// Clusters a mesh's surface into planar contact regions (the paper's §III-A, Algorithm 1),
@@ -63,6 +66,7 @@ pub fn clusters<'py>(
         }
     };
     if let Some(h) = h_max {
+        check_h_max(h)?;
         params.h_max = h;
     }
     params
@@ -101,6 +105,7 @@ pub fn placements<'py>(
     max: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
     check_scale(scale)?;
+    check_h_max(h_max)?;
     if on.is_none() && (env_pose.is_some() || target.is_some()) {
         return Err(input_msg(
             "env_pose and target need an environment mesh (on=...)",

@@ -287,6 +287,15 @@ pub enum MeshProblem {
         /// The resolved path.
         path: PathBuf,
     },
+    /// The path is there but is no regular file (a device, a folder, a FIFO, a symbolic
+    /// link to a missing file).
+    #[error("{} is {kind}, not a mesh file", path.display())]
+    NotAFile {
+        /// The resolved path.
+        path: PathBuf,
+        /// What it is (`pickplace_geometry::io::path_kind`).
+        kind: &'static str,
+    },
     /// A format we cannot read (3DS, ...).
     #[error("file {} has unsupported format {extension:?} (expected .stl, .obj, .ply or .dae)", path.display())]
     UnsupportedFormat {
@@ -312,6 +321,10 @@ impl MeshProblem {
             }
             Self::NotFound { path } => format!(
                 "the file {} is missing: install the mesh package or correct the filename",
+                path.display()
+            ),
+            Self::NotAFile { path, .. } => format!(
+                "point the URDF at the mesh file itself ({} is not one)",
                 path.display()
             ),
             Self::UnsupportedFormat { .. } => {

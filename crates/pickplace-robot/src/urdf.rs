@@ -505,8 +505,17 @@ fn load_mesh(
     scale: [Real; 3],
 ) -> std::result::Result<(std::path::PathBuf, TriMesh), MeshProblem> {
     let resolved = resolve_uri(uri, base_dir, &options.package_dirs)?;
-    if !resolved.is_file() {
-        return Err(MeshProblem::NotFound { path: resolved });
+    match pickplace_geometry::io::path_kind(&resolved) {
+        None => {}
+        Some(pickplace_geometry::io::MISSING) => {
+            return Err(MeshProblem::NotFound { path: resolved });
+        }
+        Some(kind) => {
+            return Err(MeshProblem::NotAFile {
+                path: resolved,
+                kind,
+            });
+        }
     }
     let extension = resolved
         .extension()

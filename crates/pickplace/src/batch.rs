@@ -67,15 +67,15 @@ pub struct BatchOptions {
     pub seed: Option<u64>,
     /// Strategy of every scene (default: each scene's `planner.strategy`).
     pub strategy: Option<StrategyChoice>,
-    /// Wall-clock budget of each scene's plan (s), 0 or more (default: each scene's
+    /// Wall-clock budget of each scene's plan (s), in [`crate::ranges::TIME_BUDGET`] (default: each scene's
     /// `planner.time_budget`).
     pub time_budget: Option<Real>,
-    /// Velocity scaling factor in (0, 1] (default: each scene's, see
+    /// Velocity scaling factor in [`crate::ranges::SCALING`] (default: each scene's, see
     /// [`PlanOptions::velocity_scaling`]).
     pub velocity_scaling: Option<Real>,
-    /// Acceleration scaling factor in (0, 1] (default: each scene's).
+    /// Acceleration scaling factor in [`crate::ranges::SCALING`] (default: each scene's).
     pub acceleration_scaling: Option<Real>,
-    /// Trajectory sampling period (s), positive (default: [`PlanOptions::sample_period`]'s).
+    /// Trajectory sampling period (s), in [`crate::ranges::SAMPLE_PERIOD`] (default: [`PlanOptions::sample_period`]'s).
     pub sample_period: Option<Real>,
     /// Record stage timings in the plans, and each scene's time in the summary (default:
     /// true). Without them, the plan files and the summary are the same bytes on every run.
@@ -114,30 +114,27 @@ impl BatchOptions {
         if self.jobs == 0 {
             return Err(invalid("jobs", "0 threads: give at least 1".to_owned()));
         }
-        if let Some(b) = self.time_budget
-            && !(b.is_finite() && b >= 0.0)
-        {
-            return Err(invalid(
-                "time_budget",
-                format!("{b} s is not a time budget (0 or more seconds)"),
-            ));
-        }
-        for (option, factor) in [
-            ("velocity_scaling", self.velocity_scaling),
-            ("acceleration_scaling", self.acceleration_scaling),
-        ] {
-            if let Some(f) = factor {
-                crate::scene::scaling(f).map_err(|r| invalid(option, r))?;
-            }
-        }
-        if let Some(p) = self.sample_period
-            && !(p.is_finite() && p > 0.0)
-        {
-            return Err(invalid(
-                "sample_period",
-                format!("{p} s is not a positive period"),
-            ));
-        }
+        let range = |option: &'static str, value: Option<Real>, range: crate::ranges::Range| {
+            value.map_or(Ok(()), |v| {
+                range.check(v).map_err(|e| invalid(option, e.to_string()))
+            })
+        };
+        range("time_budget", self.time_budget, crate::ranges::TIME_BUDGET)?;
+        range(
+            "velocity_scaling",
+            self.velocity_scaling,
+            crate::ranges::SCALING,
+        )?;
+        range(
+            "acceleration_scaling",
+            self.acceleration_scaling,
+            crate::ranges::SCALING,
+        )?;
+        range(
+            "sample_period",
+            self.sample_period,
+            crate::ranges::SAMPLE_PERIOD,
+        )?;
         Ok(())
     }
 

@@ -296,12 +296,13 @@ pub fn check_spec(spec: &JointLimitSpec) -> Result<(), String> {
                 &name[4..]
             ));
         }
-        if let Some(v) = value
-            && !(v.is_finite() && v > 0.0)
-        {
-            return Err(format!(
-                "{name} = {v}: a limit is a positive, finite number"
-            ));
+        let range = if name == "max_velocity" {
+            crate::ranges::JOINT_VELOCITY
+        } else {
+            crate::ranges::JOINT_ACCELERATION
+        };
+        if let Some(v) = value {
+            range.check(v).map_err(|e| format!("{name}: {e}"))?;
         }
     }
     Ok(())
@@ -475,7 +476,11 @@ joint_limits:
             3.0,
             &[(&bad, "s".into(), String::new())],
         );
-        assert!(e.expect_err("negative").2.contains("positive"));
+        assert!(
+            e.expect_err("negative")
+                .2
+                .contains("max_acceleration: -1 is not in")
+        );
         let mut unknown = BTreeMap::new();
         unknown.insert("c".to_owned(), JointLimitSpec::default());
         let e = resolve(

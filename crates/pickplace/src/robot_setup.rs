@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::joint_limits::JointLimitSpec;
 use crate::scene::{GroupSpecToml, RobotSpec, Scene};
 use crate::strategy::Arm;
-use pickplace_geometry::io::FileKind;
+use pickplace_geometry::io::{FileKind, fmt_real};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_grasp::GripperParams;
 use pickplace_grasp::gripper::PalmBox;
@@ -132,7 +132,68 @@ impl GripperOverrides {
         };
         axis("approach_axis", o.approach_axis, [0.0, 0.0, 1.0])?;
         axis("closing_axis", o.closing_axis, [0.0, 1.0, 0.0])?;
+        o.check_values()
+            .map_err(|(field, reason)| invalid(&at_line(&text, field), reason))?;
         Ok(o)
+    }
+
+    /// Every number given in range, as `(field, reason)`: the measuring options by
+    /// [`GripperOptions::check`] (the rules [`Gripper::derive`] applies), the grasp model's
+    /// lengths positive and at most 1 m, `opening_min` below `opening_max`, the palm box
+    /// finite, within 1 m and not inverted.
+    fn check_values(&self) -> std::result::Result<(), (&'static str, String)> {
+        if let Err(pickplace_robot::gripper::GripperError::BadOption { name, reason }) =
+            self.options().check()
+        {
+            let given = match name {
+                "squeeze" => self.squeeze,
+                "pad_depth" => self.pad_depth,
+                "pad_width" => self.pad_width,
+                "opening_max" => self.opening_max,
+                _ => None,
+            };
+            let reason = match given {
+                Some(v) => format!("{reason}, not {}", fmt_real(v)),
+                None => reason.to_owned(),
+            };
+            return Err((name, reason));
+        }
+        let length = crate::ranges::Range::above(0.0, 1.0, "m");
+        for (field, value) in [
+            ("finger_length", self.finger_length),
+            ("finger_thickness", self.finger_thickness),
+        ] {
+            if let Some(v) = value {
+                length.check(v).map_err(|e| (field, e.to_string()))?;
+            }
+        }
+        if let Some(v) = self.opening_min {
+            crate::ranges::Range::closed(0.0, 1.0, "m")
+                .check(v)
+                .map_err(|e| ("opening_min", e.to_string()))?;
+            if let Some(max) = self.opening_max
+                && v >= max
+            {
+                return Err((
+                    "opening_min",
+                    format!(
+                        "{} m is not below opening_max ({} m)",
+                        fmt_real(v),
+                        fmt_real(max)
+                    ),
+                ));
+            }
+        }
+        if let Some(p) = &self.palm {
+            let within = crate::ranges::Range::closed(-1.0, 1.0, "m");
+            for c in p.min.iter().chain(p.max.iter()) {
+                within.check(*c).map_err(|e| ("palm", e.to_string()))?;
+            }
+            if (0..3).any(|i| p.min[i] >= p.max[i]) {
+                return Err(("palm", "min must be below max on every axis".to_owned()));
+            }
+        }
+        Ok(())
     }
 
     /// The measuring options these overrides give [`Gripper::derive`] (squeeze, pads, largest
@@ -275,11 +336,13 @@ impl RobotSetup {
                     ),
                 ] {
                     if let Some(v) = factor {
-                        crate::scene::scaling(v).map_err(|reason| Error::Invalid {
-                            path: path.clone(),
-                            field: field.into(),
-                            reason,
-                        })?;
+                        crate::ranges::SCALING
+                            .check(v)
+                            .map_err(|e| Error::Invalid {
+                                path: path.clone(),
+                                field: field.into(),
+                                reason: e.to_string(),
+                            })?;
                     }
                 }
                 limit_files.push((file, path, spec.prefix.clone()));
@@ -501,6 +564,42 @@ impl RobotSetup {
                 reason,
             }
         })?;
+        // A limit far too small (a URDF's velocity="1e-300") would make every motion last
+        // for ages or underflow the timing: refused here, naming the joint and its source.
+        for (name, limit) in variables.iter().zip(&timing) {
+            for (what, value, source, range) in [
+                (
+                    "velocity",
+                    limit.velocity,
+                    &limit.velocity_source,
+                    crate::ranges::JOINT_VELOCITY,
+                ),
+                (
+                    "acceleration",
+                    limit.acceleration,
+                    &limit.acceleration_source,
+                    crate::ranges::JOINT_ACCELERATION,
+                ),
+            ] {
+                if let Err(e) = range.check(value) {
+                    let path = match source.as_str() {
+                        "urdf" => scene
+                            .robots
+                            .iter()
+                            .filter(|r| name.starts_with(&r.prefix))
+                            .max_by_key(|r| r.prefix.len())
+                            .map_or_else(|| first_urdf.clone(), |r| r.urdf.clone()),
+                        "default" => scene_path.to_path_buf(),
+                        file => PathBuf::from(file),
+                    };
+                    return Err(Error::Invalid {
+                        path,
+                        field: format!("joint {name:?}"),
+                        reason: format!("{what} limit {e}"),
+                    });
+                }
+            }
+        }
         let file_scaling = (
             limit_files
                 .iter()
@@ -566,6 +665,23 @@ pub fn grasp_model(
     };
     params.validate_for(source)?;
     Ok(params)
+}
+
+/// `line N: field` for the line of a TOML file where `field` (or, for the palm, its table)
+/// is given; the bare field when it cannot be found (a dotted or inline form).
+fn at_line(text: &str, field: &str) -> String {
+    let found = text.lines().position(|line| {
+        let line = line.trim_start();
+        if field == "palm" && line.starts_with("[palm]") {
+            return true;
+        }
+        line.strip_prefix(field)
+            .is_some_and(|rest| rest.trim_start().starts_with('='))
+    });
+    match found {
+        Some(i) => format!("line {}: {field}", i + 1),
+        None => field.to_owned(),
+    }
 }
 
 fn group_spec(name: &str, g: &GroupSpecToml) -> GroupSpec {

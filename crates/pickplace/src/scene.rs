@@ -3,6 +3,7 @@
 //! Relative paths in a scene are resolved against the folder of the scene file. Unknown fields
 //! are rejected so that a typo is an error, not a silently ignored option.
 
+use crate::ranges::{self, Range};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion, nalgebra};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -565,10 +566,16 @@ impl Scene {
                 ),
             ));
         }
+        let range = |field: &str, value: Real, r: Range| {
+            r.check(value).map_err(|e| invalid(field, e.to_string()))
+        };
+        let point = |field: &str, p: &[Real; 3]| {
+            p.iter()
+                .try_for_each(|&v| range(field, v, ranges::COORDINATE))
+        };
         let pose = |field: &str, p: &PoseSpec| {
-            p.to_isometry()
-                .map(|_| ())
-                .map_err(|r| invalid(field, r.into()))
+            p.to_isometry().map_err(|r| invalid(field, r.into()))?;
+            point(&format!("{field}.position"), &p.position)
         };
         match (scene.robot.take(), scene.robots.is_empty()) {
             (Some(robot), true) => scene.robots.push(robot),
@@ -598,13 +605,12 @@ impl Scene {
                 }
             };
             pose(&field("base_pose"), &robot.base_pose)?;
-            for (name, value) in &robot.start_state {
-                if !value.is_finite() {
-                    return Err(invalid(
-                        &field(&format!("start_state.{name}")),
-                        "not a finite number".into(),
-                    ));
-                }
+            for (name, &value) in &robot.start_state {
+                range(
+                    &field(&format!("start_state.{name}")),
+                    value,
+                    ranges::JOINT_VALUE,
+                )?;
             }
             if several && !prefixes.insert(robot.prefix.clone()) {
                 return Err(invalid(
@@ -625,41 +631,31 @@ impl Scene {
             }
         }
         let matrix = &scene.collision_matrix;
-        if matrix.samples == 0 {
-            return Err(invalid(
-                "collision_matrix.samples",
-                "sample at least one configuration".into(),
-            ));
-        }
-        let fraction = matrix.min_collision_fraction;
-        if !(fraction > 0.0 && fraction <= 1.0) {
-            return Err(invalid(
-                "collision_matrix.min_collision_fraction",
-                format!("{fraction} is not in (0, 1]"),
-            ));
-        }
+        ranges::MATRIX_SAMPLES
+            .check_count(matrix.samples)
+            .map_err(|e| invalid("collision_matrix.samples", e.to_string()))?;
+        ranges::COLLISION_FRACTION
+            .check(matrix.min_collision_fraction)
+            .map_err(|e| invalid("collision_matrix.min_collision_fraction", e.to_string()))?;
         pose("object.start_pose", &scene.object.start_pose)?;
         for (i, env) in scene.environment.iter().enumerate() {
             pose(&format!("environment[{i}].pose"), &env.pose)?;
-            positive(env.scale).map_err(|r| invalid(&format!("environment[{i}].scale"), r))?;
+            range(
+                &format!("environment[{i}].scale"),
+                env.scale,
+                ranges::MESH_SCALE,
+            )?;
         }
-        positive(scene.object.scale).map_err(|r| invalid("object.scale", r))?;
+        range("object.scale", scene.object.scale, ranges::MESH_SCALE)?;
         if let Some(m) = scene.object.mass {
-            positive(m).map_err(|r| invalid("object.mass", r))?;
+            range("object.mass", m, ranges::MASS)?;
         }
-        if let Some(c) = scene.object.center_of_gravity
-            && c.iter().any(|v| !v.is_finite())
-        {
-            return Err(invalid(
-                "object.center_of_gravity",
-                "not a finite point".into(),
-            ));
+        if let Some(c) = &scene.object.center_of_gravity {
+            point("object.center_of_gravity", c)?;
         }
-        if scene.target.point.iter().any(|v| !v.is_finite()) {
-            return Err(invalid("target.point", "not a finite point".into()));
-        }
+        point("target.point", &scene.target.point)?;
         if let Some(t) = scene.target.tolerance {
-            positive(t).map_err(|r| invalid("target.tolerance", r))?;
+            range("target.tolerance", t, ranges::TARGET_TOLERANCE)?;
         }
         let t = &scene.trajectory;
         for (field, value) in [
@@ -667,10 +663,14 @@ impl Scene {
             ("trajectory.acceleration_scaling", t.acceleration_scaling),
         ] {
             if let Some(v) = value {
-                scaling(v).map_err(|r| invalid(field, r))?;
+                range(field, v, ranges::SCALING)?;
             }
         }
-        positive(t.max_acceleration).map_err(|r| invalid("trajectory.max_acceleration", r))?;
+        range(
+            "trajectory.max_acceleration",
+            t.max_acceleration,
+            ranges::JOINT_ACCELERATION,
+        )?;
         for (joint, spec) in &t.joint_limits {
             pickplace_geometry::io::check_name("the joint name", joint)
                 .map_err(|r| invalid("trajectory.joint_limits", r))?;
@@ -678,9 +678,13 @@ impl Scene {
                 .map_err(|r| invalid(&format!("trajectory.joint_limits.{joint}"), r))?;
         }
         let p = &scene.planner;
-        positive(p.h_max_environment).map_err(|r| invalid("planner.h_max_environment", r))?;
-        positive(p.h_max_finger).map_err(|r| invalid("planner.h_max_finger", r))?;
-        positive(p.time_budget).map_err(|r| invalid("planner.time_budget", r))?;
+        range(
+            "planner.h_max_environment",
+            p.h_max_environment,
+            ranges::H_MAX,
+        )?;
+        range("planner.h_max_finger", p.h_max_finger, ranges::H_MAX)?;
+        range("planner.time_budget", p.time_budget, ranges::TIME_BUDGET)?;
         let mut names = std::collections::BTreeSet::new();
         for env in &scene.environment {
             if !names.insert(env.name.clone()) {
@@ -722,21 +726,6 @@ impl Scene {
     /// The target point.
     pub fn target_point(&self) -> Point3 {
         Point3::from(self.target.point)
-    }
-}
-
-/// A scaling factor: in (0, 1].
-///
-/// # Errors
-/// What is wrong, for the field's message.
-pub fn scaling(v: Real) -> Result<(), String> {
-    if v.is_finite() && v > 0.0 && v <= 1.0 {
-        Ok(())
-    } else {
-        Err(format!(
-            "{} is not a scaling factor in (0, 1]",
-            pickplace_geometry::io::fmt_real(v)
-        ))
     }
 }
 
@@ -804,14 +793,6 @@ fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
         }
     }
     Ok(())
-}
-
-fn positive(value: Real) -> Result<(), String> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("must be a positive number, got {value}"))
-    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ mod demo;
 mod export;
 mod hardening;
 mod limits;
+mod numbers;
 mod placements;
 mod plan;
 mod precompute;

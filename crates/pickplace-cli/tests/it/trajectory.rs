@@ -122,12 +122,15 @@ fn bad_tables_and_factors_exit_2_naming_what_is_wrong() {
     );
     fails_with(
         &run(args!["plan", &s]),
-        &["trajectory.joint_limits.RARM_JOINT0", "positive"],
+        &[
+            "trajectory.joint_limits.RARM_JOINT0",
+            "max_acceleration: -1 is not in",
+        ],
     );
     let s = scene(&dir, "", "[trajectory]\nvelocity_scaling = 2.0");
     fails_with(
         &run(args!["plan", &s]),
-        &["trajectory.velocity_scaling", "(0, 1]"],
+        &["trajectory.velocity_scaling", "[0.001, 1]"],
     );
     let plain = scene(&dir, "", "");
     for (flag, value, words) in [

@@ -14,7 +14,7 @@ impl Gripper {
         arm_variables: &[usize],
         options: &GripperOptions,
     ) -> Result<Self, GripperError> {
-        check_options(options)?;
+        options.check()?;
         let arm_tip = arm_tip(model, arm_variables)?;
         let tip_name = model.links()[arm_tip].name.clone();
         let subtree = subtree(model, arm_tip);
@@ -454,6 +454,18 @@ impl Gripper {
         } else {
             Isometry3::identity()
         }
+    }
+}
+
+impl GripperOptions {
+    /// Refuses values out of range: a squeeze outside [0, 0.02] m, a pad size or largest
+    /// opening outside (0, 1] m, a tool offset beyond 1 m (the rules [`Gripper::derive`]
+    /// applies first; an overrides file is checked with them when it is read).
+    ///
+    /// # Errors
+    /// [`GripperError::BadOption`] naming the first bad option.
+    pub fn check(&self) -> Result<(), GripperError> {
+        check_options(self)
     }
 }
 

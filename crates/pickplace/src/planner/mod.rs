@@ -105,30 +105,55 @@ pub struct PlanOptions {
 }
 
 impl PlanOptions {
-    /// Refuses timing options out of range: scaling factors outside (0, 1], a sample period
-    /// that is not positive, a negative blend tolerance.
+    /// Refuses options out of range ([`crate::ranges`]): every number, before any work, so
+    /// that a library caller gets the CLI's message rather than an overflow.
     ///
     /// # Errors
     /// [`crate::Error::Invalid`] naming the option (and the scene).
     pub fn check(&self, setup: &Setup) -> Result<()> {
-        let invalid = |field: &str, reason: String| crate::Error::Invalid {
+        use crate::ranges::{
+            PLANNER_ANGLE, PLANNER_DISTANCE, Range, SAMPLE_PERIOD, SCALING, TIME_BUDGET,
+        };
+        let fraction = Range::closed(0.0, 1.0, "");
+        let counts = Range::closed(1.0, 100_000.0, "");
+        let checks: [(&str, Real, Range); 13] = [
+            ("time_budget", self.time_budget, TIME_BUDGET),
+            ("velocity_scaling", self.velocity_scaling, SCALING),
+            ("acceleration_scaling", self.acceleration_scaling, SCALING),
+            ("sample_period", self.sample_period, SAMPLE_PERIOD),
+            ("blend_tolerance", self.blend_tolerance, PLANNER_ANGLE),
+            ("max_joint_step", self.max_joint_step, PLANNER_ANGLE),
+            (
+                "approach_distance",
+                self.approach_distance,
+                PLANNER_DISTANCE,
+            ),
+            ("lift_height", self.lift_height, PLANNER_DISTANCE),
+            ("motion_margin", self.motion_margin, PLANNER_DISTANCE),
+            ("contact_zone", self.contact_zone, PLANNER_DISTANCE),
+            ("min_grasp_quality", self.min_grasp_quality, fraction),
+            ("handover_poses", self.handover_poses as Real, counts),
+            ("handover_feasible", self.handover_feasible as Real, counts),
+        ];
+        for (field, value, range) in checks {
+            range.check(value).map_err(|e| crate::Error::Invalid {
+                path: setup.scene_path.clone(),
+                field: format!("plan option {field}"),
+                reason: e.to_string(),
+            })?;
+        }
+        let bad = |field: &str, reason: &str| crate::Error::Invalid {
             path: setup.scene_path.clone(),
             field: format!("plan option {field}"),
-            reason,
+            reason: reason.to_owned(),
         };
-        crate::scene::scaling(self.velocity_scaling).map_err(|r| invalid("velocity_scaling", r))?;
-        crate::scene::scaling(self.acceleration_scaling)
-            .map_err(|r| invalid("acceleration_scaling", r))?;
-        if !(self.sample_period.is_finite() && self.sample_period > 0.0) {
-            return Err(invalid(
-                "sample_period",
-                format!("{} s is not a positive period", self.sample_period),
-            ));
+        if !(self.cartesian_step > 0.0 && PLANNER_DISTANCE.contains(self.cartesian_step)) {
+            return Err(bad("cartesian_step", "must be in (0, 10] m"));
         }
-        if !(self.blend_tolerance.is_finite() && self.blend_tolerance >= 0.0) {
-            return Err(invalid(
-                "blend_tolerance",
-                format!("{} is not a tolerance (0 or more)", self.blend_tolerance),
+        if self.regrasp_rests.0 > self.regrasp_rests.1 || self.regrasp_rests.1 > 8 {
+            return Err(bad(
+                "regrasp_rests",
+                "must be (fewest, most) with fewest <= most <= 8",
             ));
         }
         Ok(())
@@ -324,6 +349,9 @@ fn candidate_counts(
 /// Beyond the target's tolerance, how far (m) placement positions are still searched.
 const PLACEMENT_SEARCH_MARGIN: Real = 0.01;
 
+/// A deadline that is never reached (a century), for budgets no [`Instant`] can hold.
+const FAR_FUTURE: std::time::Duration = std::time::Duration::from_secs(100 * 365 * 86_400);
+
 /// Fig. 8's first two steps: the placement candidates on the cluster the target selects
 /// (Algorithm 2) and the grasp candidates on the object's parallel cluster pairs (§III-B.1),
 /// each timed into `timings`.
@@ -380,7 +408,11 @@ impl<'a> Ctx<'a> {
     ) -> Self {
         let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
         let n = placement_set.placements.len();
-        let deadline = started + std::time::Duration::from_secs_f64(options.time_budget.max(0.0));
+        // The budget is checked against ranges::TIME_BUDGET; a library caller who skipped
+        // the check still gets no panic: a budget no Duration holds has no deadline.
+        let budget = std::time::Duration::try_from_secs_f64(options.time_budget.max(0.0))
+            .unwrap_or(std::time::Duration::MAX);
+        let deadline = started.checked_add(budget).unwrap_or(started + FAR_FUTURE);
         Ctx {
             started,
             deadline,

@@ -58,7 +58,8 @@ pub(super) fn take_turns<T: TakeTurns>(
             turn += 1;
             if t.out_of_time() {
                 reasons.push(format!(
-                    "{strategy}: not tried, the time budget of {time_budget} s is spent"
+                    "{strategy}: not tried, the time budget of {} s is spent",
+                    pickplace_geometry::io::fmt_real(time_budget)
                 ));
                 continue;
             }
