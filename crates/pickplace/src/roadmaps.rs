@@ -361,6 +361,29 @@ pub fn load_or_build(
     Ok((roadmap, report))
 }
 
+/// A roadmap with no node, for a setup that never plans a motion
+/// ([`crate::setup::SetupPurpose::Validation`]): nothing sampled, nothing read from the cache.
+///
+/// # Errors
+/// [`Error::Internal`] when the PRM rejects the space.
+pub fn empty(space: &JointSpace) -> Result<(Roadmap, RoadmapReport)> {
+    let options = RoadmapOptions {
+        node_count: 0,
+        ..roadmap_options()
+    };
+    let roadmap =
+        Roadmap::build_lazy(space, &options).map_err(crate::error::internal("empty roadmap"))?;
+    let report = RoadmapReport {
+        source: RoadmapSource::Built,
+        node_count: 0,
+        requested: 0,
+        most_rejected: None,
+        static_contacts: Vec::new(),
+        cache_warning: None,
+    };
+    Ok((roadmap, report))
+}
+
 /// Builds the roadmap with the counting prefilter; an empty one is an error.
 fn build(
     self_world: &CollisionWorld,

@@ -33,6 +33,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+mod purpose;
+
+pub use purpose::SetupPurpose;
+use purpose::{no_clusters, no_grasps};
+
 /// How far one stage of long setup work got, for a progress bar.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SetupProgress<'a> {
@@ -95,7 +100,7 @@ pub struct ArmSetup {
     pub variables: Vec<usize>,
     /// The group's joint space (the PRM's).
     pub space: JointSpace,
-    /// The precomputed roadmap.
+    /// The precomputed roadmap (no node in a [`SetupPurpose::Validation`] setup).
     pub roadmap: Roadmap,
     /// Whether the roadmap came from the cache, its size, what rejected most samples.
     pub roadmap_report: RoadmapReport,
@@ -129,17 +134,20 @@ pub struct EnvironmentPart {
     pub name: String,
     /// The mesh, in its own frame.
     pub mesh: TriMesh,
-    /// Its environment-contact clusters.
+    /// Its environment-contact clusters (none in a [`SetupPurpose::Validation`] setup).
     pub clustering: Clustering,
     /// Its pose.
     pub world_from_mesh: Isometry3,
-    /// Its triangles in the world frame, for gripper-only collision tests.
-    pub collider: ObjectCollider,
+    /// Its triangles in the world frame, for gripper-only collision tests (`None` in a
+    /// [`SetupPurpose::Validation`] setup).
+    pub collider: Option<ObjectCollider>,
 }
 
 /// A scene ready for planning.
 #[derive(Debug)]
 pub struct Setup {
+    /// What it was made for, and so what it holds.
+    pub purpose: SetupPurpose,
     /// The scene file's path (for messages).
     pub scene_path: PathBuf,
     /// The scene.
@@ -161,10 +169,12 @@ pub struct Setup {
     pub object_mesh: TriMesh,
     /// The object's environment-contact clusters.
     pub object_env: Clustering,
-    /// The object's finger-contact clusters and pairs.
+    /// The object's finger-contact clusters and pairs (none in a
+    /// [`SetupPurpose::Validation`] setup).
     pub object_finger: Clustering,
     /// The object's grasps for [`Setup::gripper`] (§III-B.1, default
-    /// [`pickplace_grasp::GraspOptions`]), ranked; read from the cache when planned before.
+    /// [`pickplace_grasp::GraspOptions`]), ranked; read from the cache when planned before
+    /// (none in a [`SetupPurpose::Validation`] setup).
     pub grasp_set: GraspSet,
     /// Its centre of gravity (object frame).
     pub cog: Point3,
@@ -220,6 +230,40 @@ impl Setup {
     /// object start pose in collision. A cache that cannot be used is not an error
     /// ([`Setup::warnings`]).
     pub fn new(scene: Scene, scene_path: &Path, options: &SetupOptions) -> Result<Self> {
+        Self::build(scene, scene_path, options, SetupPurpose::Planning)
+    }
+
+    /// Reads a scene file and sets up only what [`crate::validate::validate`] reads
+    /// ([`SetupPurpose::Validation`]): no clustering of the environment, no grasps, no
+    /// roadmaps, so that validating a plan costs what the validator checks, not what the
+    /// planner needed.
+    ///
+    /// # Errors
+    /// As [`Setup::load`].
+    pub fn load_for_validation(path: &Path, options: &SetupOptions) -> Result<Self> {
+        let scene = Scene::load(path)?;
+        Self::new_for_validation(scene, path, options)
+    }
+
+    /// [`Setup::load_for_validation`] of a parsed scene; `scene_path` names it in errors.
+    ///
+    /// # Errors
+    /// As [`Setup::new`].
+    pub fn new_for_validation(
+        scene: Scene,
+        scene_path: &Path,
+        options: &SetupOptions,
+    ) -> Result<Self> {
+        Self::build(scene, scene_path, options, SetupPurpose::Validation)
+    }
+
+    fn build(
+        scene: Scene,
+        scene_path: &Path,
+        options: &SetupOptions,
+        purpose: SetupPurpose,
+    ) -> Result<Self> {
+        let planning = purpose == SetupPurpose::Planning;
         let mut log = Vec::new();
         let invalid = |field: &str, reason: String| Error::Invalid {
             path: scene_path.to_path_buf(),
@@ -384,27 +428,36 @@ impl Setup {
             let what = format!("environment[{i}] {:?}", env.name);
             let mesh = load_mesh(&env.mesh, env.scale, &what)?;
             mesh_warnings.extend(crate::mesh_warning::check(&mesh, &what, &env.mesh, None));
-            let clustering = clusters(
-                &mesh,
-                &env.mesh,
-                &env_params,
-                &mut cache,
-                &what,
-                options,
-                &mut log,
-            )?;
+            let clustering = if planning {
+                clusters(
+                    &mesh,
+                    &env.mesh,
+                    &env_params,
+                    &mut cache,
+                    &what,
+                    options,
+                    &mut log,
+                )?
+            } else {
+                no_clusters(&env_params)
+            };
             let world_from_mesh = env
                 .pose
                 .to_isometry()
                 .map_err(|r| invalid(&format!("environment[{i}].pose"), r.into()))?;
             let shape = CollisionShape::mesh(&mesh).map_err(robot_err(&env.mesh))?;
             world.add_environment(&env.name, shape, &world_from_mesh);
-            let collider =
-                ObjectCollider::new(&mesh.transformed(&world_from_mesh)).map_err(|source| {
-                    Error::Gripper {
-                        source: Box::new(source),
-                    }
-                })?;
+            let collider = if planning {
+                Some(
+                    ObjectCollider::new(&mesh.transformed(&world_from_mesh)).map_err(|source| {
+                        Error::Gripper {
+                            source: Box::new(source),
+                        }
+                    })?,
+                )
+            } else {
+                None
+            };
             environment.push(EnvironmentPart {
                 name: env.name.clone(),
                 mesh,
@@ -453,6 +506,9 @@ impl Setup {
                 Ok((object_env, placement_object))
             },
             || -> Result<(Clustering, GraspSet)> {
+                if !planning {
+                    return Ok((no_clusters(&finger_params), no_grasps()));
+                }
                 let object_finger = clusters(
                     &object_mesh,
                     &scene.object.mesh,
@@ -497,7 +553,7 @@ impl Setup {
             .map_err(robot_err(&scene.object.mesh))?
             .with_hull();
         // The grasps the robot's own hand can close: no link but the pads in the object.
-        if let Some(first) = robot.arms.first() {
+        if let Some(first) = robot.arms.first().filter(|_| planning) {
             let t = Instant::now();
             let before = grasp_set.grasps.len();
             let dropped = crate::hand_fit::drop_grasps_the_hand_cannot_close(
@@ -541,22 +597,39 @@ impl Setup {
                 &start,
                 &world_from_root,
                 robot_arm,
-                entry,
+                entry.filter(|_| planning),
+                purpose,
                 &|done, total| options.report(&stage, done, total),
             )?;
             if let Some(warning) = &arm_setup.roadmap_report.cache_warning {
                 cache.report(warning.clone());
             }
-            log.push(format!(
-                "{} arm ({}): {} in {:.1} ms",
-                robot_arm.arm,
-                robot_arm.group,
-                arm_setup.roadmap_report,
-                ms(t)
-            ));
+            log.push(if planning {
+                format!(
+                    "{} arm ({}): {} in {:.1} ms",
+                    robot_arm.arm,
+                    robot_arm.group,
+                    arm_setup.roadmap_report,
+                    ms(t)
+                )
+            } else {
+                format!(
+                    "{} arm ({}): set up for validation (no roadmap) in {:.1} ms",
+                    robot_arm.arm,
+                    robot_arm.group,
+                    ms(t)
+                )
+            });
             arms.push(arm_setup);
         }
+        if !planning {
+            log.push(
+                "validation: no environment clusters, grasps or roadmaps (the validator reads none)"
+                    .to_owned(),
+            );
+        }
         Ok(Self {
+            purpose,
             scene_path: scene_path.to_path_buf(),
             scene,
             model,
@@ -755,6 +828,7 @@ fn arm_setup(
     world_from_root: &Isometry3,
     robot_arm: &RobotArm,
     cache: Option<RoadmapEntry<'_>>,
+    purpose: SetupPurpose,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<ArmSetup> {
     let arm = robot_arm.arm;
@@ -777,9 +851,12 @@ fn arm_setup(
         .map(|&l| model.links()[l].name.clone())
         .collect();
     let space = roadmaps::arm_space(model, &variables)?;
-    let (roadmap, roadmap_report) = roadmaps::load_or_build(
-        model, self_world, group, &variables, start, &space, cache, progress,
-    )?;
+    let (roadmap, roadmap_report) = match purpose {
+        SetupPurpose::Planning => roadmaps::load_or_build(
+            model, self_world, group, &variables, start, &space, cache, progress,
+        )?,
+        SetupPurpose::Validation => roadmaps::empty(&space)?,
+    };
     // The shoulder: the first joint's origin at the start configuration.
     let poses = model.link_poses(start).map_err(robot_err(model.source()))?;
     let first_joint = &model.joints()[model.variable_joints()[variables[0]]];

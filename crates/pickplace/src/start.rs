@@ -30,9 +30,18 @@ pub fn check_start(setup: &Setup) -> Result<()> {
 /// with its reason, instead of as the failure of every strategy after a search.
 ///
 /// # Errors
+/// [`Error::Invalid`] for a setup made for validation only
+/// ([`crate::setup::SetupPurpose::Validation`]: no clusters, grasps or roadmaps to plan with);
 /// [`Error::StartInCollision`], [`Error::ObjectNotResting`], [`Error::TargetUnusable`]
 /// (infeasible scenes); [`Error::Internal`] when the collision library fails.
 pub fn check_scene(setup: &Setup) -> Result<()> {
+    if setup.purpose != crate::setup::SetupPurpose::Planning {
+        return Err(Error::Invalid {
+            path: setup.scene_path.clone(),
+            field: "setup".to_owned(),
+            reason: "set up for validation only (Setup::load_for_validation): no clusters, grasps or roadmaps to plan with; plan with Setup::load".to_owned(),
+        });
+    }
     check_start(setup)?;
     check_object(setup, &setup.object_start)?;
     check_target(setup, &setup.scene.target_point())

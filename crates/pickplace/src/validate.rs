@@ -24,6 +24,16 @@
 //!
 //! Every failure of a lower layer (a collision query, a mesh) is an [`Error`], never read as
 //! "no problem".
+//!
+//! Its cost follows what moves (issue 33): each checked state queries the collision world's
+//! BVHs by bounding boxes, and an environment part's own collision mesh is prepared only when
+//! a resting pose or the target point comes within its box (`parts`, counted in
+//! [`ValidationReport::work`]); a setup made by [`Setup::load_for_validation`] clusters no
+//! environment mesh and builds no roadmap.
+
+mod parts;
+
+pub use parts::ValidationWork;
 
 use crate::contact::{OBJECT_NAME, SUPPORT_DISTANCE};
 use crate::error::{Error, Result, internal};
@@ -32,7 +42,6 @@ use crate::setup::Setup;
 use crate::strategy::Arm;
 use pickplace_geometry::io::fmt_real_fixed;
 use pickplace_geometry::math::{Isometry3, Point2, Real, Vector3};
-use pickplace_placement::collide::CollisionMesh;
 use pickplace_placement::stability::SupportHull;
 use pickplace_robot::collision::{
     AllowedCollisionMatrix, BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope,
@@ -285,6 +294,8 @@ pub struct ValidationReport {
     pub stability_margin: Option<Real>,
     /// Every problem, in time order (empty: the plan is valid).
     pub problems: Vec<String>,
+    /// What the contact queries prepared of the environment ([`ValidationWork`]).
+    pub work: ValidationWork,
 }
 
 /// The largest gap (m) between a holding hand's finger pad and the object.
@@ -372,6 +383,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
                     states_checked: 0,
                     duration: end,
                     stability_margin: None,
+                    work: ValidationWork::default(),
                     problems: vec![format!(
                         "t = {} s: {} = {} is outside its limits [{}, {}] (trajectory[{i}]; nothing else checked)",
                         short_time(p.time_from_start),
@@ -720,6 +732,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         states_checked: v.states,
         duration: end,
         stability_margin,
+        work: v.parts.work(),
         problems: v.problems,
     })
 }
@@ -793,8 +806,8 @@ struct Validator<'a> {
     /// The two hands' clearance (two-armed robots).
     hands: Option<HandClearance>,
     scratch: CollisionScratch,
-    /// Each environment part by name, for the supports of a pose.
-    parts: Vec<(String, CollisionMesh)>,
+    /// The environment's parts, for the supports of a pose and the target's surface.
+    parts: parts::Parts<'a>,
     /// The start (index 0) and every pose where a release leaves the object.
     rests: Vec<Rest>,
     states: usize,
@@ -803,12 +816,6 @@ struct Validator<'a> {
 impl<'a> Validator<'a> {
     fn new(setup: &'a Setup) -> Result<Self> {
         let grip_object = GripObject::new(&setup.object_mesh).map_err(internal("grip check"))?;
-        let mut parts = Vec::with_capacity(setup.environment.len());
-        for e in &setup.environment {
-            let mesh = CollisionMesh::from_meshes(&[(&e.mesh, e.world_from_mesh)])
-                .map_err(internal("validator: environment meshes"))?;
-            parts.push((e.name.clone(), mesh));
-        }
         let mut v = Self {
             setup,
             grip_object,
@@ -818,13 +825,14 @@ impl<'a> Validator<'a> {
             worlds: BTreeMap::new(),
             hands: HandClearance::new(setup)?,
             scratch: CollisionScratch::default(),
-            parts,
+            parts: parts::Parts::new(setup),
             rests: Vec::new(),
             states: 0,
         };
+        let supports = v.supports(&setup.object_start)?;
         v.rests = vec![Rest {
             pose: setup.object_start,
-            supports: v.supports(&setup.object_start),
+            supports,
         }];
         Ok(v)
     }
@@ -835,24 +843,21 @@ impl<'a> Validator<'a> {
     }
 
     /// Environment parts within [`SUPPORT_DISTANCE`] of the object at `world_from_object`,
-    /// in scene order (the rule of [`crate::contact::supports`], on meshes built once).
-    fn supports(&self, world_from_object: &Isometry3) -> Vec<String> {
+    /// in scene order (the rule of [`crate::contact::supports`], on meshes built once, and
+    /// only for the parts whose box is within reach: `parts::Parts::touching`).
+    ///
+    /// # Errors
+    /// [`Error::Internal`] when a part's mesh cannot be prepared.
+    fn supports(&mut self, world_from_object: &Isometry3) -> Result<Vec<String>> {
         let object = &self.setup.placement_object.collision;
         self.parts
-            .iter()
-            .filter(|(_, mesh)| {
-                !mesh
-                    .touching_points(object, world_from_object, SUPPORT_DISTANCE)
-                    .is_empty()
-            })
-            .map(|(name, _)| name.clone())
-            .collect()
+            .touching(object, world_from_object, SUPPORT_DISTANCE)
     }
 
     /// The resting poses: the start, then where each release that leaves no hand holding
     /// the object leaves it (computed from the samples at the events, before the dense
     /// pass, so that the approach to a rest may already touch its support).
-    fn rest_poses(&self, plan: &Plan, events: &[Ev]) -> Result<Vec<Rest>> {
+    fn rest_poses(&mut self, plan: &Plan, events: &[Ev]) -> Result<Vec<Rest>> {
         let mut rests = self.rests.clone();
         let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
         let mut object = self.setup.object_start;
@@ -880,7 +885,7 @@ impl<'a> Validator<'a> {
                     if held && holders.is_empty() {
                         rests.push(Rest {
                             pose: object,
-                            supports: self.supports(&object),
+                            supports: self.supports(&object)?,
                         });
                     }
                 }
@@ -892,7 +897,7 @@ impl<'a> Validator<'a> {
             let pose = self.tcp(arm, &p.positions) * l;
             rests.push(Rest {
                 pose,
-                supports: self.supports(&pose),
+                supports: self.supports(&pose)?,
             });
         }
         Ok(rests)
@@ -1185,15 +1190,12 @@ impl<'a> Validator<'a> {
         }
         let surface = self
             .parts
-            .iter()
-            .map(|(name, mesh)| (name, mesh.distance_to_point(&target)))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|(name, _)| name.clone())
+            .nearest(&target)?
             .ok_or_else(|| Error::Internal {
                 stage: "validator: target",
                 reason: "the scene has no environment".into(),
             })?;
-        let touched = self.supports(object);
+        let touched = self.supports(object)?;
         if !touched.contains(&surface) {
             self.problem(
                 t,

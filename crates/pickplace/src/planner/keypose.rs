@@ -238,9 +238,11 @@ impl Ctx<'_> {
             .environment
             .iter()
             .find(|e| {
-                bodies
-                    .iter()
-                    .any(|b| e.collider.hits(world_from_tcp, b, 0.0))
+                bodies.iter().any(|b| {
+                    e.collider
+                        .as_ref()
+                        .is_some_and(|c| c.hits(world_from_tcp, b, 0.0))
+                })
             })
             .map(|e| Rejection::GripperHits(e.name.clone()))
     }

@@ -15,6 +15,8 @@ use pickplace::{Arm, Plan, Setup, SetupOptions};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+mod cost;
+
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
