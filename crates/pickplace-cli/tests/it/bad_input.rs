@@ -71,10 +71,10 @@ fn bad_parameters_fail_with_status_2() {
     let dir = Scratch::new("bad-params");
     let can = mesh("can.stl");
     for (args, what) in [
-        (vec!["--h-max", "-1"], "h_max"),
-        (vec!["--h-max", "NaN"], "h_max"),
-        (vec!["--h-max", "inf"], "h_max"),
-        (vec!["--scale", "0"], "scale"),
+        (vec!["--h-max", "-1"], "--h-max"),
+        (vec!["--h-max", "NaN"], "--h-max"),
+        (vec!["--h-max", "inf"], "--h-max"),
+        (vec!["--scale", "0"], "--scale"),
         (vec!["--mode", "sideways"], "sideways"),
     ] {
         let mut argv = vec![

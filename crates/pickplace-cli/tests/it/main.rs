@@ -29,9 +29,12 @@ pub fn root() -> PathBuf {
 
 /// Runs `pickplace ARGS…` from the repository's root.
 pub fn pickplace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
+    let o = Command::new(env!("CARGO_BIN_EXE_pickplace"))
         .args(args)
         .current_dir(root())
         .output()
-        .expect("run pickplace")
+        .expect("run pickplace");
+    let os: Vec<&std::ffi::OsStr> = args.iter().map(std::ffi::OsStr::new).collect();
+    support::validate_written_plan(&root(), None, &os, &o);
+    o
 }

@@ -1,5 +1,6 @@
 //! Running the binary and scratch folders.
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -60,26 +61,110 @@ pub fn mesh(name: &str) -> PathBuf {
 
 /// Runs `pickplace` with `args` in `cwd`, the cache folder set to `cwd/cache`.
 pub fn run_in(cwd: &Path, args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
+    let cache = cwd.join("cache");
+    let o = Command::new(env!("CARGO_BIN_EXE_pickplace"))
         .args(args)
         .current_dir(cwd)
-        .env("PICKPLACE_CACHE", cwd.join("cache"))
+        .env("PICKPLACE_CACHE", &cache)
         .output()
-        .expect("the pickplace binary runs")
+        .expect("the pickplace binary runs");
+    validate_written_plan(cwd, Some(&cache), args, &o);
+    o
+}
+
+/// The output of a command that succeeded.
+fn ok_status() -> Output {
+    Output {
+        status: std::process::ExitStatus::default(),
+        stdout: Vec::new(),
+        stderr: Vec::new(),
+    }
+}
+
+/// Every plan a test writes is re-checked by `pickplace validate` (issue 33): after a
+/// successful `plan SCENE --out FILE` (other flags anywhere), `validate SCENE FILE` must say
+/// "valid". A test that edits the plan afterwards checks its own expectations.
+pub fn validate_written_plan(
+    cwd: &Path,
+    cache: Option<&Path>,
+    args: &[&std::ffi::OsStr],
+    o: &Output,
+) {
+    let command = args.first().map(|a| a.to_string_lossy());
+    let out = args
+        .iter()
+        .position(|a| *a == "--out")
+        .and_then(|i| args.get(i + 1));
+    let (Some(command), Some(out)) = (command, out) else {
+        return;
+    };
+    // `batch` exits 1 when a scene has no plan: the plans it wrote are checked all the same.
+    if command == "batch" && o.status.code().is_some_and(|c| c <= 1) {
+        let out = cwd.join(out);
+        for scene in args[1..]
+            .iter()
+            .filter(|a| a.to_string_lossy().ends_with(".toml"))
+        {
+            let stem = Path::new(scene).file_stem().unwrap_or_default();
+            let plan = out.join(stem).with_extension("json");
+            if plan.is_file() {
+                let plan = plan.into_os_string();
+                validate_written_plan(
+                    cwd,
+                    cache,
+                    &[OsStr::new("plan"), scene, OsStr::new("--out"), &plan],
+                    &ok_status(),
+                );
+            }
+        }
+        return;
+    }
+    if command != "plan" || !o.status.success() {
+        return;
+    }
+    let Some(scene) = args[1..]
+        .iter()
+        .find(|a| !a.to_string_lossy().starts_with('-'))
+    else {
+        return;
+    };
+    let mut command = Command::new(env!("CARGO_BIN_EXE_pickplace"));
+    command.arg("validate").args([scene, out]).current_dir(cwd);
+    if let Some(cache) = cache {
+        command.env("PICKPLACE_CACHE", cache);
+    }
+    // The plan's cache and package folders.
+    for (i, a) in args.iter().enumerate() {
+        if *a == "--no-cache" {
+            command.arg(a);
+        } else if (*a == "--cache" || *a == "--package-dir")
+            && let Some(value) = args.get(i + 1)
+        {
+            command.args([a, value]);
+        }
+    }
+    let v = command.output().expect("the pickplace binary runs");
+    assert!(
+        v.status.success(),
+        "pickplace validate {} {}: {}",
+        scene.to_string_lossy(),
+        out.to_string_lossy(),
+        String::from_utf8_lossy(&v.stderr)
+    );
 }
 
 /// Runs `pickplace` with `args` from the repository's root, with the cache folder of the plan
 /// tests (`CARGO_TARGET_TMPDIR/plan-cache`, shared: the tests plan the shipped scenes).
 pub fn run_at_root(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pickplace"))
+    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache");
+    let o = Command::new(env!("CARGO_BIN_EXE_pickplace"))
         .args(args)
         .current_dir(crate::root())
-        .env(
-            "PICKPLACE_CACHE",
-            Path::new(env!("CARGO_TARGET_TMPDIR")).join("plan-cache"),
-        )
+        .env("PICKPLACE_CACHE", &cache)
         .output()
-        .expect("the pickplace binary runs")
+        .expect("the pickplace binary runs");
+    validate_written_plan(&crate::root(), Some(&cache), args, &o);
+    o
 }
 
 /// Shorthand: arguments as strings or paths.

@@ -134,8 +134,8 @@ fn bad_tables_and_factors_exit_2_naming_what_is_wrong() {
     );
     let plain = scene(&dir, "", "");
     for (flag, value, words) in [
-        ("--velocity-scaling", "0", "(0, 1]"),
-        ("--acceleration-scaling", "nan", "(0, 1]"),
+        ("--velocity-scaling", "0", "[0.001, 1]"),
+        ("--acceleration-scaling", "nan", "[0.001, 1]"),
         ("--sample-period", "1e-9", "[0.001, 1]"),
     ] {
         let o = run(args!["plan", &plain, flag, value]);
