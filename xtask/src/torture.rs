@@ -12,6 +12,8 @@
 //!
 //! Exit status 1 when a case fails, with each failure's command, status and message.
 
+mod numbers;
+
 use anyhow::{Context, bail};
 use std::ffi::{OsStr, OsString};
 use std::fmt::Write as _;
@@ -49,6 +51,7 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let mut t = Torture::new(root, &scratch)?;
     t.prepare()?;
     t.inputs()?;
+    t.numbers()?;
     t.outputs()?;
     t.damaged_cache()?;
     t.kills()?;
