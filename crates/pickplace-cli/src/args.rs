@@ -320,7 +320,7 @@ mod tests {
 /// `clap` value parsers for numbers, each over its range in the one table
 /// ([`pickplace::ranges`]): a value out of range is a usage error (exit 2) naming the flag.
 pub mod number {
-    use pickplace::ranges::{self, FlagError, Range, parse_flag};
+    use pickplace::ranges::{self, FlagError, parse_flag};
 
     /// A mesh scale factor.
     pub fn mesh_scale(text: &str) -> Result<f64, FlagError> {
@@ -344,16 +344,16 @@ pub mod number {
 
     /// The grasp planner's grid step (m).
     pub fn grid_step(text: &str) -> Result<f64, FlagError> {
-        parse_flag(text, Range::closed(1e-4, 1.0, "m"))
+        parse_flag(text, ranges::GRID_STEP)
     }
 
     /// The grasp planner's clearance (m).
     pub fn clearance(text: &str) -> Result<f64, FlagError> {
-        parse_flag(text, Range::closed(0.0, 0.1, "m"))
+        parse_flag(text, ranges::CLEARANCE)
     }
 
     /// Approach directions about a grasp axis.
     pub fn approaches(text: &str) -> Result<usize, FlagError> {
-        parse_flag(text, Range::closed(1.0, 360.0, "")).map(|v| v as usize)
+        parse_flag(text, ranges::APPROACHES).map(|v| v as usize)
     }
 }

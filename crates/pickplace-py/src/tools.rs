@@ -190,6 +190,20 @@ pub fn grasps<'py>(
     approaches: Option<usize>,
     clearance: Option<Real>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    use pickplace::ranges::{APPROACHES, CLEARANCE, GRID_STEP, Range};
+    let check = |name: &str, value: Option<Real>, range: Range| {
+        value.map_or(Ok(()), |v| {
+            range
+                .check(v)
+                .map_err(|e| input_msg(format!("{name}: {e}")))
+        })
+    };
+    check("grid_step", grid_step, GRID_STEP)?;
+    check("clearance", clearance, CLEARANCE)?;
+    check("approaches", approaches.map(|a| a as Real), APPROACHES)?;
+    if let Some(h) = h_max {
+        check_h_max(h)?;
+    }
     let defaults = GraspOptions::default();
     let options = GraspOptions {
         grid_step: grid_step.unwrap_or(defaults.grid_step),

@@ -47,10 +47,15 @@ def test_bad_plan_options(near):
         pickplace.plan(near, strategy="sideways")
     with pytest.raises(pickplace.InputError, match="velocity_scaling"):
         pickplace.plan(near, velocity_scaling=1.5)
-    with pytest.raises(pickplace.InputError, match="sample period"):
+    with pytest.raises(pickplace.InputError, match=r"sample_period: 5 is not in \[0.001, 1\] s"):
         pickplace.plan(near, sample_period=5.0)
     with pytest.raises(pickplace.InputError, match="time_budget"):
         pickplace.plan(near, time_budget=-1.0)
+    # Issue 33: a budget no duration holds was a panic in the planner.
+    with pytest.raises(pickplace.InputError, match=r"time_budget: 1e300 is not in \[0, 604800\] s"):
+        pickplace.plan(near, time_budget=1e300)
+    with pytest.raises(pickplace.InputError, match="velocity_scaling: 1e-300 is not in"):
+        pickplace.plan(near, velocity_scaling=1e-300)
     with pytest.raises(pickplace.InputError, match="missing field `format`"):
         pickplace.Plan.from_json("{}")
 
@@ -82,3 +87,16 @@ def test_an_infeasible_start_is_no_plan_with_the_cli_message(root, cache_dir, ru
     assert status == 1
     assert caught.value.reasons == [cli_error(stderr)]
     assert caught.value.stats is None
+
+
+def test_tool_numbers_out_of_range_name_the_keyword(root):
+    can = root / "meshes/can.stl"
+    robot = root / "robots/nx-hiro"
+    with pytest.raises(pickplace.InputError, match="grid_step: 1e-300 is not in"):
+        pickplace.grasps(can, robot, grid_step=1e-300)
+    with pytest.raises(pickplace.InputError, match="approaches: 1e9 is not in"):
+        pickplace.grasps(can, robot, approaches=10**9)
+    with pytest.raises(pickplace.InputError, match="scale: 1e300 is not in"):
+        pickplace.clusters(can, scale=1e300)
+    with pytest.raises(pickplace.InputError, match="h_max: 1e-300 is not in"):
+        pickplace.clusters(can, h_max=1e-300)

@@ -111,9 +111,9 @@ impl BatchOptions {
     /// Refuses values out of range, before any work.
     fn check(&self) -> Result<(), BatchError> {
         let invalid = |option: &'static str, reason: String| BatchError::Option { option, reason };
-        if self.jobs == 0 {
-            return Err(invalid("jobs", "0 threads: give at least 1".to_owned()));
-        }
+        crate::ranges::THREADS
+            .check_count(self.jobs)
+            .map_err(|e| invalid("jobs", e.to_string()))?;
         let range = |option: &'static str, value: Option<Real>, range: crate::ranges::Range| {
             value.map_or(Ok(()), |v| {
                 range.check(v).map_err(|e| invalid(option, e.to_string()))

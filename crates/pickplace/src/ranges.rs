@@ -160,6 +160,15 @@ pub const PLANNER_DISTANCE: Range = Range::closed(0.0, 10.0, "m");
 /// A planner angle option (rad): joint steps, blend tolerance.
 pub const PLANNER_ANGLE: Range = Range::closed(0.0, std::f64::consts::PI, "rad");
 
+/// The grasp planner's grid of grasp centres (m).
+pub const GRID_STEP: Range = Range::closed(1e-4, 1.0, "m");
+/// The grasp planner's clearance between the gripper and the object (m).
+pub const CLEARANCE: Range = Range::closed(0.0, 0.1, "m");
+/// Approach directions about each grasp axis.
+pub const APPROACHES: Range = Range::closed(1.0, 360.0, "");
+/// Threads of a batch.
+pub const THREADS: Range = Range::closed(1.0, 4096.0, "threads");
+
 #[cfg(test)]
 mod tests {
     use super::*;
