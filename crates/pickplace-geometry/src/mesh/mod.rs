@@ -28,6 +28,7 @@ mod obj;
 mod ply;
 mod stl;
 mod topology;
+mod weld;
 
 pub use mass::{MassMethod, MassProperties};
 pub use stl::{encode_stl_binary, write_stl_binary};
@@ -35,8 +36,8 @@ pub use topology::Adjacency;
 
 use crate::error::{Error, MeshErrorKind, Result, memory_path};
 use crate::math::{Point3, Real, Vector3};
-use std::collections::HashMap;
 use std::path::Path;
+use weld::{IntSet, weld};
 
 /// The most triangles a mesh file may hold (after fan triangulation of its polygons). A file
 /// with more, or whose header declares more (binary STL, PLY), is refused with
@@ -181,7 +182,8 @@ impl TriMesh {
 
         let mut kept = Vec::with_capacity(triangles.len());
         let mut source_triangles = Vec::with_capacity(triangles.len());
-        let mut seen = std::collections::HashSet::with_capacity(triangles.len());
+        let mut seen: IntSet<[u32; 3]> = IntSet::default();
+        seen.reserve(triangles.len());
         let mut duplicates = 0;
         for (i, t) in triangles.iter().enumerate() {
             let w = t.map(|v| remap[v as usize]);
@@ -375,73 +377,6 @@ impl TriMesh {
 fn triangle_area(vertices: &[Point3], t: [u32; 3]) -> Real {
     let [a, b, c] = t.map(|v| vertices[v as usize]);
     0.5 * (b - a).cross(&(c - a)).norm()
-}
-
-/// Merges vertices closer than `tolerance`; returns the merged positions and, for each input
-/// vertex, its merged index. Deterministic: a vertex joins the first earlier representative
-/// found within the tolerance, scanning a uniform grid of cell size `tolerance`.
-fn weld(positions: &[Point3], tolerance: Real) -> (Vec<Point3>, Vec<u32>) {
-    let mut out: Vec<Point3> = Vec::with_capacity(positions.len());
-    let mut remap = Vec::with_capacity(positions.len());
-    if tolerance <= 0.0 || !tolerance.is_finite() {
-        let mut exact: HashMap<[u64; 3], u32> = HashMap::with_capacity(positions.len());
-        for p in positions {
-            let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            let id = *exact.entry(key).or_insert_with(|| {
-                out.push(*p);
-                (out.len() - 1) as u32
-            });
-            remap.push(id);
-        }
-        return (out, remap);
-    }
-    let inv = 1.0 / tolerance;
-    let cell_of = |p: &Point3| -> [i64; 3] {
-        [
-            (p.x * inv).floor() as i64,
-            (p.y * inv).floor() as i64,
-            (p.z * inv).floor() as i64,
-        ]
-    };
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(positions.len());
-    let tol2 = tolerance * tolerance;
-    for p in positions {
-        let c = cell_of(p);
-        let mut found: Option<u32> = None;
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    // Saturating: coordinates beyond ±9.2e11 tolerances share the extreme cells.
-                    let cell = [
-                        c[0].saturating_add(dx),
-                        c[1].saturating_add(dy),
-                        c[2].saturating_add(dz),
-                    ];
-                    let Some(list) = grid.get(&cell) else {
-                        continue;
-                    };
-                    for &id in list {
-                        if (out[id as usize] - p).norm_squared() <= tol2
-                            && found.is_none_or(|f| id < f)
-                        {
-                            found = Some(id);
-                        }
-                    }
-                }
-            }
-        }
-        let id = match found {
-            Some(id) => id,
-            None => {
-                out.push(*p);
-                let id = (out.len() - 1) as u32;
-                grid.entry(c).or_default().push(id);
-                id
-            }
-        };
-        remap.push(id);
-    }
-    (out, remap)
 }
 
 /// A triangle soup as a parser produces it: positions and index triples in file order.
