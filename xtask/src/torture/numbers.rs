@@ -165,118 +165,39 @@ impl Torture {
 
     /// Flags out of range: usage errors naming the flag.
     fn flags(&mut self) -> anyhow::Result<()> {
-        let scene = self.path("scene.toml");
-        let can = self.repo("meshes/can.stl");
-        let robot = self.repo("robots/nx-hiro");
-        let urdf = self.repo("robots/nx-hiro/nx-hiro.urdf");
-        let out = self.path("numbers-flag-out");
-        let s = |v: &str| OsString::from(v);
-        let cases: Vec<(&str, Vec<OsString>)> = vec![
-            (
-                "plan --velocity-scaling 1e-300",
-                vec![
-                    s("plan"),
-                    scene.clone().into(),
-                    s("--velocity-scaling"),
-                    s("1e-300"),
-                ],
-            ),
-            (
-                "plan --sample-period 1e300",
-                vec![
-                    s("plan"),
-                    scene.clone().into(),
-                    s("--sample-period"),
-                    s("1e300"),
-                ],
-            ),
-            (
-                "batch --time-budget 1e300",
-                vec![
-                    s("batch"),
-                    scene.clone().into(),
-                    s("--out"),
-                    out.clone().into(),
-                    s("--time-budget"),
-                    s("1e300"),
-                ],
-            ),
-            (
-                "grasps --grid-step 1e-300",
-                vec![
-                    s("grasps"),
-                    can.clone().into(),
-                    s("--robot"),
-                    robot.clone().into(),
-                    s("--grid-step"),
-                    s("1e-300"),
-                ],
-            ),
-            (
-                "grasps --approaches 1e12",
-                vec![
-                    s("grasps"),
-                    can.clone().into(),
-                    s("--robot"),
-                    robot.clone().into(),
-                    s("--approaches"),
-                    s("1e12"),
-                ],
-            ),
-            (
-                "grasps --clearance 1e300",
-                vec![
-                    s("grasps"),
-                    can.clone().into(),
-                    s("--robot"),
-                    robot.into(),
-                    s("--clearance"),
-                    s("1e300"),
-                ],
-            ),
-            (
-                "clusters --scale 1e300",
-                vec![s("clusters"), can.clone().into(), s("--scale"), s("1e300")],
-            ),
-            (
-                "clusters --h-max -1",
-                vec![s("clusters"), can.clone().into(), s("--h-max"), s("-1")],
-            ),
-            (
-                "placements --scale 0",
-                vec![s("placements"), can.into(), s("--scale"), s("0")],
-            ),
-            (
-                "robot check --min-collision-fraction 5",
-                vec![
-                    s("robot"),
-                    s("check"),
-                    urdf.clone().into(),
-                    s("--min-collision-fraction"),
-                    s("5"),
-                ],
-            ),
-            (
-                "robot srdf --samples 0",
-                vec![
-                    s("robot"),
-                    s("srdf"),
-                    urdf.into(),
-                    s("--samples"),
-                    s("0"),
-                    s("--out"),
-                    self.path("numbers.srdf").into(),
-                ],
-            ),
+        let scene: OsString = self.path("scene.toml").into();
+        let can: OsString = self.repo("meshes/can.stl").into();
+        let robot: OsString = self.repo("robots/nx-hiro").into();
+        let urdf: OsString = self.repo("robots/nx-hiro/nx-hiro.urdf").into();
+        let out: OsString = self.path("numbers-flag-out").into();
+        let srdf: OsString = self.path("numbers.srdf").into();
+        let plan = vec!["plan".into(), scene.clone()];
+        let batch = vec!["batch".into(), scene, "--out".into(), out];
+        let grasps = vec!["grasps".into(), can.clone(), "--robot".into(), robot];
+        let clusters = vec!["clusters".into(), can.clone()];
+        let check = vec!["robot".into(), "check".into(), urdf.clone()];
+        let write = vec!["robot".into(), "srdf".into(), urdf, "--out".into(), srdf];
+        // (command and its other arguments, the flag, its value out of range)
+        let cases: [(&Vec<OsString>, &str, &str); 11] = [
+            (&plan, "--velocity-scaling", "1e-300"),
+            (&plan, "--sample-period", "1e300"),
+            (&batch, "--time-budget", "1e300"),
+            (&grasps, "--grid-step", "1e-300"),
+            (&grasps, "--approaches", "1e12"),
+            (&grasps, "--clearance", "1e300"),
+            (&clusters, "--scale", "1e300"),
+            (&clusters, "--h-max", "-1"),
+            (&vec!["placements".into(), can], "--scale", "0"),
+            (&check, "--min-collision-fraction", "5"),
+            (&write, "--samples", "0"),
         ];
-        for (name, args) in cases {
-            let flag = name
-                .split_whitespace()
-                .find(|w| w.starts_with("--"))
-                .unwrap_or("--");
-            self.expect(name, self.cmd(&args), 2, &[flag, "is not in"])?;
+        for (command, flag, value) in cases {
+            let mut args = command.clone();
+            args.extend([flag.into(), value.into()]);
+            let name = format!("{} {flag} {value}", command[0].to_string_lossy());
+            self.expect(&name, self.cmd(&args), 2, &[flag, "is not in"])?;
         }
-        let left = out.exists() || self.path("numbers.srdf").exists();
+        let left = self.path("numbers-flag-out").exists() || self.path("numbers.srdf").exists();
         self.check("flags: no output left", !left, || {
             "an output was written".into()
         });
