@@ -13,7 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Every fuzz target of `fuzz/Cargo.toml`, in the order they run.
-pub const TARGETS: [&str; 12] = [
+pub const TARGETS: [&str; 13] = [
     "mesh_stl",
     "mesh_obj",
     "mesh_ply",
@@ -26,6 +26,7 @@ pub const TARGETS: [&str; 12] = [
     "gripper",
     "srdf_writer",
     "joint_limits_yaml",
+    "scene_numbers",
 ];
 
 /// Command-line options of `cargo xtask fuzz`.
