@@ -31,6 +31,7 @@
 //! [`ValidationReport::work`]); a setup made by [`Setup::load_for_validation`] clusters no
 //! environment mesh and builds no roadmap.
 
+mod grip;
 mod parts;
 
 pub use parts::ValidationWork;
@@ -798,6 +799,8 @@ struct Validator<'a> {
     grip_object: GripObject,
     /// Arms whose grip problem is reported already (once per hold).
     grip_reported: Vec<Arm>,
+    /// The pads' gaps by their pose relative to the object.
+    grip_memo: grip::GripMemo,
     problems: Vec<String>,
     /// The state problems (collisions, clearance; by rule and bodies) of the previous checked
     /// state: a problem that lasts is reported once, when it starts.
@@ -820,6 +823,7 @@ impl<'a> Validator<'a> {
             setup,
             grip_object,
             grip_reported: Vec::new(),
+            grip_memo: grip::GripMemo::default(),
             problems: Vec::new(),
             ongoing: Vec::new(),
             worlds: BTreeMap::new(),
@@ -934,9 +938,9 @@ impl<'a> Validator<'a> {
                 continue;
             }
             let gripper = &setup.arm(arm).gripper;
-            let gaps = gripper
-                .finger_gaps(&poses, &self.grip_object, object)
-                .map_err(internal("grip check"))?;
+            let gaps = self
+                .grip_memo
+                .gaps(arm, gripper, &poses, &self.grip_object, object)?;
             for (pad, &gap) in gaps.iter().enumerate() {
                 let problem = if moved && gap > GRIP_GAP {
                     Some(format!(
