@@ -210,6 +210,10 @@ pub struct Setup {
     /// What the scene's meshes look like they got wrong (stored twice, in millimetres): the
     /// setup went on. For the caller to show.
     pub mesh_warnings: Vec<crate::mesh_warning::MeshWarning>,
+    /// The object as the fingers' gaps are measured against it ([`Setup::grip_object`]), made
+    /// once on first use: every plan's validation needs it, and a scanned mesh's takes
+    /// milliseconds to build.
+    grip_object: std::sync::OnceLock<pickplace_robot::gripper::GripObject>,
 }
 
 impl Setup {
@@ -656,7 +660,23 @@ impl Setup {
             mesh_warnings,
             robot_warnings,
             grasp_hand_rejections,
+            grip_object: std::sync::OnceLock::new(),
         })
+    }
+
+    /// The object's mesh as [`pickplace_robot::gripper::Gripper::finger_gaps`] measures
+    /// against it, built on first use and kept.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] when the collision library refuses the object's mesh (which it
+    /// accepted for the object's collision shape).
+    pub fn grip_object(&self) -> Result<&pickplace_robot::gripper::GripObject> {
+        if let Some(object) = self.grip_object.get() {
+            return Ok(object);
+        }
+        let object = pickplace_robot::gripper::GripObject::new(&self.object_mesh)
+            .map_err(crate::error::internal("grip check"))?;
+        Ok(self.grip_object.get_or_init(|| object))
     }
 
     /// The arm's setup. A single-arm robot has only one: every strategy that needs the other

@@ -818,7 +818,7 @@ struct Validator<'a> {
 
 impl<'a> Validator<'a> {
     fn new(setup: &'a Setup) -> Result<Self> {
-        let grip_object = GripObject::new(&setup.object_mesh).map_err(internal("grip check"))?;
+        let grip_object = setup.grip_object()?.clone();
         let mut v = Self {
             setup,
             grip_object,
