@@ -107,38 +107,20 @@ const SCENE_CASES: [(&str, &str, &str, &[&str]); 16] = [
 ];
 
 impl Torture {
-    /// The cases of issue 33 (hardening, round three).
-    pub(super) fn numbers(&mut self) -> anyhow::Result<()> {
-        self.begin_group("numbers out of range, paths that are not files");
+    /// Writes `text` as the scene `file` (in the scratch folder), runs `pickplace plan` on it
+    /// into `numbers-out.json` and expects exit `code`, the needles, and no plan left unless
+    /// it exits 0.
+    fn plan_text(
+        &mut self,
+        name: &str,
+        file: &str,
+        text: &str,
+        code: i32,
+        needles: &[&str],
+    ) -> anyhow::Result<Option<super::Out>> {
+        let scene = self.path(file);
+        std::fs::write(&scene, text)?;
         let out = self.path("numbers-out.json");
-        let base = self.scene_text(&[]);
-        for (name, from, to, needles) in SCENE_CASES {
-            anyhow::ensure!(
-                base.contains(from),
-                "{from:?} is not in the reference scene"
-            );
-            let scene = self.path("numbers-scene.toml");
-            std::fs::write(&scene, base.replacen(from, to, 1))?;
-            let _ = std::fs::remove_file(&out);
-            let args: Vec<OsString> = vec![
-                "plan".into(),
-                scene.into(),
-                "--out".into(),
-                out.clone().into(),
-            ];
-            self.expect(&format!("scene {name}"), self.cmd(&args), 2, needles)?;
-            self.check(
-                &format!("scene {name}: no plan left"),
-                !out.exists(),
-                || "a plan was written".into(),
-            );
-        }
-        // A budget too small for any strategy: a reason, printed compactly.
-        let scene = self.path("numbers-denormal.toml");
-        std::fs::write(
-            &scene,
-            base.replacen("seed = 1\n", "seed = 1\ntime_budget = 5e-320\n", 1),
-        )?;
         let _ = std::fs::remove_file(&out);
         let args: Vec<OsString> = vec![
             "plan".into(),
@@ -146,12 +128,43 @@ impl Torture {
             "--out".into(),
             out.clone().into(),
         ];
-        if let Some(o) = self.expect(
+        let o = self.expect(name, self.cmd(&args), code, needles)?;
+        if code != 0 {
+            self.check(&format!("{name}: no plan left"), !out.exists(), || {
+                "a plan was written".into()
+            });
+        }
+        Ok(o)
+    }
+
+    /// The cases of issue 33 (hardening, round three).
+    pub(super) fn numbers(&mut self) -> anyhow::Result<()> {
+        self.begin_group("numbers out of range, paths that are not files");
+        let base = self.scene_text(&[]);
+        for (name, from, to, needles) in SCENE_CASES {
+            anyhow::ensure!(
+                base.contains(from),
+                "{from:?} is not in the reference scene"
+            );
+            let text = base.replacen(from, to, 1);
+            self.plan_text(
+                &format!("scene {name}"),
+                "numbers-scene.toml",
+                &text,
+                2,
+                needles,
+            )?;
+        }
+        // A budget too small for any strategy: a reason, printed compactly.
+        let text = base.replacen("seed = 1\n", "seed = 1\ntime_budget = 5e-320\n", 1);
+        let o = self.plan_text(
             "denormal budget: no plan, said compactly",
-            self.cmd(&args),
+            "numbers-denormal.toml",
+            &text,
             1,
             &["time budget of 5e-320 s is spent"],
-        )? {
+        )?;
+        if let Some(o) = o {
             self.check(
                 "denormal budget: no long number",
                 !o.stderr.contains("0.00000000"),
@@ -209,70 +222,46 @@ impl Torture {
     fn files(&mut self) -> anyhow::Result<()> {
         let dir = self.path("numbers-files");
         std::fs::create_dir_all(&dir)?;
-        let out = self.path("numbers-out.json");
         let urdf = std::fs::read_to_string(self.repo("robots/nx-hiro/nx-hiro.urdf"))?;
         let slow = urdf.replacen("velocity=\"3.7525\"", "velocity=\"1e-300\"", 1);
         anyhow::ensure!(slow != urdf, "RARM_JOINT2's limit is not in the URDF");
         let slow_path = dir.join("slow.urdf");
         std::fs::write(&slow_path, slow)?;
-        let scene = dir.join("slow.toml");
-        std::fs::write(
-            &scene,
-            self.scene_text(&[("URDF", &slow_path.to_string_lossy())]),
-        )?;
-        let _ = std::fs::remove_file(&out);
-        let args: Vec<OsString> = vec![
-            "plan".into(),
-            scene.into(),
-            "--out".into(),
-            out.clone().into(),
+        let text = self.scene_text(&[("URDF", &slow_path.to_string_lossy())]);
+        let needles = [
+            "slow.urdf",
+            "RARM_JOINT2",
+            "velocity limit 1e-300 is not in",
         ];
-        self.expect(
+        self.plan_text(
             "URDF velocity 1e-300",
-            self.cmd(&args),
+            "numbers-slow.toml",
+            &text,
             2,
-            &[
-                "slow.urdf",
-                "RARM_JOINT2",
-                "velocity limit 1e-300 is not in",
-            ],
+            &needles,
         )?;
-        for (name, text, needles) in [
+        for (name, file_text, needle) in [
             (
                 "gripper pad_width nan",
                 "# x\npad_width = nan\n",
-                &["g.toml: line 2: pad_width"][..],
+                "g.toml: line 2: pad_width",
             ),
             (
                 "gripper opening_max 0",
                 "opening_max = 0.0\n",
-                &["g.toml: line 1: opening_max"][..],
+                "g.toml: line 1: opening_max",
             ),
             (
                 "gripper squeeze inf",
                 "\n\nsqueeze = inf\n",
-                &["g.toml: line 3: squeeze"][..],
+                "g.toml: line 3: squeeze",
             ),
         ] {
             let g = dir.join("g.toml");
-            std::fs::write(&g, text)?;
-            let scene = dir.join("g-scene.toml");
-            std::fs::write(
-                &scene,
-                self.scene_text(&[("GRIPPER", &g.to_string_lossy())]),
-            )?;
-            let _ = std::fs::remove_file(&out);
-            let args: Vec<OsString> = vec![
-                "plan".into(),
-                scene.into(),
-                "--out".into(),
-                out.clone().into(),
-            ];
-            self.expect(name, self.cmd(&args), 2, needles)?;
+            std::fs::write(&g, file_text)?;
+            let text = self.scene_text(&[("GRIPPER", &g.to_string_lossy())]);
+            self.plan_text(name, "numbers-gripper.toml", &text, 2, &[needle])?;
         }
-        self.check("files: no plan left", !out.exists(), || {
-            "a plan was written".into()
-        });
         // URDF meshes that are not files: robot check says what they are.
         let zero = dir.join("zero.stl");
         let dangling = dir.join("dangling.stl");
