@@ -174,6 +174,14 @@ impl Plan {
         to_python(py, &self.inner.rests)
     }
 
+    /// Where the robot stands (dict `{link, world_from_root}`: its root link and that link's
+    /// pose in the world, the frame of the plan's world poses), or None in plans written
+    /// before it was stated.
+    #[getter]
+    fn base<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.inner.base)
+    }
+
     /// Each arm's joints and gripper joints, and where its tool link is (list of dicts:
     /// `tool` is `{link, parent, parent_from_tool}`, absent in plans written before it was
     /// stated).

@@ -1,8 +1,9 @@
 //! A plan as ROS 2 messages (`docs/ros2.md`): one `trajectory_msgs/msg/JointTrajectory` per
 //! motion and per moving arm or gripper ([`joint_trajectories`]), for a ros2_control
 //! `joint_trajectory_controller`, and one `moveit_msgs/msg/DisplayTrajectory` of the whole
-//! plan ([`display_trajectory`]), for RViz. Each arm's tool frame goes with its
-//! trajectories as the static transform ROS has for it ([`crate::tool_frame`]).
+//! plan ([`display_trajectory`]), for RViz. Where the robot stands and each arm's tool frame
+//! go with the trajectories as the static transforms ROS has for them
+//! ([`crate::tool_frame`]).
 //!
 //! The structs serialize (serde) with the field names and order of the ROS 2 message
 //! definitions, so their JSON is what `rosidl_runtime_py.set_message_fields` takes;
@@ -134,6 +135,11 @@ pub struct ExportedTrajectory {
     pub start: Real,
     /// The message.
     pub message: JointTrajectory,
+    /// Where the robot stands, as a static transform from the world frame to its root link
+    /// ([`crate::tool_frame::BaseFrame`]; absent when the plan does not state it or the root
+    /// link is the world frame).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub base_frame: Option<TransformStamped>,
     /// Where the arm's tool link is, as a static transform from its parent link
     /// ([`crate::tool_frame`]; absent when the plan does not state it).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -316,6 +322,10 @@ pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String
             crate::plan::PLAN_FORMAT
         ));
     }
+    let base_frame = plan
+        .base
+        .as_ref()
+        .and_then(crate::tool_frame::BaseFrame::to_transform_stamped);
     let mut out = Vec::new();
     for (index, motion) in plan.motions().into_iter().enumerate() {
         let start = plan.trajectory[motion.first].time_from_start;
@@ -343,6 +353,7 @@ pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String
                     kind,
                     start,
                     message: trajectory(plan, names, &cols, motion.first, motion.last)?,
+                    base_frame: base_frame.clone(),
                     tool_frame: tool.as_ref().map(ToolFrame::to_transform_stamped),
                 });
             }
@@ -601,6 +612,7 @@ mod tests {
             seed: 1,
             strategy: Strategy::RightLeft,
             joint_names: ["r1", "rg", "l1", "lg"].map(String::from).to_vec(),
+            base: None,
             arms: vec![arm(Arm::Right, "r"), arm(Arm::Left, "l")],
             limits: None,
             trajectory,

@@ -64,6 +64,11 @@ pub struct Plan {
     /// Every actuated joint of the robot (grippers included), in model order: the columns of
     /// [`TrajectoryPoint::positions`].
     pub joint_names: Vec<String>,
+    /// Where the robot stands: its root link and `world_from_root`, the frame of the world
+    /// poses (`world_from_tcp`, `world_from_object`) on the robot's URDF (absent in format
+    /// `pickplace.plan/1` and in plans written before it was stated).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<crate::tool_frame::BaseFrame>,
     /// Each arm's joints and its gripper's (names from [`Plan::joint_names`]): the joints of
     /// the trajectories [`Plan::motions`] gives per arm, as a controller of that arm expects
     /// them (absent in format `pickplace.plan/1`).
@@ -415,8 +420,8 @@ impl Plan {
         s
     }
 
-    /// Checks every pose of the plan (the object's, events', rests', grasps', the arms' tool
-    /// frames' and key poses'): finite numbers and a non-zero quaternion.
+    /// Checks every pose of the plan (the object's, events', rests', grasps', the base's, the
+    /// arms' tool frames' and key poses'): finite numbers and a non-zero quaternion.
     ///
     /// # Errors
     /// The first invalid pose, by its field (`key_poses[3].world_from_tcp: orientation
@@ -440,6 +445,9 @@ impl Plan {
         }
         for (i, g) in self.grasps.iter().enumerate() {
             check(format!("grasps[{i}].object_from_tcp"), &g.object_from_tcp)?;
+        }
+        if let Some(base) = &self.base {
+            check("base.world_from_root".into(), &base.world_from_root)?;
         }
         for (i, a) in self.arms.iter().enumerate() {
             if let Some(tool) = &a.tool {
@@ -877,6 +885,7 @@ mod tests {
             seed: 1,
             strategy: Strategy::RightLeft,
             joint_names: vec!["a".into(), "b".into()],
+            base: None,
             arms: vec![],
             limits: None,
             trajectory: vec![],

@@ -1,19 +1,23 @@
-//! Where each arm's tool link is: the frame of a plan's `events[].link`,
-//! `events[].link_from_object` and `key_poses[].world_from_tcp`.
+//! Where the plan's frames are on the robot: each arm's tool link, the frame of a plan's
+//! `events[].link`, `events[].link_from_object` and `key_poses[].world_from_tcp`, and the
+//! robot's root link in the world, the frame those world poses are in.
 //!
 //! The planner adds the tool link to the robot in memory (`<group>_tool`,
 //! [`crate::robot_setup`]): a fixed link on the gripper's mounting link at the tool point it
 //! measured (`docs/robot.md`). No URDF has it, so a plan states it per arm
-//! ([`crate::plan::ArmJoints::tool`], `arms[].tool` in `docs/plan-format.md`), and
-//! `pickplace export` states it as ROS 2 has it: a static transform from the parent link to
-//! the tool link ([`TransformStamped`], what `/tf_static` carries; `docs/ros2.md`).
+//! ([`crate::plan::ArmJoints::tool`], `arms[].tool` in `docs/plan-format.md`). Where the
+//! robot stands is the scene's (`robot.base_pose`), so a plan states that too
+//! ([`crate::plan::Plan::base`], [`BaseFrame`]). `pickplace export` states both as ROS 2 has
+//! them: static transforms ([`TransformStamped`], what `/tf_static` carries;
+//! `docs/ros2.md`), from the world frame ([`WORLD_FRAME`]) to the root link and from a tool
+//! link's parent to the tool link.
 
 use crate::export::{ExportedTrajectory, Header};
 use crate::plan::{ArmJoints, Event, Plan};
 use crate::scene::PoseSpec;
 use crate::strategy::Arm;
 use pickplace_geometry::io::fmt_real;
-use pickplace_geometry::math::Real;
+use pickplace_geometry::math::{Isometry3, Real};
 use pickplace_robot::RobotModel;
 use serde::{Deserialize, Serialize};
 
@@ -50,51 +54,114 @@ impl ToolFrame {
     /// The tool frame as the static transform `parent -> link` ROS 2 publishes on
     /// `/tf_static`: `header.frame_id` the parent, `child_frame_id` the tool link, stamp zero.
     pub fn to_transform_stamped(&self) -> TransformStamped {
-        let [x, y, z] = self.parent_from_tool.position;
-        let [qx, qy, qz, qw] = self.parent_from_tool.orientation;
-        TransformStamped {
-            header: Header {
-                stamp: Default::default(),
-                frame_id: self.parent.clone(),
-            },
-            child_frame_id: self.link.clone(),
-            transform: Transform {
-                translation: Vector3 { x, y, z },
-                rotation: Quaternion {
-                    x: qx,
-                    y: qy,
-                    z: qz,
-                    w: qw,
-                },
-            },
-        }
+        transform_stamped(&self.parent, &self.link, &self.parent_from_tool)
     }
 
     /// The command that publishes the tool frame on `/tf_static`:
     /// `ros2 run tf2_ros static_transform_publisher --x X … --qw W --frame-id PARENT
     /// --child-frame-id LINK` (names quoted for a POSIX shell where they need it).
     pub fn static_transform_command(&self) -> String {
-        let [x, y, z] = self.parent_from_tool.position;
-        let [qx, qy, qz, qw] = self.parent_from_tool.orientation;
-        let numbers: Vec<String> = [
-            ("x", x),
-            ("y", y),
-            ("z", z),
-            ("qx", qx),
-            ("qy", qy),
-            ("qz", qz),
-            ("qw", qw),
-        ]
-        .iter()
-        .map(|(name, value)| format!("--{name} {}", number(*value)))
-        .collect();
-        format!(
-            "ros2 run tf2_ros static_transform_publisher {} --frame-id {} --child-frame-id {}",
-            numbers.join(" "),
-            shell_word(&self.parent),
-            shell_word(&self.link)
-        )
+        static_transform_command(&self.parent, &self.link, &self.parent_from_tool)
     }
+}
+
+/// The name the ROS 2 export gives the world frame, the frame of the plan's world poses
+/// (`world_from_tcp`, `world_from_object`, [`BaseFrame::world_from_root`]): `world`, the
+/// parent frame of MoveIt's virtual joints by convention and the root link of several robots
+/// combined ([`crate::robot_setup`]).
+pub const WORLD_FRAME: &str = "world";
+
+/// Where the robot stands, as a plan states it: its root link in the world frame, the frame
+/// of the plan's world poses.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BaseFrame {
+    /// The robot model's root link: the URDF's root, or [`WORLD_FRAME`] for several robots
+    /// combined (each placed under it at its `base_pose`).
+    pub link: String,
+    /// The root link's pose in the world frame: the scene's `robot.base_pose` (the identity
+    /// for several robots combined).
+    pub world_from_root: PoseSpec,
+}
+
+impl BaseFrame {
+    /// The base frame of `model` (its root link) standing at `world_from_root`.
+    pub fn of_model(model: &RobotModel, world_from_root: &Isometry3) -> Self {
+        Self {
+            link: model.links()[model.root()].name.clone(),
+            world_from_root: PoseSpec::from_isometry(world_from_root),
+        }
+    }
+
+    /// True when the root link is the world frame itself ([`WORLD_FRAME`]: several robots
+    /// combined): there is no transform to publish then.
+    pub fn is_world(&self) -> bool {
+        self.link == WORLD_FRAME
+    }
+
+    /// Where the robot stands as the static transform `world -> link` ROS 2 publishes on
+    /// `/tf_static`: `header.frame_id` [`WORLD_FRAME`], `child_frame_id` the root link, stamp
+    /// zero; `None` when the root link is the world frame ([`BaseFrame::is_world`]: tf2
+    /// refuses a frame's transform to itself).
+    pub fn to_transform_stamped(&self) -> Option<TransformStamped> {
+        (!self.is_world())
+            .then(|| transform_stamped(WORLD_FRAME, &self.link, &self.world_from_root))
+    }
+
+    /// The command that publishes [`BaseFrame::to_transform_stamped`] on `/tf_static`
+    /// (`--frame-id world --child-frame-id ROOT`); `None` when the root link is the world
+    /// frame.
+    pub fn static_transform_command(&self) -> Option<String> {
+        (!self.is_world())
+            .then(|| static_transform_command(WORLD_FRAME, &self.link, &self.world_from_root))
+    }
+}
+
+/// `child` at `parent_from_child` in `parent` as a static transform: stamp zero.
+fn transform_stamped(parent: &str, child: &str, parent_from_child: &PoseSpec) -> TransformStamped {
+    let [x, y, z] = parent_from_child.position;
+    let [qx, qy, qz, qw] = parent_from_child.orientation;
+    TransformStamped {
+        header: Header {
+            stamp: Default::default(),
+            frame_id: parent.to_owned(),
+        },
+        child_frame_id: child.to_owned(),
+        transform: Transform {
+            translation: Vector3 { x, y, z },
+            rotation: Quaternion {
+                x: qx,
+                y: qy,
+                z: qz,
+                w: qw,
+            },
+        },
+    }
+}
+
+/// `ros2 run tf2_ros static_transform_publisher --x X … --qw W --frame-id PARENT
+/// --child-frame-id CHILD`, names quoted for a POSIX shell where they need it.
+fn static_transform_command(parent: &str, child: &str, parent_from_child: &PoseSpec) -> String {
+    let [x, y, z] = parent_from_child.position;
+    let [qx, qy, qz, qw] = parent_from_child.orientation;
+    let numbers: Vec<String> = [
+        ("x", x),
+        ("y", y),
+        ("z", z),
+        ("qx", qx),
+        ("qy", qy),
+        ("qz", qz),
+        ("qw", qw),
+    ]
+    .iter()
+    .map(|(name, value)| format!("--{name} {}", number(*value)))
+    .collect();
+    format!(
+        "ros2 run tf2_ros static_transform_publisher {} --frame-id {} --child-frame-id {}",
+        numbers.join(" "),
+        shell_word(parent),
+        shell_word(child)
+    )
 }
 
 /// `geometry_msgs/msg/Vector3`.
@@ -133,11 +200,12 @@ pub struct Transform {
 /// `geometry_msgs/msg/TransformStamped`: `child_frame_id` in `header.frame_id`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TransformStamped {
-    /// Stamp zero (a static transform); `frame_id` the parent link.
+    /// Stamp zero (a static transform); `frame_id` the parent frame (a tool link's parent
+    /// link, or [`WORLD_FRAME`]).
     pub header: Header,
-    /// The tool link.
+    /// The child frame (a tool link, or the root link).
     pub child_frame_id: String,
-    /// `parent_from_tool`.
+    /// The child's pose in the parent's frame (`parent_from_tool`, `world_from_root`).
     pub transform: Transform,
 }
 
@@ -190,42 +258,63 @@ pub fn check_events(arms: &[ArmJoints], events: &[Event]) -> Result<(), ToolFram
     Ok(())
 }
 
-/// The comment lines a YAML stream of `messages` starts with: for each arm of the messages
-/// whose tool frame the plan states (in [`Plan::arms`] order), where its tool link is and the
-/// command that publishes it on `/tf_static` ([`ToolFrame::static_transform_command`]):
+/// The comment lines a YAML stream of `messages` starts with: where the robot stands when
+/// the plan states it ([`Plan::base`]; nothing when its root link is the world frame), then
+/// for each arm of the messages whose tool frame the plan states (in [`Plan::arms`] order),
+/// where its tool link is; each with the command that publishes it on `/tf_static`
+/// ([`BaseFrame::static_transform_command`], [`ToolFrame::static_transform_command`]):
 ///
 /// ```text
+/// # robot base (frame of world_from_tcp and world_from_object): root link "WAIST" in "world" at position [0, 0, 0.92], orientation [0, 0, 0, 1]
+/// #   ros2 run tf2_ros static_transform_publisher --x 0 --y 0 --z 0.92 --qx 0 --qy 0 --qz 0 --qw 1 --frame-id world --child-frame-id WAIST
 /// # tool frame of the right arm (link of link_from_object and world_from_tcp): "right_arm_tool" in "RARM_JOINT5_Link" at position [-0.1865, 0, 0], orientation [0, -0.7071067811865475, 0, 0.7071067811865476]
 /// #   ros2 run tf2_ros static_transform_publisher --x -0.1865 --y 0 --z 0 --qx 0 --qy -0.7071067811865475 --qz 0 --qw 0.7071067811865476 --frame-id RARM_JOINT5_Link --child-frame-id right_arm_tool
 /// ```
 ///
-/// Empty when no arm of the messages has a stated tool frame.
+/// Empty when there are no messages, or the plan states no base and no arm of the messages
+/// has a stated tool frame.
 pub fn yaml_comments(plan: &Plan, messages: &[ExportedTrajectory]) -> String {
     let mut out = String::new();
+    let numbers = |values: &[Real]| -> String {
+        let items: Vec<String> = values.iter().map(|&v| number(v)).collect();
+        format!("[{}]", items.join(", "))
+    };
+    // The names come from the plan file: keep each comment on one line.
+    let mut push = |frame: String, command: String| {
+        out.push_str(&one_line(&frame));
+        out.push('\n');
+        out.push_str(&one_line(&format!("#   {command}")));
+        out.push('\n');
+    };
+    if let Some(base) = plan.base.as_ref().filter(|_| !messages.is_empty())
+        && let Some(command) = base.static_transform_command()
+    {
+        push(
+            format!(
+                "# robot base (frame of world_from_tcp and world_from_object): root link {:?} in {WORLD_FRAME:?} at position {}, orientation {}",
+                base.link,
+                numbers(&base.world_from_root.position),
+                numbers(&base.world_from_root.orientation)
+            ),
+            command,
+        );
+    }
     for a in &plan.arms {
         let Some(tool) = &a.tool else { continue };
         if !messages.iter().any(|m| m.arm == a.arm) {
             continue;
         }
-        let numbers = |values: &[Real]| -> String {
-            let items: Vec<String> = values.iter().map(|&v| number(v)).collect();
-            format!("[{}]", items.join(", "))
-        };
-        // The names come from the plan file: keep each comment on one line.
-        out.push_str(&one_line(&format!(
-            "# tool frame of the {} arm (link of link_from_object and world_from_tcp): {:?} in {:?} at position {}, orientation {}",
-            a.arm,
-            tool.link,
-            tool.parent,
-            numbers(&tool.parent_from_tool.position),
-            numbers(&tool.parent_from_tool.orientation)
-        )));
-        out.push('\n');
-        out.push_str(&one_line(&format!(
-            "#   {}",
-            tool.static_transform_command()
-        )));
-        out.push('\n');
+        push(
+            format!(
+                "# tool frame of the {} arm (link of link_from_object and world_from_tcp): {:?} in {:?} at position {}, orientation {}",
+                a.arm,
+                tool.link,
+                tool.parent,
+                numbers(&tool.parent_from_tool.position),
+                numbers(&tool.parent_from_tool.orientation)
+            ),
+            tool.static_transform_command(),
+        );
     }
     out
 }
@@ -261,7 +350,7 @@ fn shell_word(word: &str) -> String {
 mod tests {
     use super::*;
     use crate::plan::EventKind;
-    use pickplace_geometry::math::{Isometry3, Translation3, UnitQuaternion};
+    use pickplace_geometry::math::{Translation3, UnitQuaternion};
 
     fn tool(link: &str) -> ToolFrame {
         ToolFrame {
@@ -298,6 +387,43 @@ mod tests {
                 .static_transform_command()
                 .ends_with(" --child-frame-id 'it'\\''s a tool'")
         );
+    }
+
+    #[test]
+    fn the_base_is_world_to_root_and_nothing_when_the_root_is_the_world() {
+        let base = BaseFrame {
+            link: "WAIST".into(),
+            world_from_root: PoseSpec::from_isometry(&Isometry3::from_parts(
+                Translation3::new(0.0, 0.0, 0.92),
+                UnitQuaternion::identity(),
+            )),
+        };
+        let t = base.to_transform_stamped().expect("a transform");
+        assert_eq!(
+            serde_json::to_value(&t).expect("json"),
+            serde_json::json!({
+                "header": { "stamp": { "sec": 0, "nanosec": 0 }, "frame_id": "world" },
+                "child_frame_id": "WAIST",
+                "transform": {
+                    "translation": { "x": 0.0, "y": 0.0, "z": 0.92 },
+                    "rotation": { "x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0 }
+                }
+            })
+        );
+        assert_eq!(
+            base.static_transform_command().as_deref(),
+            Some(
+                "ros2 run tf2_ros static_transform_publisher --x 0 --y 0 --z 0.92 --qx 0 --qy 0 --qz 0 --qw 1 --frame-id world --child-frame-id WAIST"
+            )
+        );
+        // Several robots combined: the root link is the world frame.
+        let combined = BaseFrame {
+            link: WORLD_FRAME.into(),
+            world_from_root: PoseSpec::IDENTITY,
+        };
+        assert!(combined.is_world());
+        assert_eq!(combined.to_transform_stamped(), None);
+        assert_eq!(combined.static_transform_command(), None);
     }
 
     #[test]

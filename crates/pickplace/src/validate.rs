@@ -31,9 +31,11 @@
 //! [`ValidationReport::work`]); a setup made by [`Setup::load_for_validation`] clusters no
 //! environment mesh and builds no roadmap.
 
+mod frames;
 mod grip;
 mod parts;
 
+pub use frames::FRAME_TOLERANCE;
 pub use parts::ValidationWork;
 
 use crate::contact::{OBJECT_NAME, SUPPORT_DISTANCE};
@@ -447,6 +449,8 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
         .map_err(|r| bad(format!("object.placed_pose: {r}")))?;
 
     let mut v = Validator::new(setup)?;
+    // The frames the plan states (`base`, `arms[].tool`) against the scene's robot's, first.
+    v.problems.extend(frames::problems(setup, plan));
     for (e, named) in &events {
         if *named != e.arm {
             v.problem(

@@ -92,7 +92,8 @@ fn the_yaml_of_every_message_reads_back_as_its_json() {
         let entries = json.as_array().expect("an array");
         let messages: Vec<&Value> = entries.iter().map(|e| &e["message"]).collect();
         // One comment line and one `---` per message, in the JSON's order, after two
-        // comment lines per arm that moves: its tool frame (issue 33).
+        // comment lines for the robot's base and two per arm that moves: its tool frame
+        // (issue 33).
         let comments: Vec<&str> = yaml
             .lines()
             .filter(|l| l.starts_with("# motion "))
@@ -100,14 +101,19 @@ fn the_yaml_of_every_message_reads_back_as_its_json() {
         assert_eq!(comments.len(), entries.len());
         let header: Vec<&str> = yaml
             .lines()
-            .take_while(|l| l.starts_with("# tool") || l.starts_with("#   ros2 run"))
+            .take_while(|l| {
+                l.starts_with("# robot base")
+                    || l.starts_with("# tool")
+                    || l.starts_with("#   ros2 run")
+            })
             .collect();
+        assert!(header[0].starts_with("# robot base"), "{header:?}");
         let moving = read_plan(plan)
             .arms
             .iter()
             .filter(|a| entries.iter().any(|e| e["arm"] == a.arm.name()))
             .count();
-        assert_eq!(header.len(), 2 * moving, "{}", plan.display());
+        assert_eq!(header.len(), 2 + 2 * moving, "{}", plan.display());
         assert_eq!(
             yaml.lines().filter(|l| l.starts_with('#')).count(),
             entries.len() + header.len()
@@ -164,7 +170,23 @@ fn each_message_is_a_motion_of_one_arm_or_gripper_as_the_plan_has_it() {
                 .find(|a| e["arm"] == a.arm.name())
                 .expect("an arm of the plan");
             assert_eq!(e["group"], arm.group.as_str());
-            // The arm's tool frame as a geometry_msgs/msg/TransformStamped (issue 33).
+            // Where the robot stands and the arm's tool frame, each as a
+            // geometry_msgs/msg/TransformStamped (issue 33).
+            let base = plan.base.as_ref().expect("the plan states the base");
+            let [x, y, z] = base.world_from_root.position;
+            let [qx, qy, qz, qw] = base.world_from_root.orientation;
+            assert_eq!(
+                e["base_frame"],
+                serde_json::json!({
+                    "header": { "stamp": { "sec": 0, "nanosec": 0 }, "frame_id": "world" },
+                    "child_frame_id": "WAIST",
+                    "transform": {
+                        "translation": { "x": x, "y": y, "z": z },
+                        "rotation": { "x": qx, "y": qy, "z": qz, "w": qw }
+                    }
+                })
+            );
+            assert_eq!(z, 0.92);
             let tool = arm.tool.as_ref().expect("the plan states the tool frame");
             let [x, y, z] = tool.parent_from_tool.position;
             let [qx, qy, qz, qw] = tool.parent_from_tool.orientation;
@@ -262,9 +284,11 @@ fn one_motion_of_one_arm_is_one_document_for_ros2_topic_pub() {
         ],
     );
     assert_eq!(yaml.matches("---").count(), 1, "{yaml}");
+    let base = "# robot base (frame of world_from_tcp and world_from_object): root link \"WAIST\" in \"world\" at position [0, 0, 0.92], orientation [0, 0, 0, 1]\n#   ros2 run tf2_ros static_transform_publisher --x 0 --y 0 --z 0.92 --qx 0 --qy 0 --qz 0 --qw 1 --frame-id world --child-frame-id WAIST\n";
+    assert!(yaml.starts_with(base), "{yaml}");
     let tool = "# tool frame of the right arm (link of link_from_object and world_from_tcp): \"right_arm_tool\" in \"RARM_JOINT5_Link\" at position [";
-    assert!(yaml.starts_with(tool), "{yaml}");
-    let mut lines = yaml.lines().skip(1);
+    assert!(yaml[base.len()..].starts_with(tool), "{yaml}");
+    let mut lines = yaml.lines().skip(3);
     let command = lines.next().expect("the command line");
     assert!(
         command.starts_with("#   ros2 run tf2_ros static_transform_publisher --x ")
@@ -366,6 +390,7 @@ fn a_format_1_plan_exports_without_velocities_but_not_per_arm() {
         serde_json::from_str(&std::fs::read_to_string(&plans()[0]).expect("plan")).expect("JSON");
     value["format"] = "pickplace.plan/1".into();
     let o = value.as_object_mut().expect("object");
+    o.remove("base");
     o.remove("arms");
     o.remove("limits");
     for p in value["trajectory"].as_array_mut().expect("samples") {

@@ -150,6 +150,8 @@ fn validate_checks_values_times_and_poses_before_interpolating() {
     negative["trajectory"][0]["time_from_start"] = serde_json::json!(-1.0);
     let mut zero = plan.clone();
     zero["key_poses"][2]["world_from_tcp"]["orientation"] = serde_json::json!([0, 0, 0, 0]);
+    let mut zero_base = plan.clone();
+    zero_base["base"]["world_from_root"]["orientation"] = serde_json::json!([0, 0, 0, 0]);
     let mut huge = plan.clone();
     huge["key_poses"][0]["world_from_object"]["orientation"] =
         serde_json::json!([1e308, 1e308, 1e308, 1e308]);
@@ -168,6 +170,11 @@ fn validate_checks_values_times_and_poses_before_interpolating() {
             "key_poses[2].world_from_tcp: orientation quaternion is zero",
         ),
         (
+            "zero-base.json",
+            &zero_base,
+            "base.world_from_root: orientation quaternion is zero",
+        ),
+        (
             "backwards.json",
             &backwards,
             "trajectory[5] goes back in time",
@@ -183,6 +190,17 @@ fn validate_checks_values_times_and_poses_before_interpolating() {
     // Huge but finite components are a valid (normalised) quaternion.
     let o = validate(&dir, "huge.json", &huge);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // A plan made for a robot standing 5 mm higher: a problem of the report (exit 1), by its
+    // field (issue 33).
+    let mut moved = plan.clone();
+    moved["base"]["world_from_root"]["position"][2] = serde_json::json!(0.925);
+    let o = validate(&dir, "moved-base.json", &moved);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("  base.world_from_root: 5.0000 mm / 0.0000° from where the scene's robot stands (position [0, 0, 0.92], orientation [0, 0, 0, 1]): the plan's world poses are for another base pose"),
+        "{err}"
+    );
 }
 
 /// `fig9-near` copied into `dir` with its object mesh (so that a test that fails cannot

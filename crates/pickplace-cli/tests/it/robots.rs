@@ -172,6 +172,26 @@ fn two_pandas_side_by_side_plan_as_one_robot() {
     let names = plan["joint_names"].as_array().expect("names");
     assert!(names.iter().any(|n| n == "right_panda_joint1"));
     assert!(names.iter().any(|n| n == "left_panda_joint1"));
+    // Combined under the root link `world`, the world frame itself: the plan says so, and the
+    // export has no transform to publish for it (issue 33).
+    assert_eq!(
+        plan["base"],
+        serde_json::json!({
+            "link": "world",
+            "world_from_root": { "position": [0.0, 0.0, 0.0], "orientation": [0.0, 0.0, 0.0, 1.0] }
+        })
+    );
+    let path = dir.join("two-pandas.json");
+    let o = run(crate::args!["export", &path, "--format", "ros2-json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let messages = json.as_array().expect("messages");
+    assert!(!messages.is_empty());
+    assert!(
+        messages
+            .iter()
+            .all(|m| m.get("base_frame").is_none() && m.get("tool_frame").is_some())
+    );
 }
 
 #[test]

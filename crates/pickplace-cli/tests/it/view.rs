@@ -111,6 +111,7 @@ fn plan(points: usize) -> Plan {
     // Positions only: the earlier format, still read.
     Plan {
         format: pickplace::plan::PLAN_FORMAT_1.into(),
+        base: None,
         arms: vec![],
         limits: None,
         seed: 1,

@@ -184,6 +184,10 @@ class Plan:
     def rests(self) -> list[dict[str, Any]]:
         """Intermediate resting poses of a regrasp by placing."""
     @property
+    def base(self) -> dict[str, Any] | None:
+        """Where the robot stands: `{link, world_from_root}` (its root link and that link's pose
+        in the world), or None in plans written before it was stated."""
+    @property
     def arms(self) -> list[dict[str, Any]]:
         """Each arm's joints and gripper joints, and its tool frame (`tool`: `{link, parent,
         parent_from_tool}`, the frame of `link_from_object` and `world_from_tcp`)."""

@@ -427,6 +427,10 @@ impl Ctx<'_> {
             seed: self.options.seed,
             strategy,
             joint_names: model.variable_names().map(str::to_owned).collect(),
+            base: Some(crate::tool_frame::BaseFrame::of_model(
+                model,
+                &self.setup.world_from_root,
+            )),
             arms: self
                 .setup
                 .arms
