@@ -79,12 +79,7 @@ impl ReachMap {
             hi = hi.sup(p);
         }
         if hits.is_empty() || !lo.iter().chain(hi.iter()).all(|x| x.is_finite()) {
-            return Self {
-                origin: Vector3::zeros(),
-                dims: [0; 3],
-                cells: Vec::new(),
-                approach,
-            };
+            return Self::empty(approach);
         }
         let dims = [0, 1, 2].map(|k| ((hi[k] - lo[k]) / VOXEL).floor() as usize + 1);
         let mut map = Self {
@@ -99,6 +94,16 @@ impl ReachMap {
             }
         }
         map
+    }
+
+    /// A map of no cell: every pose scores 0. For a setup that never asks (validation).
+    pub fn empty(approach: Vector3) -> Self {
+        Self {
+            origin: Vector3::zeros(),
+            dims: [0; 3],
+            cells: Vec::new(),
+            approach,
+        }
     }
 
     /// The voxel coordinates of `p` (may be outside the grid).

@@ -123,7 +123,7 @@ pub struct ArmSetup {
     /// Largest distance from the shoulder the TCP reaches (m), measured by sampling.
     pub reach: Real,
     /// Where the tool point gets to with which approach direction (root frame): the order
-    /// in which grasps are tried.
+    /// in which grasps are tried (empty in a [`SetupPurpose::Validation`] setup).
     pub reach_map: ReachMap,
 }
 
@@ -628,7 +628,7 @@ impl Setup {
         }
         if !planning {
             log.push(
-                "validation: no environment clusters, grasps or roadmaps (the validator reads none)"
+                "validation: no environment clusters, grasps, roadmaps or reach maps (the validator reads none)"
                     .to_owned(),
             );
         }
@@ -894,14 +894,18 @@ fn arm_setup(
         let p = ik.chain().pose(&q).translation.vector;
         reach = reach.max((p - shoulder_local).norm());
     }
-    let reach_map = ReachMap::build(
-        ik.chain(),
-        start,
-        &variables,
-        (space.lower(), space.upper()),
-        robot_arm.gripper_params.approach(),
-        0x5eed ^ arm.index() as u64,
-    );
+    // The capability map serves the planner's search only.
+    let reach_map = match purpose {
+        SetupPurpose::Planning => ReachMap::build(
+            ik.chain(),
+            start,
+            &variables,
+            (space.lower(), space.upper()),
+            robot_arm.gripper_params.approach(),
+            0x5eed ^ arm.index() as u64,
+        ),
+        SetupPurpose::Validation => ReachMap::empty(robot_arm.gripper_params.approach()),
+    };
     Ok(ArmSetup {
         reach_map,
         arm,
