@@ -67,10 +67,13 @@ fn a_denormal_time_budget_prints_compactly() {
     assert!(!stderr(&o).contains("0.0000000000"), "{}", stderr(&o));
 }
 
+/// A scene case: replacements in the shipped scene, text appended, the message's needle.
+type SceneCase<'a> = (&'a [(&'a str, &'a str)], &'a str, &'a str);
+
 #[test]
 fn scene_numbers_out_of_range_name_their_field() {
     let dir = Scratch::new("numbers-scene");
-    let cases: [(&[(&str, &str)], &str, &str); 6] = [
+    let cases: [SceneCase<'_>; 6] = [
         (
             &[("[0.42, -0.04, 0.72]", "[1e300, -0.04, 0.72]")],
             "",
