@@ -23,6 +23,7 @@ use pickplace_geometry::math::{Isometry3, Point3, Real};
 use pickplace_geometry::mesh::{MassProperties, MeshOptions, TriMesh};
 use pickplace_grasp::collide::ObjectCollider;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GraspSet, GripperParams};
+use pickplace_placement::collide::CollisionMesh;
 use pickplace_placement::{EnvironmentModel, ObjectModel};
 use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{CollisionShape, CollisionWorld};
@@ -141,6 +142,35 @@ pub struct EnvironmentPart {
     /// Its triangles in the world frame, for gripper-only collision tests (`None` in a
     /// [`SetupPurpose::Validation`] setup).
     pub collider: Option<ObjectCollider>,
+    /// The world-frame box of its vertices `(lower, upper)`.
+    pub world_box: (Point3, Point3),
+    /// Its triangles (world frame) with their BVH for the support rule, built on first use
+    /// ([`EnvironmentPart::contact_mesh`]).
+    contact_mesh: std::sync::OnceLock<CollisionMesh>,
+}
+
+impl EnvironmentPart {
+    /// The part's triangles in the world frame with their BVH, for contact queries
+    /// ([`crate::contact::supports`]), built the first time they are needed and kept: a part
+    /// no query comes near costs nothing, and one the object is placed on many times is
+    /// built once.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] when the collision library refuses the mesh (which loading
+    /// accepted).
+    pub fn contact_mesh(&self) -> Result<&CollisionMesh> {
+        if let Some(mesh) = self.contact_mesh.get() {
+            return Ok(mesh);
+        }
+        let mesh = CollisionMesh::from_meshes(&[(&self.mesh, self.world_from_mesh)])
+            .map_err(crate::error::internal("environment contact mesh"))?;
+        Ok(self.contact_mesh.get_or_init(|| mesh))
+    }
+
+    /// Whether [`EnvironmentPart::contact_mesh`] was built (for tests of what queries cost).
+    pub fn has_contact_mesh(&self) -> bool {
+        self.contact_mesh.get().is_some()
+    }
 }
 
 /// A scene ready for planning.
@@ -462,12 +492,24 @@ impl Setup {
             } else {
                 None
             };
+            let world_box = mesh.vertices().iter().fold(
+                (
+                    Point3::from([Real::INFINITY; 3]),
+                    Point3::from([Real::NEG_INFINITY; 3]),
+                ),
+                |(lo, hi), v| {
+                    let p = world_from_mesh * v;
+                    (lo.inf(&p), hi.sup(&p))
+                },
+            );
             environment.push(EnvironmentPart {
                 name: env.name.clone(),
                 mesh,
                 clustering,
                 world_from_mesh,
                 collider,
+                world_box,
+                contact_mesh: std::sync::OnceLock::new(),
             });
         }
 
