@@ -1435,12 +1435,12 @@ mod tests {
     fn limits_so_small_they_allow_no_speed_are_refused_not_timed_at_zero() {
         // 1e-300 squared underflows to 0: every stage would get no speed, and used to take
         // no time, so the robot jumped along the path in 0 s.
-        let path = BlendedPath::split(&[vec![0.0, 0.0], vec![1.0, 0.5]], 0.01).unwrap();
+        let path = BlendedPath::split(&[vec![0.0, 0.0], vec![1.0, 0.5]], 0.01).expect("a path");
         let o = ToppraOptions {
             max_velocities: vec![1e-300, 1.0],
             ..opts(2, 1.0, 1.0)
         };
-        let e = parameterize(&path[0], &o).unwrap_err();
+        let e = parameterize(&path[0], &o).expect_err("no speed");
         assert!(matches!(e, Error::TooManyPoints { .. }), "{e}");
         assert!(e.to_string().contains("no speed"), "{e}");
     }
