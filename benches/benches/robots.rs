@@ -1,6 +1,6 @@
 //! Benchmarks of robots as their makers ship them (issues 16 and 32): PR2, Baxter, TALOS, two
-//! Franka Pandas and TIAGo Pro from the PyPI package example-robot-data 6.0.0, and our own
-//! one-jaw arm (`scenes/robots/`), found
+//! Franka Pandas, TIAGo Pro and Z1 from the PyPI package example-robot-data 6.0.0, and our
+//! own one-jaw arm (`scenes/robots/`), found
 //! through `PICKPLACE_ROBOTS_PACKAGES` (the folder holding `example-robot-data/`; `cargo xtask
 //! test` installs it into `target/robots-venv`).
 //!
@@ -19,13 +19,15 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 /// The scenes of `scenes/robots/` that plan: the four of issue 16, TIAGo Pro (no SRDF: the
-/// collision matrix sampled, linkage grippers) and our own one-jaw arm (issue 32).
-const ROBOTS: [&str; 6] = [
+/// collision matrix sampled, linkage grippers), Z1 (a jaw turning against a fixed one, both
+/// split into convex pieces) and our own one-jaw arm (issue 32).
+const ROBOTS: [&str; 7] = [
     "pr2",
     "baxter",
     "talos",
     "two-pandas",
     "tiago-pro",
+    "z1",
     "one-jaw-arm",
 ];
 

@@ -394,6 +394,18 @@ fn print_check_text(model: &RobotModel, report: &CheckJson) -> anyhow::Result<()
             outln!(text, "  {w}");
         }
     }
+    if !report.split_links.is_empty() {
+        outln!(text, "split meshes: {}", report.split_links.len());
+        for l in &report.split_links {
+            outln!(
+                text,
+                "  link {:?}: {} collision mesh(es) split into {} convex pieces (a hand with one moving jaw: as one hull each, its jaws would overlap)",
+                l.link,
+                l.meshes,
+                l.pieces
+            );
+        }
+    }
     outln!(
         text,
         "unreadable meshes: {}",

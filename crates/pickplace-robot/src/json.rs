@@ -380,6 +380,9 @@ pub struct CheckJson {
     /// to an SRDF to keep it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sampled_collision_matrix: Option<SampledMatrixJson>,
+    /// Links whose collision meshes the loader split into convex pieces so that a hand with
+    /// one moving jaw could be measured ([`RobotModel::split_links`]).
+    pub split_links: Vec<crate::gripper::SplitLink>,
     /// The SRDF file, if one was given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub srdf: Option<String>,
@@ -549,6 +552,7 @@ impl CheckJson {
             robot: model.name().to_owned(),
             root: model.links()[model.root()].name.clone(),
             sampled_collision_matrix: None,
+            split_links: model.split_links().to_vec(),
             srdf: None,
             srdf_warnings: None,
             unreadable_meshes,

@@ -205,6 +205,16 @@ pub struct FoundArm {
 /// it has at least `min_joints` joints and [`Gripper::derive`] accepts its hand. Sorted by
 /// tip link.
 pub fn find_arms(model: &RobotModel, min_joints: usize) -> Vec<FoundArm> {
+    arm_candidates(model, min_joints)
+        .into_iter()
+        .filter(|arm| Gripper::derive(model, &arm.variables, &GripperOptions::default()).is_ok())
+        .collect()
+}
+
+/// The chains [`find_arms`] looks at, before it asks [`Gripper::derive`] about their hands:
+/// every link whose subtree holds one or two actuated joints with nothing actuated below
+/// them, with the chain of at least `min_joints` actuated joints above it. Sorted by tip link.
+pub fn arm_candidates(model: &RobotModel, min_joints: usize) -> Vec<FoundArm> {
     let n = model.links().len();
     // Actuated (variable) joints in each link's subtree, counted bottom-up (children come
     // after parents).
@@ -267,13 +277,11 @@ pub fn find_arms(model: &RobotModel, min_joints: usize) -> Vec<FoundArm> {
         if variables.len() < min_joints {
             continue;
         }
-        if Gripper::derive(model, &variables, &GripperOptions::default()).is_ok() {
-            arms.push(FoundArm {
-                variables,
-                base_link,
-                tip_link: tip,
-            });
-        }
+        arms.push(FoundArm {
+            variables,
+            base_link,
+            tip_link: tip,
+        });
     }
     arms
 }

@@ -368,6 +368,13 @@ pub struct LoadOptions {
     pub mesh: MeshOptions,
 }
 
+/// The version of the collision model the loader builds from a robot's files: it changes
+/// when the same files give other collision geometry, so that whatever was computed on the
+/// geometry (roadmaps, sampled collision matrices) and cached by the files' text is computed
+/// again. 2: the jaws of a one-moving-jaw hand split into convex pieces
+/// ([`crate::gripper::SplitLink`]).
+pub const GEOMETRY_VERSION: u32 = 2;
+
 /// An immutable robot model read from a URDF.
 #[derive(Debug, Clone)]
 pub struct RobotModel {
@@ -379,6 +386,7 @@ pub struct RobotModel {
     link_by_name: BTreeMap<String, usize>,
     joint_by_name: BTreeMap<String, usize>,
     warnings: Vec<LoadWarning>,
+    split_links: Vec<crate::gripper::SplitLink>,
 }
 
 impl RobotModel {
@@ -423,7 +431,21 @@ impl RobotModel {
             path: path.to_path_buf(),
             detail: pickplace_geometry::io::short_message(&e.to_string()),
         })?;
-        crate::urdf::build(&robot, path, base_dir, options)
+        let mut model = crate::urdf::build(&robot, path, base_dir, options)?;
+        model.split_links = crate::gripper::split_one_jaw_hands(&mut model);
+        Ok(model)
+    }
+
+    /// The links whose collision meshes the loader split into convex pieces, so that a hand
+    /// with one moving jaw could be measured ([`crate::gripper::SplitLink`]); empty for most
+    /// robots.
+    pub fn split_links(&self) -> &[crate::gripper::SplitLink] {
+        &self.split_links
+    }
+
+    /// Replaces a link's collision geometry (the loader's jaw split).
+    pub(crate) fn set_collisions(&mut self, link: usize, collisions: Vec<LinkGeometry>) {
+        self.links[link].collisions = collisions;
     }
 
     pub(crate) fn from_parts(
@@ -458,6 +480,7 @@ impl RobotModel {
             link_by_name,
             joint_by_name,
             warnings,
+            split_links: Vec::new(),
         }
     }
 
@@ -736,12 +759,14 @@ impl RobotModel {
             collisions: Vec::new(),
             visuals: Vec::new(),
         });
-        Ok(Self::from_parts(
+        let mut model = Self::from_parts(
             self.name().to_owned(),
             self.source().to_path_buf(),
             links,
             joints,
             self.warnings().to_vec(),
-        ))
+        );
+        model.split_links = self.split_links.clone();
+        Ok(model)
     }
 }

@@ -357,6 +357,12 @@ impl RobotSetup {
                 warnings.push(format!("{}: {w}", spec.urdf.display()));
                 notes.push(format!("{}: {w}", spec.urdf.display()));
             }
+            for l in model.split_links() {
+                notes.push(format!(
+                    "link {:?}: its collision mesh split into {} convex pieces (a hand with one moving jaw: as one hull each, its jaws would overlap)",
+                    l.link, l.pieces
+                ));
+            }
             let mut srdf = match &spec.srdf {
                 Some(path) => Srdf::from_file(path).map_err(robot_err(path))?,
                 None => Srdf::default(),
@@ -370,6 +376,10 @@ impl RobotSetup {
                 .to_isometry()
                 .map_err(|r| invalid(&field(i, "base_pose"), r.into()))?;
             key_text.push_str(&read_text(&spec.urdf, FileKind::Urdf));
+            key_text.push_str(&format!(
+                "geometry {}",
+                pickplace_robot::model::GEOMETRY_VERSION
+            ));
             if let Some(p) = &spec.srdf {
                 key_text.push_str(&read_text(p, FileKind::Srdf));
             }

@@ -605,16 +605,16 @@ impl Setup {
             let dropped = crate::hand_fit::drop_grasps_the_hand_cannot_close(
                 &model,
                 &self_world,
-                first,
+                (&first.gripper, first.tcp_link),
                 &start,
-                &object_shape,
+                (&object_shape, &object_mesh),
                 &mut grasp_set,
             )
             .map_err(robot_err(&urdf_path))?;
             if !dropped.is_empty() {
-                let what: Vec<String> = dropped.iter().map(|(l, n)| format!("{l} ×{n}")).collect();
+                let what: Vec<String> = dropped.iter().map(|(r, n)| format!("{r} ×{n}")).collect();
                 log.push(format!(
-                    "object grasps: {} of {before} dropped, a link of the hand other than the pads in the object when closed ({}), in {:.1} ms",
+                    "object grasps: {} of {before} dropped, the robot's hand closed on the object does not hold it as the validator asks ({}), in {:.1} ms",
                     before - grasp_set.grasps.len(),
                     what.join(", "),
                     ms(t)

@@ -301,11 +301,7 @@ pub struct ValidationReport {
     pub work: ValidationWork,
 }
 
-/// The largest gap (m) between a holding hand's finger pad and the object.
-pub const GRIP_GAP: Real = 0.002;
-/// Penetration (m) tolerated beyond the gripper's squeeze (the pads are convex hulls, the
-/// object a triangle mesh).
-pub const GRIP_TOLERANCE: Real = 0.0005;
+pub use pickplace_robot::gripper::{GRIP_GAP, GRIP_TOLERANCE};
 
 /// A grasp or release with its arm and pose resolved.
 #[derive(Debug, Clone, Copy)]

@@ -229,6 +229,63 @@ fn tiago_pro_without_an_srdf_hands_over_with_its_linkage_grippers() {
 }
 
 #[test]
+fn z1_whose_jaws_are_one_mesh_each_plans_as_shipped() {
+    // Issue 32: Z1's fixed jaw is one mesh with the hand's body and its jaw turns against
+    // it. The loader splits both jaws' meshes into convex pieces; the gripper is measured,
+    // each grasp's command closes the jaw onto the object, and the plan validates.
+    let dir = Scratch::new("robots-z1");
+    let (plan, log) = plan_and_validate("z1", &dir);
+    assert!(
+        log.contains("link \"gripperStator\": its collision mesh split into"),
+        "{log}"
+    );
+    assert_eq!(plan["strategy"], "right-right");
+    let p = packages();
+    let robots = p.join("example-robot-data/robots/z1_description");
+    let o = run(crate::args![
+        "robot",
+        "check",
+        robots.join("urdf/z1.urdf"),
+        "--srdf",
+        robots.join("srdf/z1.srdf"),
+        "--package-dir",
+        &p,
+        "--json"
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    assert_eq!(report["arms"].as_array().map(Vec::len), Some(1), "{report}");
+    let split: Vec<&str> = report["split_links"]
+        .as_array()
+        .expect("split_links")
+        .iter()
+        .filter_map(|l| l["link"].as_str())
+        .collect();
+    assert_eq!(split, ["gripperStator", "gripperMover"]);
+}
+
+#[test]
+fn so101_is_found_and_measured_but_its_five_joints_reach_no_grasp() {
+    // Issue 32: SO-101's fixed jaw is one mesh with the wrist: split, the arm is found in
+    // the URDF and its gripper measured. Five joints cannot put the hand at the 6-D grasp
+    // poses: the planner says so for each stage (not yet supported, docs/robot.md).
+    let p = packages();
+    let urdf = p.join("example-robot-data/robots/so_arm_description/urdf/so101.urdf");
+    let o = run(crate::args!["robot", "check", &urdf, "--package-dir", &p]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("arms: 1"), "{}", text(&o));
+    assert!(
+        text(&o).contains("link \"gripper_link\": 2 collision mesh(es) split"),
+        "{}",
+        text(&o)
+    );
+    let scene = root().join("scenes/robots/so101.toml");
+    let o = run(crate::args!["plan", &scene, "--package-dir", &p]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("grasp: no IK"), "{}", text(&o));
+}
+
+#[test]
 fn alex_sake_hands_are_refused_with_the_finger_link_that_enters_the_object() {
     // example-robot-data 6.0.0's SAKE fingers have collision origins without their visuals'
     // rotation: a finger's base link lies across the gap. The planner must not plan what the

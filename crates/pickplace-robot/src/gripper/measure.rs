@@ -208,8 +208,16 @@ impl Gripper {
         // The pads: on each side, the pieces of geometry that reach farthest towards the finger
         // tips (within 5 mm), the approach being roughly from the hand's origin to the fingers, across the
         // line between them. Proximal links (PR2's, TALOS's) and cross bars (Baxter's) are not pads.
-        let rough_approach = (mid_point.coords - axis * mid_point.coords.dot(&axis))
-            .try_normalize(1e-6)
+        // A jaw turning against a fixed one: its joint gives both axes (the line between the
+        // sides' centres is no finger axis when the fixed side is the whole hand).
+        let turning = if fixed_jaw {
+            turning_jaw(&mut sample, &mids, &pieces_a, &pieces_b)
+        } else {
+            None
+        };
+        let rough_approach = turning
+            .map(|t| t.approach)
+            .or_else(|| (mid_point.coords - axis * mid_point.coords.dot(&axis)).try_normalize(1e-6))
             .unwrap_or_else(|| {
                 axis.cross(&Vector3::x())
                     .try_normalize(1e-6)
@@ -230,12 +238,20 @@ impl Gripper {
                 .collect()
         };
         let pieces = [pads_of(pieces_a), pads_of(pieces_b)];
-        // The closing axis: from one finger's pads to the other's, at mid stroke; the opening
-        // is the gap between the pads along it (negative when interleaved fingers pass each
-        // other, as TALOS's do when fully closed).
-        sample.set(&mids, 0.0);
-        let poses = sample.hand_poses();
-        let closing = (centroid(&pieces[1], &poses) - centroid(&pieces[0], &poses))
+        // The closing axis: from one finger's pads to the other's, at mid stroke (with one
+        // moving jaw: the way its pads move where it meets the fixed jaw, at the drive's end
+        // where the pads are closest, since a turning jaw is across the fixed jaw's face only
+        // there; a sliding jaw: its slide); the opening is the gap between the pads along it
+        // (negative when interleaved fingers pass each other, as TALOS's do when fully
+        // closed).
+        let between = if let Some(t) = turning {
+            t.closing
+        } else {
+            sample.set(&mids, 0.0);
+            let poses = sample.hand_poses();
+            centroid(&pieces[1], &poses) - centroid(&pieces[0], &poses)
+        };
+        let closing = between
             .try_normalize(1e-9)
             .ok_or_else(|| GripperError::NotTwoFingers {
                 tip: tip_name.clone(),
@@ -265,12 +281,71 @@ impl Gripper {
                 open,
             });
         }
+        // Pads when closed.
+        sample.set(&drives, 0.0);
+        let poses = sample.hand_poses();
+        let pts_a = side_points(&pieces[0], &poses);
+        let pts_b = side_points(&pieces[1], &poses);
+        let inner_a = pts_a
+            .iter()
+            .map(|p| p.coords.dot(&closing))
+            .fold(Real::NEG_INFINITY, Real::max);
+        let inner_b = pts_b
+            .iter()
+            .map(|p| p.coords.dot(&closing))
+            .fold(Real::INFINITY, Real::min);
+        let pad_a: Vec<Point3> = pts_a
+            .iter()
+            .copied()
+            .filter(|p| p.coords.dot(&closing) >= inner_a - PAD_TOLERANCE)
+            .collect();
+        let pad_b: Vec<Point3> = pts_b
+            .iter()
+            .copied()
+            .filter(|p| p.coords.dot(&closing) <= inner_b + PAD_TOLERANCE)
+            .collect();
+        let pad_centre = Point3::from((mean(&pad_a).coords + mean(&pad_b).coords) * 0.5);
+        // Approach: from the hand's origin (the arm tip) to the pads, across the closing axis.
+        let raw = pad_centre.coords - closing * pad_centre.coords.dot(&closing);
+        let approach = raw.try_normalize(1e-6).ok_or_else(|| GripperError::CannotOpen {
+            tip: tip_name.clone(),
+            reason: "has its pads on the line of the closing axis through the arm's last joint: no approach direction".to_owned(),
+        })?;
+        let lateral = closing.cross(&approach);
+        let along = |p: &Point3, axis: &Vector3| p.coords.dot(axis);
+        let pads: Vec<&Point3> = pad_a.iter().chain(&pad_b).collect();
+        let (a_lo, a_hi) = extent(pads.iter().map(|p| along(p, &approach)));
+        let (l_lo, l_hi) = extent(pads.iter().map(|p| along(p, &lateral)));
+        let face_depth = (a_hi - a_lo).max(1e-4);
+        let pad_depth = options.pad_depth.map_or(face_depth, |d| d.min(face_depth));
+        let pad_width = options.pad_width.unwrap_or((l_hi - l_lo).max(1e-4));
+
         // The opening table.
-        let mut table = Vec::with_capacity(TABLE_SAMPLES);
-        for k in 0..TABLE_SAMPLES {
-            let s = k as Real / (TABLE_SAMPLES - 1) as Real;
-            sample.set(&drives, s);
-            table.push((s, distance(&sample)?));
+        let tabulate = |sample: &mut Sampler<'_>, drives: &[Drive]| {
+            (0..TABLE_SAMPLES)
+                .map(|k| {
+                    let s = k as Real / (TABLE_SAMPLES - 1) as Real;
+                    sample.set(drives, s);
+                    Ok((s, distance(sample)?))
+                })
+                .collect::<Result<Vec<_>, GripperError>>()
+        };
+        let mut table = tabulate(&mut sample, &drives)?;
+        if turning.is_some() {
+            // A turning jaw opens widest across the fixed jaw's face before the end of its
+            // stroke (it turns back over the hand after): its stroke ends there.
+            let widest = table
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.1.total_cmp(&b.1.1).then(b.0.cmp(&a.0)))
+                .map_or(TABLE_SAMPLES - 1, |(k, _)| k);
+            if widest > 0 && widest < TABLE_SAMPLES - 1 {
+                let s = table[widest].0;
+                for d in &mut drives {
+                    d.open = d.closed + s * (d.open - d.closed);
+                }
+                table = tabulate(&mut sample, &drives)?;
+            }
         }
         let measured_min = table[0].1;
         let measured_max = table[TABLE_SAMPLES - 1].1;
@@ -316,44 +391,6 @@ impl Gripper {
             entry.1 = best;
         }
 
-        // Pads when closed.
-        sample.set(&drives, 0.0);
-        let poses = sample.hand_poses();
-        let pts_a = side_points(&pieces[0], &poses);
-        let pts_b = side_points(&pieces[1], &poses);
-        let inner_a = pts_a
-            .iter()
-            .map(|p| p.coords.dot(&closing))
-            .fold(Real::NEG_INFINITY, Real::max);
-        let inner_b = pts_b
-            .iter()
-            .map(|p| p.coords.dot(&closing))
-            .fold(Real::INFINITY, Real::min);
-        let pad_a: Vec<Point3> = pts_a
-            .iter()
-            .copied()
-            .filter(|p| p.coords.dot(&closing) >= inner_a - PAD_TOLERANCE)
-            .collect();
-        let pad_b: Vec<Point3> = pts_b
-            .iter()
-            .copied()
-            .filter(|p| p.coords.dot(&closing) <= inner_b + PAD_TOLERANCE)
-            .collect();
-        let pad_centre = Point3::from((mean(&pad_a).coords + mean(&pad_b).coords) * 0.5);
-        // Approach: from the hand's origin (the arm tip) to the pads, across the closing axis.
-        let raw = pad_centre.coords - closing * pad_centre.coords.dot(&closing);
-        let approach = raw.try_normalize(1e-6).ok_or_else(|| GripperError::CannotOpen {
-            tip: tip_name.clone(),
-            reason: "has its pads on the line of the closing axis through the arm's last joint: no approach direction".to_owned(),
-        })?;
-        let lateral = closing.cross(&approach);
-        let along = |p: &Point3, axis: &Vector3| p.coords.dot(axis);
-        let pads: Vec<&Point3> = pad_a.iter().chain(&pad_b).collect();
-        let (a_lo, a_hi) = extent(pads.iter().map(|p| along(p, &approach)));
-        let (l_lo, l_hi) = extent(pads.iter().map(|p| along(p, &lateral)));
-        let face_depth = (a_hi - a_lo).max(1e-4);
-        let pad_depth = options.pad_depth.map_or(face_depth, |d| d.min(face_depth));
-        let pad_width = options.pad_width.unwrap_or((l_hi - l_lo).max(1e-4));
         // Midway between the pads when closed; with a fixed jaw, on its pad (a grasp's centre
         // is then half the width away: [`Gripper::centre_from_tcp`]).
         let c_mid = if fixed_jaw {
@@ -390,14 +427,20 @@ impl Gripper {
         {
             palm_links.push(arm_tip);
         }
+        // A fixed jaw that is the tip's own geometry (one mesh with the hand's body, split by
+        // the loader): the palm is the part of it behind the moving jaw's root, the rest is
+        // the jaw.
         let palm_points: Vec<Point3> = palm_links
             .iter()
             .flat_map(|&l| pieces_of(model, l))
             .flat_map(|piece| {
                 let pose = poses[piece.link];
-                piece.points.into_iter().map(move |p| pose * p)
+                let jaw = links_b.contains(&piece.link);
+                piece.points.into_iter().map(move |p| (jaw, pose * p))
             })
-            .map(|p| in_tcp(&p))
+            .map(|(jaw, p)| (jaw, in_tcp(&p)))
+            .filter(|(jaw, p)| !jaw || p.z < z_lo)
+            .map(|(_, p)| p)
             .collect();
         let palm = if palm_points.is_empty() {
             // No palm geometry: a thin plate behind the finger roots.
@@ -665,4 +708,90 @@ fn axis_gap(pieces: &[Vec<Piece>; 2], poses: &[Isometry3], closing: &Vector3) ->
     let inner_a = along(&pieces[0]).fold(Real::NEG_INFINITY, Real::max);
     let inner_b = along(&pieces[1]).fold(Real::INFINITY, Real::min);
     inner_b - inner_a
+}
+
+/// The axes of a jaw that turns against a fixed one: `approach` from its joint towards its tip
+/// and `closing` the way its tip moves, both where it meets the fixed jaw (the drive's end
+/// where its tip is nearest the fixed side), in the arm tip's frame. `None` for a drive that
+/// does not turn.
+#[derive(Debug, Clone, Copy)]
+struct TurningJaw {
+    approach: Vector3,
+    closing: Vector3,
+}
+
+fn turning_jaw(
+    sample: &mut Sampler<'_>,
+    mids: &[Drive],
+    moving: &[Piece],
+    fixed: &[Piece],
+) -> Option<TurningJaw> {
+    let [drive] = mids else {
+        return None;
+    };
+    let model = sample.model;
+    let joint = model.variable_joint(drive.variable);
+    if joint.joint_type != JointType::Revolute {
+        return None;
+    }
+    let child = joint.child_link;
+    // The jaw's tip: its point farthest from the joint's axis, in the jaw's own frame.
+    sample.set(
+        &[Drive {
+            closed: drive.closed,
+            open: drive.closed,
+            ..*drive
+        }],
+        0.0,
+    );
+    let poses = sample.hand_poses();
+    let jaw_from_tip = poses[child].inverse();
+    let tip_point = moving
+        .iter()
+        .flat_map(|piece| {
+            piece
+                .points
+                .iter()
+                .map(|p| jaw_from_tip * (poses[piece.link] * p))
+        })
+        .max_by(|a, b| {
+            let off_axis = |p: &Point3| {
+                (p.coords - joint.axis.into_inner() * p.coords.dot(&joint.axis)).norm()
+            };
+            off_axis(a).total_cmp(&off_axis(b))
+        })?;
+    // Where that tip is, with the joint at `x`, and how near it is to the fixed side.
+    let mut at = |x: Real| {
+        sample.set(
+            &[Drive {
+                closed: x,
+                open: x,
+                ..*drive
+            }],
+            0.0,
+        );
+        let poses = sample.hand_poses();
+        let tip = poses[child] * tip_point;
+        let gap = side_points(fixed, &poses)
+            .iter()
+            .map(|p| (p - tip).norm())
+            .fold(Real::INFINITY, Real::min);
+        (poses[child], tip, gap)
+    };
+    let limits = joint.limits;
+    let (closed, open) = if at(limits.upper).2 < at(limits.lower).2 {
+        (limits.upper, limits.lower)
+    } else {
+        (limits.lower, limits.upper)
+    };
+    let (pose, tip, _) = at(closed);
+    let (_, near, _) = at(closed + 0.01 * (open - closed));
+    let axis = pose.rotation * joint.axis.into_inner();
+    let arm = tip.coords - pose.translation.vector;
+    let approach = (arm - axis * arm.dot(&axis)).try_normalize(1e-9)?;
+    let mut closing = axis.cross(&approach);
+    if closing.dot(&(tip - near)) < 0.0 {
+        closing = -closing;
+    }
+    Some(TurningJaw { approach, closing })
 }

@@ -35,6 +35,12 @@ const MIN_OPENING: Real = 0.005;
 /// How far (m) a fixed jaw's pad stands from the object at a grasp, so that the hand comes
 /// down past the object without rubbing it; the moving jaw closes that much farther.
 pub const FIXED_JAW_CLEARANCE: Real = 0.001;
+/// The largest gap (m) between a holding hand's finger pad and the object (the validator's
+/// rule; the planner drops grasps that break it, `pickplace::hand_fit`).
+pub const GRIP_GAP: Real = 0.002;
+/// Penetration (m) of a holding pad tolerated beyond the gripper's squeeze (the pads are
+/// convex hulls, the object a triangle mesh).
+pub const GRIP_TOLERANCE: Real = 0.0005;
 /// Points within this distance (m) of a finger's innermost point, along the closing axis, are
 /// its pad.
 const PAD_TOLERANCE: Real = 0.001;
@@ -178,6 +184,13 @@ pub struct Gripper {
 }
 
 mod measure;
+mod split;
+
+pub(crate) use split::split_one_jaw_hands;
+pub use split::{
+    DECOMPOSITION_CONCAVITY, DECOMPOSITION_MAX_PIECES, DECOMPOSITION_RESOLUTION, SplitLink,
+    convex_pieces,
+};
 #[cfg(test)]
 mod tests;
 
@@ -327,26 +340,38 @@ impl Gripper {
         object: &GripObject,
         world_from_object: &Isometry3,
     ) -> Result<[Real; 2], GripperError> {
+        Ok([
+            self.finger_gap(0, world_from_links, object, world_from_object)?,
+            self.finger_gap(1, world_from_links, object, world_from_object)?,
+        ])
+    }
+
+    /// [`Gripper::finger_gaps`] of one side (0: the first finger, the moving jaw of a hand
+    /// with a fixed one; 1: the other).
+    ///
+    /// # Errors
+    /// As [`Gripper::finger_gaps`].
+    pub fn finger_gap(
+        &self,
+        side: usize,
+        world_from_links: &[Isometry3],
+        object: &GripObject,
+        world_from_object: &Isometry3,
+    ) -> Result<Real, GripperError> {
         let object_pose = parry::pose(world_from_object);
-        let mut gaps = [Real::INFINITY; 2];
-        for (side, pieces) in self.pieces.iter().enumerate() {
-            for piece in pieces {
-                let Some(pose) = world_from_links.get(piece.link) else {
-                    continue;
-                };
-                let pose = parry::pose(pose);
-                let unmeasurable = || GripperError::Unmeasurable {
-                    tip: format!("#{}", self.arm_tip),
-                    what: "a finger and the object".to_owned(),
-                };
-                let d = match query::contact(
-                    &pose,
-                    &*piece.shape.0,
-                    &object_pose,
-                    &*object.shape.0,
-                    0.0,
-                )
-                .map_err(|_| unmeasurable())?
+        let mut gap = Real::INFINITY;
+        for piece in self.pieces.get(side).into_iter().flatten() {
+            let Some(pose) = world_from_links.get(piece.link) else {
+                continue;
+            };
+            let pose = parry::pose(pose);
+            let unmeasurable = || GripperError::Unmeasurable {
+                tip: format!("#{}", self.arm_tip),
+                what: "a finger and the object".to_owned(),
+            };
+            let d =
+                match query::contact(&pose, &*piece.shape.0, &object_pose, &*object.shape.0, 0.0)
+                    .map_err(|_| unmeasurable())?
                 {
                     Some(c) if c.dist <= 0.0 => c.dist,
                     _ => {
@@ -355,10 +380,9 @@ impl Gripper {
                             .distance
                     }
                 };
-                gaps[side] = gaps[side].min(d);
-            }
+            gap = gap.min(d);
         }
-        Ok(gaps)
+        Ok(gap)
     }
 }
 

@@ -314,10 +314,8 @@ fn candidate_counts(
     for (reason, n) in grasps.rejected.by_reason() {
         grasp.rejected.insert(reason.to_owned(), n);
     }
-    for (link, n) in hand {
-        grasp
-            .rejected
-            .insert(format!("hand link {link} in the object"), *n);
+    for (reason, n) in hand {
+        grasp.rejected.insert(reason.clone(), *n);
     }
     let mut placement = StageCount {
         accepted: placements.placements.len(),
@@ -509,7 +507,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             let hand: Vec<String> = setup
                 .grasp_hand_rejections
                 .iter()
-                .map(|(l, n)| format!("hand link {l} in the object ×{n}"))
+                .map(|(reason, n)| format!("{reason} ×{n}"))
                 .collect();
             format!(
                 "no grasp: {} candidates on {} cluster pairs, all rejected ({}{}{})",
