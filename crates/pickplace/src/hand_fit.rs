@@ -4,11 +4,13 @@
 //! grasp's command, and dropped when a link of the hand other than the pads enters the
 //! object: the validator refuses such a grasp at every instant of the hold, so the planner
 //! must never use it (a thumb's middle link, a finger's base link across the gap as in
-//! example-robot-data's Alex SAKE hands). It is also dropped when a pad, closed by the
-//! grasp's command, stands off the object by more than the validator's
-//! [`GRIP_GAP`] or presses into it deeper than the squeeze: a jaw that turns against a fixed
-//! one (SO-101's, Z1's) meets the object with its innermost point, and a grasp whose object
-//! does not reach that point leaves the jaw short of it.
+//! example-robot-data's Alex SAKE hands). A hand with one moving jaw has each grasp's
+//! command found on the object (a jaw that turns against a fixed one, SO-101's or Z1's,
+//! meets the object where the object reaches, not where its opening table's innermost point
+//! is), and the grasp is dropped when a pad then stands off the object by more than the
+//! validator's [`GRIP_GAP`] or presses into it deeper than the squeeze. (A parallel
+//! gripper's opening table is exact: its pads are not measured again here, which on a
+//! scanned object of thousands of triangles would cost half a second.)
 
 use crate::contact::OBJECT_NAME;
 use pickplace_geometry::math::Real;
@@ -25,10 +27,10 @@ use pickplace_robot::srdf::DisableReason;
 use std::collections::BTreeMap;
 
 /// Drops from `grasps` those where the hand of `gripper` (tool point at link `tcp_link`),
-/// closed on the object (at the start state
-/// `start` otherwise), puts a link other than its pads into the object, or leaves a pad off
-/// it or too deep in it; returns how many each reason dropped ("hand link L in the object",
-/// "pad N off the object", "pad N deeper than the squeeze").
+/// closed on the object (at the start state `start` otherwise), puts a link other than its
+/// pads into the object, or (one moving jaw) leaves a pad off it or too deep in it; returns
+/// how many each reason dropped ("hand link L in the object", "pad N off the object", "pad N
+/// deeper than the squeeze").
 ///
 /// # Errors
 /// Errors of forward kinematics and of the collision library (a defect, never a rejection).
@@ -44,7 +46,14 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
         first: "a finger pad".to_owned(),
         second: OBJECT_NAME.to_owned(),
     };
-    let grip_object = GripObject::new(object_mesh).map_err(unmeasurable)?;
+    // The pads of a hand with one moving jaw are measured on the object itself (module
+    // docs); a parallel gripper's table is exact, and the object's mesh (thousands of
+    // triangles when scanned) is not queried for it.
+    let grip_object = if gripper.has_fixed_jaw() {
+        Some(GripObject::new(object_mesh).map_err(unmeasurable)?)
+    } else {
+        None
+    };
     let pads: Vec<usize> = gripper.pad_links().into_iter().flatten().collect();
     let mut world = self_world.clone();
     let mut acm = world.acm().clone();
@@ -72,8 +81,8 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
     let mut keep = Vec::with_capacity(grasps.grasps.len());
     for g in &grasps.grasps {
         let mut g = *g;
-        if gripper.has_fixed_jaw() {
-            g.width = jaw_contact_width(model, (gripper, tcp_link), &mut q, &g, &grip_object)?;
+        if let Some(object) = &grip_object {
+            g.width = jaw_contact_width(model, (gripper, tcp_link), &mut q, &g, object)?;
         }
         gripper.set_grasp(&mut q, g.width);
         let poses = model.link_poses(&q)?;
@@ -97,12 +106,16 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
                 .or_default() += 1;
             continue;
         }
+        let Some(object) = &grip_object else {
+            keep.push(g);
+            continue;
+        };
         let world_from_root = g.object_from_tcp * root_from_tcp.inverse();
         let world_from_links: Vec<_> = poses.iter().map(|p| world_from_root * p).collect();
         let gaps = gripper
             .finger_gaps(
                 &world_from_links,
-                &grip_object,
+                object,
                 &pickplace_geometry::math::Isometry3::identity(),
             )
             .map_err(unmeasurable)?;
