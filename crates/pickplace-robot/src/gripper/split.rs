@@ -31,6 +31,8 @@ pub const DECOMPOSITION_MAX_PIECES: u32 = 32;
 /// The grid (m) a piece's hull vertices are snapped outwards to: the piece grows by at most
 /// its diagonal, 0.87 mm.
 pub const PIECE_GRID: f64 = 0.0005;
+/// The least extent (m) along every axis of a mesh that is decomposed.
+const MIN_EXTENT: f64 = 0.001;
 /// The fewest actuated joints of a chain taken for an arm when hands are looked for.
 const MIN_ARM_JOINTS: usize = 4;
 
@@ -65,11 +67,27 @@ pub fn convex_pieces(mesh: &TriMesh) -> Vec<TriMesh> {
         max_convex_hulls: DECOMPOSITION_MAX_PIECES,
         ..VHACDParameters::default()
     };
+    // A mesh thinner than a millimetre in some direction holds no jaw; V-HACD is not asked.
+    let (lo, hi) = points.iter().fold(
+        (
+            PVector::splat(f64::INFINITY),
+            PVector::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let size = hi - lo;
+    if !(size.min_element() >= MIN_EXTENT && size.max_element().is_finite()) {
+        return Vec::new();
+    }
     let decomposition = VHACD::decompose(&params, &points, triangles, true);
+    // Each part's points: the mesh's triangles clipped to the part's voxels (the exact
+    // hulls' input; their hulls are taken here, by the hull routine that reports degenerate
+    // input instead of panicking).
     decomposition
-        .compute_exact_convex_hulls(&points, triangles)
+        .compute_primitive_intersections(&points, triangles)
         .into_iter()
-        .filter_map(|(vertices, _)| {
+        .filter(|vertices| vertices.len() >= 4)
+        .filter_map(|vertices| {
             // The exact hulls of a fine mesh have thousands of vertices; their vertices
             // snapped outwards to a grid ([`PIECE_GRID`]) give a hull of a few hundred that
             // contains the exact one (each vertex moves away from the piece's centre by at
@@ -85,7 +103,7 @@ pub fn convex_pieces(mesh: &TriMesh) -> Vec<TriMesh> {
                     PVector::new(out(v.x, centre.x), out(v.y, centre.y), out(v.z, centre.z))
                 })
                 .collect();
-            let (hull, faces) = parry3d_f64::transformation::convex_hull(&snapped);
+            let (hull, faces) = parry3d_f64::transformation::try_convex_hull(&snapped).ok()?;
             let hull: Vec<Point3> = hull.iter().map(|v| Point3::new(v.x, v.y, v.z)).collect();
             TriMesh::from_soup(&hull, &faces, &MeshOptions::default()).ok()
         })
@@ -381,6 +399,31 @@ mod tests {
         let tcp = g.tip_from_tcp().translation.vector;
         assert!((tcp.y + 0.005).abs() < 0.002, "tool point {tcp:?}");
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn flat_tiny_and_huge_meshes_decompose_without_a_panic() {
+        let flat = TriMesh::from_soup(
+            &[
+                Point3::new(0.0, 0.0, 0.0),
+                Point3::new(0.1, 0.0, 0.0),
+                Point3::new(0.1, 0.1, 0.0),
+                Point3::new(0.0, 0.1, 0.0),
+            ],
+            &[[0, 1, 2], [0, 2, 3]],
+            &MeshOptions::default(),
+        )
+        .expect("a square");
+        for piece in convex_pieces(&flat) {
+            assert!(piece.triangle_count() >= 4);
+        }
+        let tiny = boxes(&[([0.0; 3], [1e-6, 2e-6, 1e-6])]);
+        let _ = convex_pieces(&tiny);
+        let huge = boxes(&[
+            ([0.0, 0.0, 0.0], [100.0, 10.0, 10.0]),
+            ([0.0, 0.0, 10.0], [10.0, 10.0, 100.0]),
+        ]);
+        assert!(!convex_pieces(&huge).is_empty());
     }
 
     #[test]
