@@ -56,6 +56,7 @@ pub mod ranges;
 pub mod reach;
 pub mod roadmaps;
 pub mod robot_setup;
+pub mod rules;
 pub mod scene;
 pub mod self_check;
 pub mod setup;

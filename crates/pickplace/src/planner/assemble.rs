@@ -709,7 +709,7 @@ impl Ctx<'_> {
     /// Whether the states from `a` (excluded) to `b` (included), as densely as `validate`
     /// checks them, are free of collisions in `world` with the hands apart.
     fn states_free(&self, world: &CollisionWorld, a: &[Real], b: &[Real]) -> Result<bool> {
-        use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
+        use crate::rules::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
         let dq = a
             .iter()
             .zip(b)

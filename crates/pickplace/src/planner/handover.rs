@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 
 /// Clearance kept between the two hands' gripper boxes in the cheap pre-test
 /// ([`hands_overlap`]) (m); the real link geometry is then held to
-/// [`crate::validate::HAND_CLEARANCE`].
+/// [`crate::rules::HAND_CLEARANCE`].
 const BOX_CLEARANCE: Real = 0.004;
 
 /// A feasible handover.
@@ -222,16 +222,17 @@ impl Ctx<'_> {
 }
 
 impl Ctx<'_> {
-    /// Whether the two hands' links come closer than [`crate::validate::HAND_CLEARANCE`] at
+    /// Whether the two hands' links come closer than [`crate::rules::HAND_CLEARANCE`] at
     /// the full configuration `q`, measured on their collision geometry by the validator's
-    /// own check ([`crate::validate::HandClearance`]); never for a robot with one arm.
+    /// own check ([`crate::rules::HandClearance`]); never for a robot with one arm.
     ///
     /// # Errors
     /// [`crate::Error::Internal`] when the collision library cannot measure a pair.
     pub(super) fn hands_too_close(&self, q: &[Real]) -> crate::Result<bool> {
-        let check = match self.hand_clearance.get_or_init(|| {
-            crate::validate::HandClearance::new(self.setup).map_err(|e| e.to_string())
-        }) {
+        let check = match self
+            .hand_clearance
+            .get_or_init(|| crate::rules::HandClearance::new(self.setup).map_err(|e| e.to_string()))
+        {
             Ok(Some(check)) => check,
             Ok(None) => return Ok(false),
             Err(reason) => {
@@ -243,7 +244,7 @@ impl Ctx<'_> {
         };
         with_scratch(|scratch| {
             check
-                .closer_than(self.setup, q, crate::validate::HAND_CLEARANCE, scratch)
+                .closer_than(self.setup, q, crate::rules::HAND_CLEARANCE, scratch)
                 .map(|gap| gap.is_some())
         })
     }

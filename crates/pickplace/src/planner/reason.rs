@@ -206,7 +206,7 @@ pub enum Rejection {
     /// The placing hand would overlap the picking hand on the object.
     HandsOverlap,
     /// At the handover the two hands' links come closer than the stated clearance
-    /// (`pickplace::validate::HAND_CLEARANCE`).
+    /// (`pickplace::rules::HAND_CLEARANCE`).
     HandsTooClose,
     /// No second grasp regrasps at this handover pose.
     NoRegrasp,
@@ -276,7 +276,7 @@ impl fmt::Display for Rejection {
             Rejection::HandsTooClose => write!(
                 f,
                 "hands closer than {:.0} mm",
-                crate::validate::HAND_CLEARANCE * 1e3
+                crate::rules::HAND_CLEARANCE * 1e3
             ),
             Rejection::NoRest => f.write_str("no intermediate resting pose near the start"),
             Rejection::NoRegraspSequence => {

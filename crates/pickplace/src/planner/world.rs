@@ -109,8 +109,8 @@ impl Ctx<'_> {
 impl Ctx<'_> {
     /// The first collision (margin 0) or breach of the hands' clearance along `path`, where
     /// `arm` moves, checked `density(a)` times as densely as the validator interpolates on
-    /// the segment starting at `a` (no joint more than [`crate::validate::MAX_JOINT_STEP`] /
-    /// density and the tool frame no more than [`crate::validate::MAX_CARTESIAN_STEP`] /
+    /// the segment starting at `a` (no joint more than [`crate::rules::MAX_JOINT_STEP`] /
+    /// density and the tool frame no more than [`crate::rules::MAX_CARTESIAN_STEP`] /
     /// density between two checked states). At a density of 2 the validator's states (at
     /// another phase) fall between these, and a grazing contact deep enough for it to see is
     /// seen here. The motion planner
@@ -125,7 +125,7 @@ impl Ctx<'_> {
         density: &dyn Fn(&[Real]) -> Real,
         collides: &StateCheck<'_>,
     ) -> Result<Option<Rejection>> {
-        use crate::validate::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
+        use crate::rules::{MAX_CARTESIAN_STEP, MAX_JOINT_STEP};
         let mut q = Vec::new();
         for i in 1..path.len() {
             let (a, b) = (&path[i - 1], &path[i]);
