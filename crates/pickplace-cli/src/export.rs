@@ -77,11 +77,7 @@ pub fn run(args: &ExportArgs) -> anyhow::Result<ExitCode> {
         let inputs = [("the plan", args.plan.as_path())];
         crate::args::check_output_file(out, "--out", &inputs)?;
     }
-    let text =
-        pickplace_geometry::io::read_text(&args.plan, pickplace_geometry::io::FileKind::Plan)
-            .with_context(|| format!("{shown}: cannot read the plan"))?;
-    let plan =
-        Plan::from_json(&text).map_err(|e| anyhow::anyhow!("{shown}: not a valid plan: {e}"))?;
+    let plan = Plan::load(&args.plan)?;
     let text = match args.format {
         ExportFormat::DisplayTrajectory => {
             let message = pickplace::export::display_trajectory(&plan, &args.model_id)

@@ -283,11 +283,7 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
         args.scene.display(),
         args.plan.display()
     );
-    let text =
-        pickplace_geometry::io::read_text(&args.plan, pickplace_geometry::io::FileKind::Plan)
-            .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
-    let plan = Plan::from_json(&text)
-        .map_err(|reason| anyhow::anyhow!("{}: {reason}", args.plan.display()))?;
+    let plan = Plan::load(&args.plan)?;
     let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
     let setup = setup_with(
         &args.scene,

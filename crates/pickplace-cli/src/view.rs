@@ -78,11 +78,7 @@ pub fn render_options(size: (u32, u32)) -> RenderOptions {
 /// `pickplace view`.
 pub fn run(args: &ViewArgs) -> Result<ExitCode> {
     let size = parse_size(&args.size)?;
-    let text =
-        pickplace_geometry::io::read_text(&args.plan, pickplace_geometry::io::FileKind::Plan)
-            .with_context(|| format!("{}: cannot read the plan", args.plan.display()))?;
-    let plan = Plan::from_json(&text)
-        .map_err(|e| anyhow::anyhow!("{}: not a valid plan: {e}", args.plan.display()))?;
+    let plan = Plan::load(&args.plan)?;
     let mut scene = Scene::load(&args.scene)?;
     for robot in &mut scene.robots {
         robot.package_dirs.extend(args.package_dirs.iter().cloned());

@@ -37,22 +37,17 @@ impl Plan {
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Self> {
         let inner = py
             .detach(|| pickplace::Plan::from_json(text))
-            .map_err(input_msg)?;
+            .map_err(|e| input_msg(e.to_string()))?;
         Ok(Self { inner })
     }
 
     /// Reads a plan file; errors name the file as `pickplace validate` does.
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let inner = py.detach(|| {
-            let text =
-                pickplace_geometry::io::read_text(&path, pickplace_geometry::io::FileKind::Plan)
-                    .map_err(|e| format!("{}: cannot read the plan: {e}", path.display()))?;
-            pickplace::Plan::from_json(&text).map_err(|r| format!("{}: {r}", path.display()))
-        });
-        Ok(Self {
-            inner: inner.map_err(input_msg)?,
-        })
+        let inner = py
+            .detach(|| pickplace::Plan::load(&path))
+            .map_err(|e| input_msg(e.to_string()))?;
+        Ok(Self { inner })
     }
 
     /// The plan as pretty JSON with a final newline: byte for byte the file `pickplace plan

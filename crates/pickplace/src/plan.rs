@@ -48,6 +48,36 @@ pub(crate) fn clip(text: &str) -> String {
 /// The plan format written in [`Plan::format`].
 pub const PLAN_FORMAT: &str = "pickplace.plan/2";
 
+/// What is wrong with a plan document: the parser's message (line and column) when the text
+/// is not a plan of this format, else the first rule of its form it breaks, named by its
+/// field (`trajectory[3] has 5 positions for 6 joints`). [`Plan::load`] adds the file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{reason}")]
+pub struct PlanFormError {
+    reason: String,
+}
+
+impl PlanFormError {
+    /// The message, without the file.
+    pub fn reason(&self) -> &str {
+        &self.reason
+    }
+}
+
+impl From<String> for PlanFormError {
+    fn from(reason: String) -> Self {
+        Self { reason }
+    }
+}
+
+impl From<&str> for PlanFormError {
+    fn from(reason: &str) -> Self {
+        Self {
+            reason: reason.to_owned(),
+        }
+    }
+}
+
 /// The earlier format still read: its samples have positions only and it has no `arms`.
 pub const PLAN_FORMAT_1: &str = "pickplace.plan/1";
 
@@ -347,7 +377,7 @@ impl Plan {
     /// # Errors
     /// `event I: …` for an event whose pose is invalid or a release without a grasp by the
     /// same link before it (events numbered in time order).
-    pub fn holds(&self) -> Result<Vec<Hold>, String> {
+    pub fn holds(&self) -> Result<Vec<Hold>, PlanFormError> {
         let mut events: Vec<&Event> = self.events.iter().collect();
         events.sort_by(|a, b| a.time.total_cmp(&b.time));
         let mut holds: Vec<Hold> = Vec::new();
@@ -390,7 +420,7 @@ impl Plan {
     ///
     /// # Errors
     /// When the plan's joints are not exactly these: the missing and the unknown names.
-    pub fn columns(&self, names: &[&str]) -> Result<Vec<usize>, String> {
+    pub fn columns(&self, names: &[&str]) -> Result<Vec<usize>, PlanFormError> {
         let found: Vec<Option<usize>> = names
             .iter()
             .map(|n| self.joint_names.iter().position(|p| p == n))
@@ -408,7 +438,7 @@ impl Plan {
             .filter(|p| !names.contains(p))
             .collect();
         if !missing.is_empty() || !unknown.is_empty() {
-            return Err(format!("missing {missing:?}, unknown {unknown:?}"));
+            return Err(format!("missing {missing:?}, unknown {unknown:?}").into());
         }
         Ok(found.into_iter().flatten().collect())
     }
@@ -426,7 +456,7 @@ impl Plan {
     /// # Errors
     /// The first invalid pose, by its field (`key_poses[3].world_from_tcp: orientation
     /// quaternion is zero`).
-    pub fn check_poses(&self) -> Result<(), String> {
+    pub fn check_poses(&self) -> Result<(), PlanFormError> {
         let check = |field: String, pose: &PoseSpec| {
             pose.to_isometry()
                 .map(|_| ())
@@ -479,7 +509,7 @@ impl Plan {
     ///
     /// # Errors
     /// The first rule broken, by its field (`events[2]: …`).
-    pub fn check_form(&self) -> Result<(), String> {
+    pub fn check_form(&self) -> Result<(), PlanFormError> {
         let Some(first) = self.trajectory.first() else {
             return Err("trajectory: empty (it starts at the scene's start state)".into());
         };
@@ -487,26 +517,29 @@ impl Plan {
             return Err(format!(
                 "trajectory[0]: time_from_start {} s, the trajectory starts at time 0",
                 fmt_real(first.time_from_start)
-            ));
+            )
+            .into());
         }
         // An event or key pose after the end of the trajectory is a problem `validate`
         // reports (exit 1), not a matter of form.
-        let within = |field: String, t: Real| -> Result<(), String> {
+        let within = |field: String, t: Real| -> Result<(), PlanFormError> {
             if !t.is_finite() || t < 0.0 {
                 return Err(format!(
                     "{field}: time {} s is not a finite time from 0 on",
                     fmt_real(t)
-                ));
+                )
+                .into());
             }
             Ok(())
         };
         let arms = self.strategy.arms();
-        let by_strategy = |field: String, arm: Arm| -> Result<(), String> {
+        let by_strategy = |field: String, arm: Arm| -> Result<(), PlanFormError> {
             if !arms.contains(&arm) {
                 return Err(format!(
                     "{field}: arm {arm} is not an arm of the strategy {}",
                     self.strategy
-                ));
+                )
+                .into());
             }
             Ok(())
         };
@@ -518,7 +551,8 @@ impl Plan {
             if e.time < previous {
                 return Err(format!(
                     "{field}: before the event above it (events are in time order)"
-                ));
+                )
+                .into());
             }
             previous = e.time;
             by_strategy(field.clone(), e.arm)?;
@@ -528,7 +562,8 @@ impl Plan {
                         return Err(format!(
                             "{field}: grasp by {:?}, which already holds the object",
                             e.link
-                        ));
+                        )
+                        .into());
                     }
                     holding.push(&e.link);
                 }
@@ -537,7 +572,8 @@ impl Plan {
                         return Err(format!(
                             "{field}: release by {:?} without a grasp before it",
                             e.link
-                        ));
+                        )
+                        .into());
                     };
                     holding.remove(k);
                 }
@@ -558,7 +594,8 @@ impl Plan {
                 g.arm,
                 self.strategy,
                 self.strategy.pick_arm()
-            ));
+            )
+            .into());
         }
         if let Some(r) = last_release
             && r.arm != self.strategy.place_arm()
@@ -568,7 +605,8 @@ impl Plan {
                 r.arm,
                 self.strategy,
                 self.strategy.place_arm()
-            ));
+            )
+            .into());
         }
         // A regrasp by placing takes one more grasp than it has rests (one per transfer).
         let expected = if self.strategy.has_regrasp() {
@@ -583,7 +621,8 @@ impl Plan {
                 "rests: {} given; a regrasp by placing has one or two (strategy {})",
                 self.rests.len(),
                 self.strategy
-            ));
+            )
+            .into());
         }
         if self.grasps.len() != expected {
             let with = if self.strategy.has_regrasp() {
@@ -595,11 +634,12 @@ impl Plan {
                 "grasps: {} given, the strategy {}{with} uses {expected}",
                 self.grasps.len(),
                 self.strategy
-            ));
+            )
+            .into());
         }
         for (i, g) in self.grasps.iter().enumerate() {
             if !(g.width.is_finite() && g.score.is_finite()) {
-                return Err(format!("grasps[{i}]: a non-finite width or score"));
+                return Err(format!("grasps[{i}]: a non-finite width or score").into());
             }
         }
         let arm_of = |i: usize| self.grasps[i].arm;
@@ -613,24 +653,25 @@ impl Plan {
                 self.strategy,
                 self.strategy.pick_arm(),
                 self.strategy.place_arm()
-            ));
+            ).into());
         }
         if self.strategy.has_regrasp() == self.rests.is_empty() {
             return Err(format!(
                 "rests: {} given; there is at least one exactly in a regrasp by placing (strategy {})",
                 self.rests.len(),
                 self.strategy
-            ));
+            ).into());
         }
-        let contact = |field: String, p: &PlacementInfo| -> Result<(), String> {
+        let contact = |field: String, p: &PlacementInfo| -> Result<(), PlanFormError> {
             if !matches!(p.contact.as_str(), "face-face" | "edge-face") {
                 return Err(format!(
                     "{field}.contact: {:?} is neither \"face-face\" nor \"edge-face\"",
                     clip(&p.contact)
-                ));
+                )
+                .into());
             }
             if !p.stability_margin.is_finite() {
-                return Err(format!("{field}.stability_margin: not a finite number"));
+                return Err(format!("{field}.stability_margin: not a finite number").into());
             }
             Ok(())
         };
@@ -645,18 +686,37 @@ impl Plan {
                 return Err(format!(
                     "{field}: {:?} is not a key pose name (docs/plan-format.md)",
                     clip(&k.name)
-                ));
+                )
+                .into());
             }
             within(field.clone(), k.time)?;
             if k.time < previous {
                 return Err(format!(
                     "{field}: before the key pose above it (key poses are in time order)"
-                ));
+                )
+                .into());
             }
             previous = k.time;
             by_strategy(field, k.arm)?;
         }
         Ok(())
+    }
+
+    /// Reads a plan file (at most the size [`pickplace_geometry::io::FileKind::Plan`]
+    /// allows) and checks its form as [`Plan::from_json`] does: the one reader of plan files
+    /// for the CLI and Python.
+    ///
+    /// # Errors
+    /// [`crate::Error::BadPlan`] naming the file: `cannot read the plan: …` (missing, not a
+    /// file, too large, not UTF-8) or `not a valid plan: …` ([`PlanFormError`]).
+    pub fn load(path: &std::path::Path) -> crate::Result<Self> {
+        let bad = |reason: String| crate::Error::BadPlan {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Plan)
+            .map_err(|e| bad(format!("cannot read the plan: {e}")))?;
+        Self::from_json(&text).map_err(|e| bad(format!("not a valid plan: {e}")))
     }
 
     /// Reads a plan from JSON and checks its form: one position per joint name, finite
@@ -667,7 +727,7 @@ impl Plan {
     /// # Errors
     /// The parser's message (line and column) when the text is not a plan of this format, or
     /// the first sample or pose whose form is wrong.
-    pub fn from_json(text: &str) -> Result<Self, String> {
+    pub fn from_json(text: &str) -> Result<Self, PlanFormError> {
         let plan: Plan = serde_json::from_str(text)
             .map_err(|e| pickplace_geometry::io::short_message(&e.to_string()))?;
         let current = plan.format == PLAN_FORMAT;
@@ -675,7 +735,8 @@ impl Plan {
             return Err(format!(
                 "format {:?} is not {PLAN_FORMAT:?} (or the earlier {PLAN_FORMAT_1:?})",
                 plan.format
-            ));
+            )
+            .into());
         }
         let n = plan.joint_names.len();
         for (i, p) in plan.trajectory.iter().enumerate() {
@@ -683,7 +744,8 @@ impl Plan {
                 return Err(format!(
                     "trajectory[{i}] has {} positions for {n} joints",
                     p.positions.len()
-                ));
+                )
+                .into());
             }
             for (what, values) in [
                 ("velocities", &p.velocities),
@@ -693,12 +755,13 @@ impl Plan {
                     return Err(format!(
                         "trajectory[{i}] has {} {what} for {n} joints",
                         values.len()
-                    ));
+                    )
+                    .into());
                 }
                 if !current && !values.is_empty() {
                     return Err(format!(
                         "trajectory[{i}] has {what}, which format {PLAN_FORMAT_1:?} does not have (write format {PLAN_FORMAT:?})"
-                    ));
+                    ).into());
                 }
             }
             if !p.time_from_start.is_finite()
@@ -708,28 +771,30 @@ impl Plan {
                     .chain(&p.accelerations)
                     .any(|v| !v.is_finite())
             {
-                return Err(format!("trajectory[{i}] has a non-finite number"));
+                return Err(format!("trajectory[{i}] has a non-finite number").into());
             }
             if p.time_from_start < 0.0 {
                 return Err(format!(
                     "trajectory[{i}]: time_from_start {} s is negative (times start at 0)",
                     fmt_real(p.time_from_start)
-                ));
+                )
+                .into());
             }
             if i > 0 && p.time_from_start < plan.trajectory[i - 1].time_from_start {
-                return Err(format!("trajectory[{i}] goes back in time"));
+                return Err(format!("trajectory[{i}] goes back in time").into());
             }
         }
         if let Some(l) = &plan.limits {
             if !current {
                 return Err(format!(
                     "limits: format {PLAN_FORMAT_1:?} has no limits (write format {PLAN_FORMAT:?})"
-                ));
+                )
+                .into());
             }
             if l.velocities.len() != n || l.accelerations.len() != n {
-                return Err(format!(
-                    "limits: one velocity and one acceleration per joint ({n})"
-                ));
+                return Err(
+                    format!("limits: one velocity and one acceleration per joint ({n})").into(),
+                );
             }
             if l.velocities
                 .iter()
@@ -744,10 +809,11 @@ impl Plan {
             if !current {
                 return Err(format!(
                     "arms: format {PLAN_FORMAT_1:?} has no arms (write format {PLAN_FORMAT:?})"
-                ));
+                )
+                .into());
             }
             if plan.arms[..i].iter().any(|b| b.arm == a.arm) {
-                return Err(format!("arms[{i}]: arm {} is listed twice", a.arm));
+                return Err(format!("arms[{i}]: arm {} is listed twice", a.arm).into());
             }
             if let Some(j) = a
                 .joints
@@ -755,10 +821,7 @@ impl Plan {
                 .chain(&a.gripper_joints)
                 .find(|j| !plan.joint_names.contains(j))
             {
-                return Err(format!(
-                    "arms[{i}]: joint {:?} is not in joint_names",
-                    clip(j)
-                ));
+                return Err(format!("arms[{i}]: joint {:?} is not in joint_names", clip(j)).into());
             }
         }
         plan.check_poses()?;
@@ -927,7 +990,7 @@ mod tests {
         let bad = plan(vec![event(1.0, EventKind::Release, "R")]);
         assert_eq!(
             bad.holds().unwrap_err(),
-            "event 0: release by \"R\" without a grasp before it"
+            "event 0: release by \"R\" without a grasp before it".into()
         );
     }
 
@@ -1030,7 +1093,7 @@ mod tests {
         let mut p = direct();
         fault(&mut p);
         let e = p.check_form().expect_err(expected);
-        assert!(e.contains(expected), "`{expected}` not in: {e}");
+        assert!(e.reason().contains(expected), "`{expected}` not in: {e}");
     }
 
     #[test]
@@ -1139,7 +1202,7 @@ mod tests {
         assert_eq!(p.columns(&["b", "a"]).unwrap(), [1, 0]);
         assert_eq!(
             p.columns(&["a", "c"]).unwrap_err(),
-            "missing [\"c\"], unknown [\"b\"]"
+            "missing [\"c\"], unknown [\"b\"]".into()
         );
     }
 }

@@ -139,7 +139,7 @@ fn resume_skips_valid_plans_and_plans_a_corrupted_one_again() {
     let line = &summary(&out)[0];
     assert_eq!(line["status"], "planned", "{line}");
     let why = line["replanned"].as_str().expect("why");
-    assert!(why.contains("fig9-near.json: not a plan"), "{why}");
+    assert!(why.contains("fig9-near.json: not a valid plan"), "{why}");
     assert!(stdout(&o).contains("re-planned"), "{}", stdout(&o));
     assert_eq!(read(&plan), planned);
 }

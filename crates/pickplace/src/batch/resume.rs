@@ -5,7 +5,6 @@ use super::error_message;
 use crate::plan::Plan;
 use crate::planner::PlanOptions;
 use crate::setup::Setup;
-use pickplace_geometry::io::{FileKind, read_text};
 use std::path::Path;
 
 /// What a resumed run found at a scene's plan path.
@@ -24,13 +23,9 @@ pub(super) fn kept_plan(setup: &Setup, plan_options: &PlanOptions, plan_path: &P
         return Kept::Absent;
     }
     let shown = plan_path.display();
-    let text = match read_text(plan_path, FileKind::Plan) {
-        Ok(text) => text,
-        Err(e) => return Kept::Invalid(format!("{shown}: cannot be read ({e})")),
-    };
-    let plan = match Plan::from_json(&text) {
+    let plan = match Plan::load(plan_path) {
         Ok(plan) => plan,
-        Err(reason) => return Kept::Invalid(format!("{shown}: not a plan: {reason}")),
+        Err(e) => return Kept::Invalid(e.to_string()),
     };
     if let Some(reason) = other_options(&plan, plan_options) {
         return Kept::Invalid(format!("{shown}: {reason}"));

@@ -166,7 +166,10 @@ fn bad_input_is_a_line_and_resume_keeps_only_valid_plans() {
         .summaries[0];
     assert_eq!(s.status, SceneStatus::Planned);
     assert!(
-        s.replanned.as_deref().expect("why").contains("not a plan"),
+        s.replanned
+            .as_deref()
+            .expect("why")
+            .contains("not a valid plan"),
         "{s:?}"
     );
     assert_eq!(read(&plan_path), planned);

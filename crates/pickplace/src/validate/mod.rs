@@ -164,7 +164,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
             )));
         }
     }
-    plan.check_poses().map_err(bad)?;
+    plan.check_poses().map_err(|e| bad(e.to_string()))?;
     let end = plan.trajectory.last().map_or(0.0, |p| p.time_from_start);
     // Every value against its joint's limits before anything is interpolated: a value far
     // outside would make the interpolation endless. The first one is the plan's only problem.
@@ -230,7 +230,7 @@ pub fn validate(setup: &Setup, plan: &Plan, plan_path: &Path) -> Result<Validati
     }
     // The rest of the plan's form (docs/plan-format.md): start at time 0, events in time
     // order and consistent with the strategy, grasps, rests and key poses.
-    plan.check_form().map_err(bad)?;
+    plan.check_form().map_err(|e| bad(e.to_string()))?;
     // Stable: a release and a grasp at one instant keep their order in the file.
     events.sort_by(|a, b| a.0.time.total_cmp(&b.0.time));
     let placed = plan

@@ -65,7 +65,7 @@ fn a_plan_survives_its_json_round_trip() {
             .replace("pickplace.plan/2", "pickplace.plan/1"),
     )
     .expect_err("format 1 has no velocities");
-    assert!(err.contains("velocities"), "{err}");
+    assert!(err.reason().contains("velocities"), "{err}");
     let mut old = plan.clone();
     old.format = pickplace::plan::PLAN_FORMAT_1.into();
     old.arms.clear();
@@ -82,7 +82,7 @@ fn a_plan_survives_its_json_round_trip() {
     cut.trajectory[3].accelerations.pop();
     let err = Plan::from_json(&cut.to_json()).expect_err("one acceleration short");
     assert!(
-        err.contains("trajectory[3]") && err.contains("accelerations"),
+        err.reason().contains("trajectory[3]") && err.reason().contains("accelerations"),
         "{err}"
     );
 }
