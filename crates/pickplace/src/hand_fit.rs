@@ -42,10 +42,6 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
     (object, object_mesh): (&CollisionShape, &TriMesh),
     grasps: &mut GraspSet,
 ) -> Result<BTreeMap<String, usize>, pickplace_robot::Error> {
-    let unmeasurable = |_| pickplace_robot::Error::UnsupportedCollisionPair {
-        first: "a finger pad".to_owned(),
-        second: OBJECT_NAME.to_owned(),
-    };
     // The pads of a hand with one moving jaw are measured on the object itself (module
     // docs); a parallel gripper's table is exact, and the object's mesh (thousands of
     // triangles when scanned) is not queried for it.
@@ -137,6 +133,14 @@ pub(crate) fn drop_grasps_the_hand_cannot_close(
     Ok(dropped)
 }
 
+/// A finger pad the collision library cannot measure against the object (a defect).
+fn unmeasurable(_: pickplace_robot::gripper::GripperError) -> pickplace_robot::Error {
+    pickplace_robot::Error::UnsupportedCollisionPair {
+        first: "a finger pad".to_owned(),
+        second: OBJECT_NAME.to_owned(),
+    }
+}
+
 /// The width to give grasp `g` so that its command closes a hand's one moving jaw onto the
 /// object by the squeeze. The opening table measures the jaw's innermost point; a jaw that
 /// turns meets the object elsewhere when the object does not reach that point (a box held by
@@ -168,10 +172,7 @@ fn jaw_contact_width(
                 object,
                 &pickplace_geometry::math::Isometry3::identity(),
             )
-            .map_err(|_| pickplace_robot::Error::UnsupportedCollisionPair {
-                first: "a finger pad".to_owned(),
-                second: OBJECT_NAME.to_owned(),
-            })?;
+            .map_err(unmeasurable)?;
         // Zero when the moving pad is in by the squeeze.
         Ok(gap + squeeze)
     };

@@ -272,7 +272,7 @@ fn every_rule_of_the_plan_form_is_checked() {
 #[test]
 fn columns_map_a_robot_order_to_the_plan_order() {
     let p = plan(vec![]);
-    assert_eq!(p.columns(&["b", "a"]).unwrap(), [1, 0]);
+    assert_eq!(p.columns(&["b", "a"]).expect("the same joints"), [1, 0]);
     assert_eq!(
         p.columns(&["a", "c"]).unwrap_err(),
         "missing [\"c\"], unknown [\"b\"]".into()
