@@ -5,6 +5,7 @@ mod bench;
 mod clusters;
 mod fuzz;
 mod gen_meshes;
+mod mbm;
 mod precompute;
 mod python;
 mod roadmaps;
@@ -31,6 +32,7 @@ fn main() -> anyhow::Result<()> {
         Some("torture") => torture::run(&repo_root(), &rest_args()),
         Some("stability") => stability::run(&repo_root(), &rest_args()),
         Some("clusters") => clusters::run(&repo_root(), &rest_args()),
+        Some("mbm") => mbm::run(&repo_root(), &rest_args()),
         Some("precompute") => {
             let force = std::env::args().skip(2).any(|a| a == "--force");
             precompute::run(&repo_root(), force)
@@ -84,7 +86,12 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      clusters     [--objects GLOB] [--random N]: cluster robosuite 1.5.1's object meshes \
      (fetched pinned into target/objects), the stability set and the suite's scans in both \
      modes and count the adjacent cluster pairs that could still be merged; exit 1 when any \
-     is left (docs/clustering.md)";
+     is left (docs/clustering.md)\n  \
+     mbm          [--sample N] [--scenarios GLOB] [--seed S] [--write]: MotionBenchMaker's \
+     700 Panda problems (vamp-planner 0.6.4's source archive, fetched pinned into \
+     target/mbm) planned by pickplace_prm::rrt_connect with the exact checker, every path \
+     checked again at 1°; --write records the figures in benches/mbm.json and \
+     docs/benchmarks.md; exit 1 when a path collides";
 
 /// The arguments after the task name.
 fn rest_args() -> Vec<String> {
@@ -113,7 +120,7 @@ mod tests {
             .filter_map(|l| l.split('"').next())
             .filter(|t| !t.starts_with('-') && *t != "help")
             .collect();
-        assert_eq!(tasks.len(), 12, "{tasks:?}");
+        assert_eq!(tasks.len(), 13, "{tasks:?}");
         for task in tasks {
             assert!(
                 USAGE.contains(&format!("\n  {task} ")),

@@ -177,6 +177,16 @@ pub enum Error {
         /// Iterations performed.
         iterations: usize,
     },
+    /// RRT-Connect ran out of its time limit without joining its trees.
+    #[error(
+        "RRT-Connect found no path within its time limit of {seconds} s ({iterations} iterations)"
+    )]
+    RrtOutOfTime {
+        /// The limit (s).
+        seconds: f64,
+        /// Iterations performed.
+        iterations: usize,
+    },
 
     /// Bytes do not start with the roadmap magic.
     #[error("not a roadmap file: magic {found:?}")]

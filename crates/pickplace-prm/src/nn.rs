@@ -1,5 +1,6 @@
-//! k-nearest-neighbour index over roadmap states: a kiddo k-d tree with the dimension chosen at
-//! run time.
+//! Nearest-neighbour indexes over states: a kiddo k-d tree with the dimension chosen at run
+//! time, immutable over a roadmap's states ([`NearestIndex`]) or growing with a single-query
+//! tree ([`GrowingIndex`]).
 //!
 //! Coordinates are scaled by `sqrt(w_i)` so that the tree's squared Euclidean distance is the
 //! space's squared weighted distance. kiddo's trees take the dimension as a const generic: the
@@ -7,7 +8,7 @@
 
 use std::num::NonZeroUsize;
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
+use kiddo::{ImmutableKdTree, MutableKdTree, SquaredEuclidean};
 
 use crate::error::{Error, Result};
 
@@ -28,6 +29,30 @@ fn build_tree<const K: usize>(states: &[f64], scale: &[f64]) -> Result<Immutable
     ImmutableKdTree::new_from_slice(&points).map_err(|_| Error::NearestIndex {
         nodes: points.len(),
     })
+}
+
+fn scaled<const K: usize>(state: &[f64], scale: &[f64]) -> [f64; K] {
+    let mut point = [0.0; K];
+    for ((p, s), w) in point.iter_mut().zip(state).zip(scale) {
+        *p = s * w;
+    }
+    point
+}
+
+fn add_to<const K: usize>(
+    tree: &mut MutableKdTree<f64, K>,
+    state: &[f64],
+    scale: &[f64],
+    item: u32,
+) -> bool {
+    tree.add(&scaled::<K>(state, scale), item).is_ok()
+}
+
+fn nearest_in<const K: usize>(tree: &MutableKdTree<f64, K>, state: &[f64], scale: &[f64]) -> u32 {
+    tree.query(&scaled::<K>(state, scale))
+        .nearest_one::<SquaredEuclidean<f64>>()
+        .execute()
+        .item
 }
 
 fn query_tree<const K: usize>(
@@ -62,6 +87,29 @@ macro_rules! dimensions {
             match dimension {
                 $($k => build_tree::<$k>(states, scale).map(Tree::$variant),)*
                 _ => Err(Error::DimensionTooLarge { dimension, max: MAX_DIMENSION }),
+            }
+        }
+
+        enum GrowingTree {
+            $($variant(MutableKdTree<f64, $k>),)*
+        }
+
+        fn new_growing(dimension: usize) -> Option<GrowingTree> {
+            match dimension {
+                $($k => Some(GrowingTree::$variant(MutableKdTree::default())),)*
+                _ => None,
+            }
+        }
+
+        fn add_growing(tree: &mut GrowingTree, state: &[f64], scale: &[f64], item: u32) -> bool {
+            match tree {
+                $(GrowingTree::$variant(t) => add_to::<$k>(t, state, scale, item),)*
+            }
+        }
+
+        fn nearest_growing(tree: &GrowingTree, state: &[f64], scale: &[f64]) -> u32 {
+            match tree {
+                $(GrowingTree::$variant(t) => nearest_in::<$k>(t, state, scale),)*
             }
         }
 
@@ -140,6 +188,80 @@ impl NearestIndex {
     }
 }
 
+/// Below this many states, [`GrowingIndex`] scans them: a scan of a few hundred short rows
+/// beats a tree's descent and its upkeep.
+pub(crate) const LINEAR_LIMIT: usize = 256;
+
+/// The nearest-state index of a tree that grows one state at a time (RRT-Connect's): a linear
+/// scan while it holds fewer than [`LINEAR_LIMIT`] states, then a mutable k-d tree (kiddo)
+/// that takes the new states as they are asked about. Should kiddo refuse a state (a leaf it
+/// cannot split), the index goes back to scanning: slower, never wrong.
+pub(crate) struct GrowingIndex {
+    tree: Option<GrowingTree>,
+    scale: Vec<f64>,
+    /// States already in the tree (the first ones of the caller's array).
+    indexed: usize,
+}
+
+impl std::fmt::Debug for GrowingIndex {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GrowingIndex")
+            .field("dimension", &self.scale.len())
+            .field("indexed", &self.indexed)
+            .finish_non_exhaustive()
+    }
+}
+
+impl GrowingIndex {
+    /// An index for states of `weights.len()` coordinates under the weighted metric.
+    pub(crate) fn new(weights: &[f64]) -> Self {
+        Self {
+            tree: new_growing(weights.len()),
+            scale: weights.iter().map(|w| w.sqrt()).collect(),
+            indexed: 0,
+        }
+    }
+
+    /// The index of the state of `states` (flat, the index's dimension each) nearest to
+    /// `target` under the weighted metric; `states` only ever grows between calls. `states`
+    /// must not be empty.
+    pub(crate) fn nearest(&mut self, states: &[f64], target: &[f64]) -> usize {
+        let d = self.scale.len().max(1);
+        let n = states.len() / d;
+        if n >= LINEAR_LIMIT
+            && let Some(tree) = &mut self.tree
+        {
+            while self.indexed < n {
+                let state = &states[self.indexed * d..(self.indexed + 1) * d];
+                if !add_growing(tree, state, &self.scale, self.indexed as u32) {
+                    self.tree = None;
+                    break;
+                }
+                self.indexed += 1;
+            }
+            if let Some(tree) = &self.tree {
+                return nearest_growing(tree, target, &self.scale) as usize;
+            }
+        }
+        let mut best = (f64::INFINITY, 0);
+        for (i, state) in states.chunks_exact(d).enumerate() {
+            let d2: f64 = state
+                .iter()
+                .zip(target)
+                .zip(&self.scale)
+                .map(|((a, b), s)| {
+                    let x = s * (a - b);
+                    x * x
+                })
+                .sum();
+            if d2 < best.0 {
+                best = (d2, i);
+            }
+        }
+        best.1
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -176,6 +298,43 @@ mod tests {
             for ((d, _), (e, _)) in found.iter().zip(&brute) {
                 assert!((d - e).abs() < 1e-9);
             }
+        }
+    }
+
+    #[test]
+    fn a_growing_index_finds_what_a_scan_finds_before_and_after_it_builds_its_tree() {
+        for dimension in [2, 7, 14] {
+            let mut rng = Rng::derive(dimension as u64, 1, 0);
+            let weights: Vec<f64> = (0..dimension).map(|i| 1.0 + i as f64 * 0.5).collect();
+            let mut index = GrowingIndex::new(&weights);
+            let mut states = Vec::new();
+            for n in 1..=3 * LINEAR_LIMIT {
+                states.extend((0..dimension).map(|_| rng.next_f64()));
+                if n % 37 != 0 && n != LINEAR_LIMIT {
+                    continue;
+                }
+                let query: Vec<f64> = (0..dimension).map(|_| rng.next_f64()).collect();
+                let brute = states
+                    .chunks_exact(dimension)
+                    .enumerate()
+                    .map(|(i, s)| {
+                        let d: f64 = s
+                            .iter()
+                            .zip(&query)
+                            .zip(&weights)
+                            .map(|((a, b), w)| w * (a - b) * (a - b))
+                            .sum();
+                        (d, i)
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .map(|x| x.1);
+                assert_eq!(
+                    Some(index.nearest(&states, &query)),
+                    brute,
+                    "dimension {dimension}, {n} states"
+                );
+            }
+            assert!(index.tree.is_some() && index.indexed > LINEAR_LIMIT);
         }
     }
 

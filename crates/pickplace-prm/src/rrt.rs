@@ -1,6 +1,7 @@
 //! Bidirectional RRT-Connect: a single-query baseline for the roadmap planners.
 
 use crate::error::{Error, Result};
+use crate::nn::GrowingIndex;
 use crate::path::Path;
 use crate::rng::{Rng, stream};
 use crate::space::JointSpace;
@@ -21,6 +22,10 @@ pub struct RrtOptions {
     pub resolution: f64,
     /// Seed of the random samples (default: 0).
     pub seed: u64,
+    /// Wall-clock time after which the search gives up (default: none: `max_iterations`
+    /// alone ends it). With a limit, whether a path is found depends on the machine's speed
+    /// when the limit is reached; the path found does not.
+    pub time_limit: Option<std::time::Duration>,
 }
 
 impl Default for RrtOptions {
@@ -30,34 +35,29 @@ impl Default for RrtOptions {
             step: 0.3,
             resolution: DEFAULT_MAX_JOINT_STEP,
             seed: 0,
+            time_limit: None,
         }
     }
 }
 
-/// A tree stored flat, with parent indices.
+/// A tree stored flat, with parent indices and its nearest-state index.
 struct Tree {
     states: Vec<f64>,
     parents: Vec<u32>,
+    index: GrowingIndex,
 }
 
 impl Tree {
-    fn new(root: &[f64]) -> Self {
+    fn new(space: &JointSpace, root: &[f64]) -> Self {
         Self {
             states: root.to_vec(),
             parents: vec![u32::MAX],
+            index: GrowingIndex::new(space.weights()),
         }
     }
 
-    fn nearest(&self, space: &JointSpace, target: &[f64]) -> usize {
-        let d = space.dimension();
-        let mut best = (f64::INFINITY, 0);
-        for (i, state) in self.states.chunks_exact(d).enumerate() {
-            let d2 = space.distance_squared(state, target);
-            if d2 < best.0 {
-                best = (d2, i);
-            }
-        }
-        best.1
+    fn nearest(&mut self, target: &[f64]) -> usize {
+        self.index.nearest(&self.states, target)
     }
 }
 
@@ -80,7 +80,7 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
     /// Extends `tree` one step toward `target`.
     fn extend(&mut self, tree: &mut Tree, target: &[f64]) -> Extend {
         let d = self.space.dimension();
-        let near = tree.nearest(self.space, target);
+        let near = tree.nearest(target);
         let from = &tree.states[near * d..(near + 1) * d];
         let distance = self.space.distance(from, target);
         let reached = distance <= self.options.step;
@@ -115,7 +115,8 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
 /// Plans from `start` to `goal` by growing one tree from each and connecting them greedily
 /// (Kuffner and LaValle's RRT-Connect).
 ///
-/// Nearest neighbours are found by a linear scan, fine for the few thousand nodes a query grows.
+/// Nearest neighbours are found by a linear scan while a tree is small and by a k-d tree
+/// (kiddo) once it holds a few hundred states.
 /// The path is not shortened: see [`crate::shortcut()`].
 ///
 /// # Guarantee
@@ -129,7 +130,8 @@ impl<C: ValidityChecker + ?Sized> Context<'_, C> {
 /// # Errors
 /// [`Error::StateDimension`] / [`Error::StateOutOfBounds`]; [`Error::StartInvalid`] /
 /// [`Error::GoalInvalid`]; [`Error::InvalidOption`] for a non-positive step or resolution;
-/// [`Error::RrtExhausted`] after `max_iterations`.
+/// [`Error::RrtExhausted`] after `max_iterations`; [`Error::RrtOutOfTime`] once
+/// `options.time_limit` is spent.
 pub fn rrt_connect<C: ValidityChecker + ?Sized>(
     space: &JointSpace,
     checker: &C,
@@ -162,12 +164,26 @@ pub fn rrt_connect<C: ValidityChecker + ?Sized>(
         new_state: vec![0.0; d],
         scratch: vec![0.0; d],
     };
-    let mut from_start = Tree::new(start);
-    let mut from_goal = Tree::new(goal);
+    let mut from_start = Tree::new(space, start);
+    let mut from_goal = Tree::new(space, goal);
     let mut sample = vec![0.0; d];
     let mut target = vec![0.0; d];
     let mut rng = Rng::derive(options.seed, stream::RRT, 0);
+    let deadline = options
+        .time_limit
+        .and_then(|limit| std::time::Instant::now().checked_add(limit));
     for iteration in 0..options.max_iterations {
+        // The clock every 32 iterations: reading it costs about what a nearest-state
+        // query on a small tree does.
+        if iteration % 32 == 31
+            && let Some(deadline) = deadline
+            && std::time::Instant::now() >= deadline
+        {
+            return Err(Error::RrtOutOfTime {
+                seconds: options.time_limit.map_or(0.0, |l| l.as_secs_f64()),
+                iterations: iteration,
+            });
+        }
         let start_side = iteration % 2 == 0;
         let (a, b) = if start_side {
             (&mut from_start, &mut from_goal)

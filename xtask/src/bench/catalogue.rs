@@ -25,6 +25,10 @@ pub struct Catalogue {
     /// The comparisons, in the summary's order.
     #[serde(rename = "reference", default)]
     pub references: Vec<Reference>,
+    /// The MotionBenchMaker results `cargo xtask mbm --write` recorded
+    /// ([`crate::mbm::RESULTS_PATH`]), when present.
+    #[serde(skip)]
+    pub mbm: Option<crate::mbm::Results>,
 }
 
 /// One area of benches: a heading of the medians table and a section of notes.
@@ -134,7 +138,18 @@ impl Catalogue {
         let path = root.join(CATALOGUE_PATH);
         let text = std::fs::read_to_string(&path)
             .with_context(|| format!("reading {}", path.display()))?;
-        Self::parse(&text).with_context(|| format!("parsing {}", path.display()))
+        let mut catalogue =
+            Self::parse(&text).with_context(|| format!("parsing {}", path.display()))?;
+        let mbm = root.join(crate::mbm::RESULTS_PATH);
+        if mbm.is_file() {
+            let text = std::fs::read_to_string(&mbm)
+                .with_context(|| format!("reading {}", mbm.display()))?;
+            catalogue.mbm = Some(
+                serde_json::from_str(&text)
+                    .with_context(|| format!("parsing {}", mbm.display()))?,
+            );
+        }
+        Ok(catalogue)
     }
 
     /// The index of the area of a bench id (the first that contains it) in [`Self::areas`].

@@ -25,6 +25,23 @@ pub struct RunInfo {
     pub command: String,
 }
 
+impl RunInfo {
+    /// The machine, the run and the load on one line (for results files).
+    pub fn one_line(&self) -> String {
+        let memory = self
+            .memory_gib
+            .map_or_else(String::new, |g| format!(", {g:.1} GiB"));
+        let load = match self.load {
+            (Some(a), Some(b)) => format!("; load average {a:.2} at the start, {b:.2} at the end"),
+            _ => String::new(),
+        };
+        format!(
+            "{}, {} logical cores{memory}; {}; {}; `{}`, {}{load}",
+            self.cpu, self.cores, self.os, self.rustc, self.command, self.date
+        )
+    }
+}
+
 /// The CPU model from `lscpu`'s text ("Model name:") or `/proc/cpuinfo` ("model name").
 pub fn cpu_model(lscpu: &str, cpuinfo: &str) -> Option<String> {
     let field = |text: &str, key: &str| {

@@ -261,6 +261,10 @@ pub fn render_document(catalogue: &Catalogue, summary: &str) -> String {
     {
         let _ = write!(out, "\n## {}\n\n{}\n", area.heading(), area.notes.trim());
     }
+    if let Some(mbm) = &catalogue.mbm {
+        out.push('\n');
+        out.push_str(&crate::mbm::render(mbm));
+    }
     out
 }
 

@@ -74,10 +74,8 @@ pub fn fetch_wheel(dir: &Path) -> anyhow::Result<PathBuf> {
     )
 }
 
-/// The wheel `name` in `dir`, checked against `sha256` (as PyPI lists it): kept when present
-/// with the right hash, else copied from `$PICKPLACE_WHEELS/` when a file there has the right
-/// hash, else fetched with `pip download --no-deps --only-binary :all: REQUIREMENT` and the
-/// `platform` arguments. `task` names the command in messages.
+/// The wheel `name` in `dir`, checked against `sha256` (as PyPI lists it):
+/// [`fetch_pinned_file`] with `--only-binary :all:` and the `platform` arguments.
 ///
 /// # Errors
 /// pip fails, or the file's hash differs.
@@ -88,6 +86,26 @@ pub fn fetch_pinned_wheel(
     sha256_hex: &str,
     requirement: &str,
     platform: &[&str],
+) -> anyhow::Result<PathBuf> {
+    let mut pip_args = vec!["--only-binary", ":all:"];
+    pip_args.extend_from_slice(platform);
+    fetch_pinned_file(task, dir, name, sha256_hex, requirement, &pip_args)
+}
+
+/// The file `name` (a wheel or a source archive) in `dir`, checked against `sha256` (as PyPI
+/// lists it): kept when present with the right hash, else copied from `$PICKPLACE_WHEELS/`
+/// when a file there has the right hash, else fetched with `pip download --no-deps
+/// REQUIREMENT` and `pip_args`. `task` names the command in messages.
+///
+/// # Errors
+/// pip fails, or the file's hash differs.
+pub fn fetch_pinned_file(
+    task: &str,
+    dir: &Path,
+    name: &str,
+    sha256_hex: &str,
+    requirement: &str,
+    pip_args: &[&str],
 ) -> anyhow::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let wheel = dir.join(name);
@@ -105,8 +123,7 @@ pub fn fetch_pinned_wheel(
     eprintln!("{task}: pip download --no-deps {requirement}");
     let status = Command::new("python3")
         .args(["-m", "pip", "download", "--no-deps", requirement])
-        .args(["--only-binary", ":all:"])
-        .args(platform)
+        .args(pip_args)
         .arg("-d")
         .arg(dir)
         .status()

@@ -158,9 +158,14 @@ impl CollisionShape {
         (parry::to_vector(aabb.mins), parry::to_vector(aabb.maxs))
     }
 
-    /// The shape of a URDF geometry, with the pose correction for parry's conventions
-    /// (parry's cylinder axis is y, URDF's is z).
-    fn from_model_shape(shape: &Shape) -> Result<(Self, Isometry3)> {
+    /// The shape of a URDF geometry (a box, sphere, cylinder or capsule as a primitive; a
+    /// mesh as its convex hull, as robot links are checked) and the pose of the collision
+    /// library's shape in the geometry's frame: parry's cylinder axis is y, URDF's (and
+    /// MoveIt's) is z, so a cylinder's pose is a quarter turn about x; the others' identity.
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] for a non-positive or non-finite size.
+    pub fn from_shape(shape: &Shape) -> Result<(Self, Isometry3)> {
         Ok(match shape {
             Shape::Box { half_extents } => (Self::cuboid(*half_extents)?, Isometry3::identity()),
             Shape::Sphere { radius } => (Self::ball(*radius)?, Isometry3::identity()),
@@ -436,7 +441,7 @@ impl CollisionWorld {
         let mut robot_shapes = Vec::new();
         for (link, l) in model.links().iter().enumerate() {
             for g in &l.collisions {
-                let (shape, correction) = CollisionShape::from_model_shape(&g.shape)?;
+                let (shape, correction) = CollisionShape::from_shape(&g.shape)?;
                 let local_aabb = shape.shape.compute_local_aabb();
                 let climbing = support::ClimbingHull::of(&shape.shape);
                 robot_shapes.push(RobotShape {

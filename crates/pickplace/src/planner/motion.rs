@@ -33,6 +33,7 @@ fn is_search_failure(e: &pickplace_prm::Error) -> bool {
             | E::GoalNotConnected { .. }
             | E::NoPath { .. }
             | E::RrtExhausted { .. }
+            | E::RrtOutOfTime { .. }
     )
 }
 
@@ -93,6 +94,7 @@ impl Ctx<'_> {
                     step: 0.3,
                     resolution: a.roadmap.options().resolution,
                     seed,
+                    time_limit: None,
                 },
             ) {
                 Ok(p) => p,
