@@ -18,6 +18,7 @@
 
 mod acm;
 mod hull;
+mod narrow;
 mod support;
 mod view;
 
@@ -31,9 +32,8 @@ use crate::model::{RobotModel, Shape};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Pose;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
-use parry3d_f64::query::gjk::{CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints};
-use parry3d_f64::shape::{SharedShape, SupportMap};
+use parry3d_f64::shape::SharedShape;
 use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
 use pickplace_geometry::parry;
@@ -332,40 +332,6 @@ struct RobotShape {
     climbing: Option<support::ClimbingHull>,
 }
 
-impl RobotShape {
-    /// The support function GJK uses for this shape in a self pair with a climbing hull:
-    /// `None` for a shape parry does not test as a support map against a hull (a ball has
-    /// its own routine, a flat mesh is no support map).
-    fn support_map(&self) -> Option<&dyn SupportMap> {
-        if let Some(c) = &self.climbing {
-            Some(c)
-        } else if self.shape.as_ball().is_some() {
-            None
-        } else {
-            self.shape.as_support_map()
-        }
-    }
-}
-
-/// Whether the oriented boxes of two robot shapes, each loosened by half the margin, overlap:
-/// false proves the shapes farther apart than the margin.
-fn boxes_overlap(
-    pose1: &Pose,
-    s1: &RobotShape,
-    pose2: &Pose,
-    s2: &RobotShape,
-    margin: Real,
-) -> bool {
-    use parry3d_f64::shape::Cuboid;
-    let half = parry3d_f64::math::Vector::splat(margin / 2.0);
-    let b1 = Cuboid::new(s1.box_half_extents + half);
-    let b2 = Cuboid::new(s2.box_half_extents + half);
-    let p1 = Pose::from_parts(pose1.transform_point(s1.box_centre), pose1.rotation);
-    let p2 = Pose::from_parts(pose2.transform_point(s2.box_centre), pose2.rotation);
-    // Two cuboids are always supported; an error cannot happen, and would only keep the pair.
-    query::intersection_test(&p1, &b1, &p2, &b2).map_or(true, |r| r.intersecting)
-}
-
 #[derive(Debug, Clone)]
 struct EnvironmentObject {
     name: String,
@@ -373,6 +339,10 @@ struct EnvironmentObject {
     /// The mesh's hull, tested first ([`CollisionShape::with_hull`]).
     hull: Option<SharedShape>,
     world_from_shape: Pose,
+    /// The centre and half extents of the shape's local box: an oriented box around it,
+    /// tested before the exact test.
+    box_centre: parry3d_f64::math::Vector,
+    box_half_extents: parry3d_f64::math::Vector,
     /// Links allowed to touch this object.
     allowed_links: Vec<bool>,
 }
@@ -545,11 +515,14 @@ impl CollisionWorld {
     ) -> usize {
         let pose = parry::pose(world_from_shape);
         let aabb = shape.shape.compute_aabb(&pose);
+        let local = shape.shape.compute_local_aabb();
         self.environment.push(EnvironmentObject {
             name: name.to_owned(),
             shape: shape.shape,
             hull: shape.hull,
             world_from_shape: pose,
+            box_centre: local.center(),
+            box_half_extents: local.half_extents(),
             allowed_links: self.allowed_links_for(name),
         });
         self.environment_aabbs.push(aabb);
@@ -740,105 +713,6 @@ impl CollisionWorld {
         self.touching(pose1, shape1, pose2, shape2, margin, names)
     }
 
-    /// The exact test of two robot shapes, as [`CollisionWorld::touching`]: the same GJK query
-    /// parry's dispatcher runs on two support maps, with the climbing support function of
-    /// the hulls that have one.
-    fn robot_shapes_touching(
-        &self,
-        pose1: &Pose,
-        s1: &RobotShape,
-        pose2: &Pose,
-        s2: &RobotShape,
-        margin: Real,
-    ) -> Result<bool> {
-        self.robot_shapes_touching_from(pose1, s1, pose2, s2, margin, None)
-    }
-
-    /// [`CollisionWorld::robot_shapes_touching`], trying first the direction that separated
-    /// the pair last time (`last`, a unit vector in the first shape's frame, or zero; set
-    /// when GJK separates the pair): when the pair's gap along it exceeds the margin, the
-    /// pair is apart (a separating axis, exact: the test GJK itself ends with), else GJK
-    /// decides as without it.
-    fn robot_shapes_touching_from(
-        &self,
-        pose1: &Pose,
-        s1: &RobotShape,
-        pose2: &Pose,
-        s2: &RobotShape,
-        margin: Real,
-        last: Option<&mut parry3d_f64::math::Vector>,
-    ) -> Result<bool> {
-        if (s1.climbing.is_some() || s2.climbing.is_some())
-            && let (Some(g1), Some(g2)) = (s1.support_map(), s2.support_map())
-        {
-            let pos12 = pose1.inv_mul(pose2);
-            if let Some(dir) = last.as_deref()
-                && *dir != parry3d_f64::math::Vector::ZERO
-            {
-                let gap = -dir.dot(CsoPoint::from_shapes(&pos12, g1, g2, *dir).point);
-                if gap > margin {
-                    return Ok(false);
-                }
-            }
-            // GJK starts along the line between the shapes' box centres (parry starts
-            // along the line between their frames, which a link mesh may have far from
-            // its geometry): fewer iterations; the answer is GJK's either way (a start
-            // changes it only within GJK's tolerance).
-            let init = s1.box_centre - pos12.transform_point(s2.box_centre);
-            let init = (init.length_squared() > 0.0).then_some(init);
-            let mut simplex = VoronoiSimplex::new();
-            return Ok(if margin == 0.0 {
-                query::details::intersection_test_support_map_support_map_with_params(
-                    &pos12,
-                    g1,
-                    g2,
-                    &mut simplex,
-                    init.map(|d| -d),
-                )
-                .0
-            } else {
-                match query::details::closest_points_support_map_support_map_with_params(
-                    &pos12,
-                    g1,
-                    g2,
-                    margin,
-                    &mut simplex,
-                    init,
-                ) {
-                    GJKResult::NoIntersection(dir) => {
-                        if let Some(last) = last {
-                            *last = dir;
-                        }
-                        false
-                    }
-                    _ => true,
-                }
-            });
-        }
-        self.touching(pose1, &s1.shape, pose2, &s2.shape, margin, || {
-            (
-                self.link_names[s1.link].clone(),
-                self.link_names[s2.link].clone(),
-            )
-        })
-    }
-
-    /// The narrow phase of robot shapes `a` and `b` whose boxes overlap: their oriented boxes,
-    /// then the exact test.
-    #[inline]
-    fn robot_pair_touching(
-        &self,
-        scratch: &CollisionScratch,
-        a: usize,
-        b: usize,
-        margin: Real,
-    ) -> Result<bool> {
-        let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
-        let (pa, pb) = (&scratch.shape_poses[a], &scratch.shape_poses[b]);
-        Ok(boxes_overlap(pa, sa, pb, sb, margin)
-            && self.robot_shapes_touching(pa, sa, pb, sb, margin)?)
-    }
-
     /// Visits colliding pairs of the scope until `visit` returns false: the self pairs
     /// `self_pairs`, the robot shapes `env_shapes` (every shape when `None`) against the
     /// environment, the attached objects against both.
@@ -890,15 +764,8 @@ impl CollisionWorld {
                 if env.allowed_links[s.link] {
                     continue;
                 }
-                if self.hulled_touching(
-                    &env.world_from_shape,
-                    &env.shape,
-                    env.hull.as_ref(),
-                    &scratch.shape_poses[i],
-                    &s.shape,
-                    pair_margin,
-                    || (env.name.clone(), self.link_names[s.link].clone()),
-                )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
+                if self.robot_env_touching(&scratch.shape_poses[i], s, env, pair_margin)?
+                    && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
                     return Ok(());
                 }

@@ -11,7 +11,8 @@
 //! [`PairScope`] mask rule (an object held by a moving link moves against every body but
 //! the ones it may touch).
 
-use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope, boxes_overlap};
+use super::narrow::boxes_overlap;
+use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope};
 use crate::error::{Error, Result};
 use crate::model::{JointValueSource, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
