@@ -330,7 +330,10 @@ mod tests {
             }
         }
         // Both answers are exercised.
-        assert!(touching > 2_000 && apart > 2_000, "{touching} touching, {apart} apart");
+        assert!(
+            touching > 2_000 && apart > 2_000,
+            "{touching} touching, {apart} apart"
+        );
         // The 15 axes decide exactly for boxes: a pair called overlapping is within rounding.
         assert_eq!(disagreements, 0);
     }
@@ -388,7 +391,11 @@ mod tests {
                 .distance;
             // Away from the boundary (GJK's tolerance), the answers agree.
             if (distance - margin).abs() > 1e-6 {
-                assert_eq!(ours, distance <= margin, "distance {distance}, margin {margin}");
+                assert_eq!(
+                    ours,
+                    distance <= margin,
+                    "distance {distance}, margin {margin}"
+                );
                 if ours {
                     hits += 1;
                 } else {
