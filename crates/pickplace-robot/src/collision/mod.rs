@@ -378,6 +378,9 @@ pub struct CollisionScratch {
     view_key: Option<(u64, u64)>,
     /// For each moving pair of that view, the direction that last separated it (zero: none).
     pair_directions: Vec<parry3d_f64::math::Vector>,
+    /// For each moving shape of that view and environment object (`shape * objects +
+    /// object`), the direction that last separated them (zero: none).
+    env_directions: Vec<parry3d_f64::math::Vector>,
 }
 
 /// Robot links, environment and attached objects. Build it once (`&mut self` methods), then
@@ -764,7 +767,14 @@ impl CollisionWorld {
                 if env.allowed_links[s.link] {
                     continue;
                 }
-                if self.robot_env_touching(&scratch.shape_poses[i], s, env, pair_margin)?
+                // A moving view's query keeps each pair's last separating direction.
+                let slot = n * self.environment.len() + e;
+                let last = if env_shapes.is_some() && scratch.view_key.is_some() {
+                    scratch.env_directions.get_mut(slot)
+                } else {
+                    None
+                };
+                if self.robot_env_touching(&scratch.shape_poses[i], s, env, pair_margin, last)?
                     && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
                     return Ok(());

@@ -142,14 +142,20 @@ fn support_maps_touching(
     let init = (init.length_squared() > 0.0).then_some(init);
     let mut simplex = VoronoiSimplex::new();
     if margin == 0.0 {
-        query::details::intersection_test_support_map_support_map_with_params(
+        let (hit, dir) = query::details::intersection_test_support_map_support_map_with_params(
             pos12,
             g1,
             g2,
             &mut simplex,
             init.map(|d| -d),
-        )
-        .0
+        );
+        if !hit
+            && let Some(last) = last
+            && let Some(dir) = dir.try_normalize()
+        {
+            *last = dir;
+        }
+        hit
     } else {
         match query::details::closest_points_support_map_support_map_with_params(
             pos12,
@@ -238,14 +244,17 @@ impl CollisionWorld {
     /// The exact test of robot shape `s` at `pose` against environment object `env`: their
     /// oriented boxes first (an obstacle's box around its shape, a link's around its hull),
     /// then, for a link hull with a climbing support function and an obstacle that is a
-    /// support map (a box, a cylinder, a convex shape), the same GJK query as a self pair's;
-    /// otherwise parry's dispatcher ([`CollisionWorld::hulled_touching`]).
+    /// support map (a box, a cylinder, a convex shape), the same GJK query as a self pair's,
+    /// tried first along `last` (the direction that separated the pair last time, kept by a
+    /// moving view's queries); otherwise parry's dispatcher
+    /// ([`CollisionWorld::hulled_touching`]).
     pub(super) fn robot_env_touching(
         &self,
         pose: &Pose,
         s: &RobotShape,
         env: &EnvironmentObject,
         margin: Real,
+        last: Option<&mut Vector>,
     ) -> Result<bool> {
         if !oriented_boxes_overlap(
             (pose, s.box_centre, s.box_half_extents),
@@ -264,7 +273,7 @@ impl CollisionWorld {
                 (g1, s.box_centre),
                 (g2, env.box_centre),
                 margin,
-                None,
+                last,
             ));
         }
         self.hulled_touching(

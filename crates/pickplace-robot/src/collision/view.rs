@@ -349,6 +349,11 @@ impl CollisionWorld {
             scratch
                 .shape_aabbs
                 .extend(view.shape_aabbs.iter().map(|a| a.loosened(margin)));
+            scratch.env_directions.clear();
+            scratch.env_directions.resize(
+                view.moving_shapes.len() * self.environment.len(),
+                parry3d_f64::math::Vector::ZERO,
+            );
             scratch.pair_directions.clear();
             scratch
                 .pair_directions
