@@ -226,6 +226,8 @@ pub struct Outcome {
     pub length: Real,
     /// Its waypoints.
     pub waypoints: usize,
+    /// States the planner checked (its checker's calls).
+    pub states: usize,
     /// Whether the re-check at 1° found a state in collision.
     pub collides: bool,
     /// Why no path came back (the planner's error), when none did.
@@ -277,9 +279,14 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
         time_limit: Some(std::time::Duration::from_secs_f64(TIME_LIMIT)),
         ..RrtOptions::default()
     };
+    let counting = Counting {
+        inner: &checker,
+        states: 0.into(),
+    };
     let t = Instant::now();
-    let result = rrt_connect(&space, &checker, &start, &goal, &options);
+    let result = rrt_connect(&space, &counting, &start, &goal, &options);
     let seconds = t.elapsed().as_secs_f64();
+    let states = counting.states.into_inner();
     checker.check_error()?;
     Ok(match result {
         Ok(path) => {
@@ -291,6 +298,7 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
                 found: true,
                 length: path.length(&unit_space(&space)?),
                 waypoints: path.len(),
+                states,
                 collides,
                 failure: None,
             }
@@ -301,10 +309,25 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
             found: false,
             length: 0.0,
             waypoints: 0,
+            states,
             collides: false,
             failure: Some(e.to_string()),
         },
     })
+}
+
+/// A checker that counts the states it is asked about.
+struct Counting<'a, C> {
+    inner: &'a C,
+    states: std::sync::atomic::AtomicUsize,
+}
+
+impl<C: pickplace::prm::ValidityChecker> pickplace::prm::ValidityChecker for Counting<'_, C> {
+    fn is_state_valid(&self, q: &[Real]) -> bool {
+        self.states
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.is_state_valid(q)
+    }
 }
 
 /// The space with unit weights (the path length in radians whatever the planner's weights).
@@ -346,6 +369,10 @@ pub struct Summary {
     pub mean_length: Real,
     /// Paths with a state in collision at 1°.
     pub colliding: usize,
+    /// Planning time per state checked (s), over every problem: the cost of a check with its
+    /// share of the search around it.
+    #[serde(default)]
+    pub per_state: Real,
 }
 
 fn percentile(sorted: &[Real], p: Real) -> Real {
@@ -373,6 +400,8 @@ pub fn summarise(scenario: &str, outcomes: &[&Outcome]) -> Summary {
         p95: percentile(&times, 0.95),
         mean_length: solved.iter().map(|o| o.length).sum::<Real>() / solved.len().max(1) as Real,
         colliding: outcomes.iter().filter(|o| o.collides).count(),
+        per_state: outcomes.iter().map(|o| o.seconds).sum::<Real>()
+            / outcomes.iter().map(|o| o.states).sum::<usize>().max(1) as Real,
     }
 }
 
@@ -410,29 +439,32 @@ pub fn render(results: &Results) -> String {
          `pickplace::checker::ArmChecker` (the links' convex pieces through parry), one thread, \
          a time limit of 1 s instead of the iteration cap, the planner's call timed. Solved: a path within 1 s. Median and 95th percentile over \
          every problem; length: the raw path's joint-space length (rad, not shortened); \
-         colliding: paths with a state in collision when checked again at 1°.\n\n",
+         colliding: paths with a state in collision when checked again at 1°; time per state \
+         checked: the planning time over the states the planner checked (the check and its \
+         share of the search).\n\n",
     );
     out.push_str(
-        "| scenario | solved | median | 95th percentile | mean length (rad) | colliding |\n\
-         |---|---|---|---|---|---|\n",
+        "| scenario | solved | median | 95th percentile | mean length (rad) | colliding | time per state checked |\n\
+         |---|---|---|---|---|---|---|\n",
     );
     for s in &results.summaries {
         let _ = writeln!(
             out,
-            "| {} | {}/{} | {} | {} | {:.2} | {} |",
+            "| {} | {}/{} | {} | {} | {:.2} | {} | {} |",
             s.scenario,
             s.solved,
             s.problems,
             format_time(s.median),
             format_time(s.p95),
             s.mean_length,
-            s.colliding
+            s.colliding,
+            format_time(s.per_state),
         );
     }
     let (median, p95, length, solved) = VAMP_PUBLISHED;
     let _ = writeln!(
         out,
-        "| VAMP 0.6.4, published (Ryzen 9 7950X) | {solved} | {} | {} | {length:.2} | |",
+        "| VAMP 0.6.4, published (Ryzen 9 7950X) | {solved} | {} | {} | {length:.2} | | |",
         format_time(median),
         format_time(p95),
     );
@@ -499,14 +531,16 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     };
     for s in &results.summaries {
         println!(
-            "{:<24} solved {:>3}/{:<3} median {:>9} p95 {:>9} length {:>6.2} rad  colliding {}",
+            "{:<24} solved {:>3}/{:<3} median {:>9} p95 {:>9} length {:>6.2} rad  colliding {}  \
+             {} per state",
             s.scenario,
             s.solved,
             s.problems,
             crate::bench::report::format_time(s.median),
             crate::bench::report::format_time(s.p95),
             s.mean_length,
-            s.colliding
+            s.colliding,
+            crate::bench::report::format_time(s.per_state),
         );
     }
     let json = serde_json::to_string_pretty(&results)? + "\n";
@@ -549,6 +583,7 @@ mod tests {
             found,
             length: if found { 2.0 } else { 0.0 },
             waypoints: 3,
+            states: 10,
             collides,
             failure: None,
         };
@@ -563,5 +598,7 @@ mod tests {
         assert_eq!(s.median, 0.002);
         assert_eq!(s.p95, 2.0);
         assert_eq!(s.mean_length, 2.0);
+        // 2.006 s over 4 × 10 states.
+        assert!((s.per_state - 2.006 / 40.0).abs() < 1e-12);
     }
 }
