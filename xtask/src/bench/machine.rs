@@ -28,17 +28,31 @@ pub struct RunInfo {
 impl RunInfo {
     /// The machine, the run and the load on one line (for results files).
     pub fn one_line(&self) -> String {
-        let memory = self
-            .memory_gib
-            .map_or_else(String::new, |g| format!(", {g:.1} GiB"));
-        let load = match self.load {
+        format!(
+            "{}, {} logical cores{}; {}; {}; `{}`, {}{}",
+            self.cpu,
+            self.cores,
+            self.memory_text(),
+            self.os,
+            self.rustc,
+            self.command,
+            self.date,
+            self.load_text()
+        )
+    }
+
+    /// `, 23.5 GiB`, or nothing when the memory is not known.
+    pub fn memory_text(&self) -> String {
+        self.memory_gib
+            .map_or_else(String::new, |g| format!(", {g:.1} GiB"))
+    }
+
+    /// `; load average A at the start, B at the end`, or nothing when not known.
+    pub fn load_text(&self) -> String {
+        match self.load {
             (Some(a), Some(b)) => format!("; load average {a:.2} at the start, {b:.2} at the end"),
             _ => String::new(),
-        };
-        format!(
-            "{}, {} logical cores{memory}; {}; {}; `{}`, {}{load}",
-            self.cpu, self.cores, self.os, self.rustc, self.command, self.date
-        )
+        }
     }
 }
 

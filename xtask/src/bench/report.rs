@@ -88,13 +88,7 @@ fn write_header(w: &mut String, info: &RunInfo) {
         "Written by `cargo xtask bench`; do not edit between the markers. Run: `{}`, {}.",
         info.command, info.date
     );
-    let memory = info
-        .memory_gib
-        .map_or_else(String::new, |g| format!(", {g:.1} GiB"));
-    let load = match info.load {
-        (Some(a), Some(b)) => format!("; load average {a:.2} at the start, {b:.2} at the end"),
-        _ => String::new(),
-    };
+    let (memory, load) = (info.memory_text(), info.load_text());
     let _ = writeln!(
         w,
         "Machine: {}, {} logical cores{memory}; {}; {}{load}. Criterion medians with their 95 % \
