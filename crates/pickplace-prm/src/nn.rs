@@ -48,6 +48,20 @@ fn add_to<const K: usize>(
     tree.add(&scaled::<K>(state, scale), item).is_ok()
 }
 
+fn k_nearest_in<const K: usize>(
+    tree: &MutableKdTree<f64, K>,
+    state: &[f64],
+    scale: &[f64],
+    k: NonZeroUsize,
+    out: &mut Vec<(f64, u32)>,
+) {
+    let found = tree
+        .query(&scaled::<K>(state, scale))
+        .nearest_n::<SquaredEuclidean<f64>>(k)
+        .execute();
+    out.extend(found.into_iter().map(|item| (item.distance, item.item)));
+}
+
 fn nearest_in<const K: usize>(tree: &MutableKdTree<f64, K>, state: &[f64], scale: &[f64]) -> u32 {
     tree.query(&scaled::<K>(state, scale))
         .nearest_one::<SquaredEuclidean<f64>>()
@@ -104,6 +118,18 @@ macro_rules! dimensions {
         fn add_growing(tree: &mut GrowingTree, state: &[f64], scale: &[f64], item: u32) -> bool {
             match tree {
                 $(GrowingTree::$variant(t) => add_to::<$k>(t, state, scale, item),)*
+            }
+        }
+
+        fn k_nearest_growing(
+            tree: &GrowingTree,
+            state: &[f64],
+            scale: &[f64],
+            k: NonZeroUsize,
+            out: &mut Vec<(f64, u32)>,
+        ) {
+            match tree {
+                $(GrowingTree::$variant(t) => k_nearest_in::<$k>(t, state, scale, k, out),)*
             }
         }
 
@@ -198,6 +224,9 @@ pub(crate) const LINEAR_LIMIT: usize = 256;
 /// cannot split), the index goes back to scanning: slower, never wrong.
 pub(crate) struct GrowingIndex {
     tree: Option<GrowingTree>,
+    /// The metric's weights (the scan's distance is the space's, `Σ w (a − b)²`).
+    weights: Vec<f64>,
+    /// Their square roots (the tree's coordinates).
     scale: Vec<f64>,
     /// States already in the tree (the first ones of the caller's array).
     indexed: usize,
@@ -217,43 +246,105 @@ impl GrowingIndex {
     pub(crate) fn new(weights: &[f64]) -> Self {
         Self {
             tree: new_growing(weights.len()),
+            weights: weights.to_vec(),
             scale: weights.iter().map(|w| w.sqrt()).collect(),
             indexed: 0,
         }
+    }
+
+    /// Forgets every state (the caller's array starts again from empty).
+    pub(crate) fn clear(&mut self) {
+        self.tree = new_growing(self.scale.len());
+        self.indexed = 0;
+    }
+
+    /// Takes the states of `states` not yet in the tree, once it is past
+    /// [`LINEAR_LIMIT`]; false when there is no tree (small, or refused by kiddo).
+    fn catch_up(&mut self, states: &[f64]) -> bool {
+        let d = self.scale.len().max(1);
+        let n = states.len() / d;
+        if n < LINEAR_LIMIT {
+            return false;
+        }
+        let Some(tree) = &mut self.tree else {
+            return false;
+        };
+        while self.indexed < n {
+            let state = &states[self.indexed * d..(self.indexed + 1) * d];
+            if !add_growing(tree, state, &self.scale, self.indexed as u32) {
+                self.tree = None;
+                return false;
+            }
+            self.indexed += 1;
+        }
+        true
+    }
+
+    /// The squared weighted distance between two states, by the formula of
+    /// [`crate::JointSpace::distance_squared`].
+    fn distance_squared(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&self.weights)
+            .map(|((x, y), w)| w * (x - y) * (x - y))
+            .sum()
+    }
+
+    /// Appends the (at most) `k` states of `states` nearest to `target` within squared
+    /// distance `max_squared`, as `(squared weighted distance, index)`, sorted by distance then
+    /// index. `states` only ever grows between calls (or the index is cleared).
+    pub(crate) fn k_nearest_within(
+        &mut self,
+        states: &[f64],
+        target: &[f64],
+        k: usize,
+        max_squared: f64,
+        out: &mut Vec<(f64, u32)>,
+    ) {
+        let start = out.len();
+        let d = self.scale.len().max(1);
+        let n = states.len() / d;
+        let Some(k_nonzero) = NonZeroUsize::new(k.min(n)) else {
+            return;
+        };
+        if self.catch_up(states)
+            && let Some(tree) = &self.tree
+        {
+            k_nearest_growing(tree, target, &self.scale, k_nonzero, out);
+            out.truncate(start + k);
+            let mut kept = start;
+            for i in start..out.len() {
+                if out[i].0 <= max_squared {
+                    out[kept] = out[i];
+                    kept += 1;
+                }
+            }
+            out.truncate(kept);
+        } else {
+            for (i, state) in states.chunks_exact(d).enumerate() {
+                let d2 = self.distance_squared(state, target);
+                if d2 <= max_squared {
+                    out.push((d2, i as u32));
+                }
+            }
+        }
+        out[start..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.truncate(start + k);
     }
 
     /// The index of the state of `states` (flat, the index's dimension each) nearest to
     /// `target` under the weighted metric; `states` only ever grows between calls. `states`
     /// must not be empty.
     pub(crate) fn nearest(&mut self, states: &[f64], target: &[f64]) -> usize {
-        let d = self.scale.len().max(1);
-        let n = states.len() / d;
-        if n >= LINEAR_LIMIT
-            && let Some(tree) = &mut self.tree
+        if self.catch_up(states)
+            && let Some(tree) = &self.tree
         {
-            while self.indexed < n {
-                let state = &states[self.indexed * d..(self.indexed + 1) * d];
-                if !add_growing(tree, state, &self.scale, self.indexed as u32) {
-                    self.tree = None;
-                    break;
-                }
-                self.indexed += 1;
-            }
-            if let Some(tree) = &self.tree {
-                return nearest_growing(tree, target, &self.scale) as usize;
-            }
+            return nearest_growing(tree, target, &self.scale) as usize;
         }
+        let d = self.scale.len().max(1);
         let mut best = (f64::INFINITY, 0);
         for (i, state) in states.chunks_exact(d).enumerate() {
-            let d2: f64 = state
-                .iter()
-                .zip(target)
-                .zip(&self.scale)
-                .map(|((a, b), s)| {
-                    let x = s * (a - b);
-                    x * x
-                })
-                .sum();
+            let d2 = self.distance_squared(state, target);
             if d2 < best.0 {
                 best = (d2, i);
             }
@@ -336,6 +427,50 @@ mod tests {
             }
             assert!(index.tree.is_some() && index.indexed > LINEAR_LIMIT);
         }
+    }
+
+    #[test]
+    fn a_growing_index_finds_the_k_nearest_within_a_radius_as_a_scan_does() {
+        let dimension = 6;
+        let mut rng = Rng::derive(9, 2, 0);
+        let weights: Vec<f64> = (0..dimension).map(|i| 0.5 + i as f64 * 0.25).collect();
+        let mut index = GrowingIndex::new(&weights);
+        let mut states = Vec::new();
+        for n in 1..=2 * LINEAR_LIMIT + 50 {
+            states.extend((0..dimension).map(|_| rng.next_f64()));
+            if n % 41 != 0 {
+                continue;
+            }
+            let query: Vec<f64> = (0..dimension).map(|_| rng.next_f64()).collect();
+            let max_squared = 0.3;
+            let mut brute: Vec<(f64, u32)> = states
+                .chunks_exact(dimension)
+                .enumerate()
+                .map(|(i, s)| (index.distance_squared(s, &query), i as u32))
+                .filter(|x| x.0 <= max_squared)
+                .collect();
+            brute.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            brute.truncate(7);
+            let mut found = vec![(-1.0, u32::MAX)];
+            index.k_nearest_within(&states, &query, 7, max_squared, &mut found);
+            assert_eq!(found[0], (-1.0, u32::MAX), "what was there is kept");
+            let ids: Vec<u32> = found[1..].iter().map(|x| x.1).collect();
+            let expected: Vec<u32> = brute.iter().map(|x| x.1).collect();
+            assert_eq!(ids, expected, "{n} states");
+        }
+        assert!(index.tree.is_some() && index.indexed > LINEAR_LIMIT);
+        index.clear();
+        let mut found = Vec::new();
+        index.k_nearest_within(
+            &states[..dimension * 3],
+            &states[..dimension],
+            2,
+            10.0,
+            &mut found,
+        );
+        // After clearing, a small array is scanned again: the target itself first.
+        assert_eq!(found.len(), 2);
+        assert_eq!(found[0], (0.0, 0));
     }
 
     #[test]

@@ -11,6 +11,7 @@ use std::collections::BinaryHeap;
 
 use crate::error::{Error, Result};
 use crate::lpa::{Graph, Lpa};
+use crate::nn::GrowingIndex;
 use crate::path::Path;
 use crate::rng::{Rng, stream};
 use crate::roadmap::{Roadmap, Validation};
@@ -95,9 +96,11 @@ struct Link {
 }
 
 /// Per-query nodes and edges (start, goal, growth) linked into the roadmap.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 struct Overlay {
     states: Vec<f64>,
+    /// The nearest-state index of `states` (a k-d tree once they are a few hundred).
+    index: GrowingIndex,
     edges: Vec<OverlayEdge>,
     links: Vec<Link>,
     base_head: Vec<u32>,
@@ -112,6 +115,7 @@ impl Overlay {
         }
         self.touched.clear();
         self.states.clear();
+        self.index.clear();
         self.edges.clear();
         self.links.clear();
         self.extra_head.clear();
@@ -262,7 +266,12 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
             edge_status: vec![initial; roadmap.edge_count()],
             overlay: Overlay {
                 base_head: vec![NONE; n],
-                ..Overlay::default()
+                states: Vec::new(),
+                index: GrowingIndex::new(roadmap.space().weights()),
+                edges: Vec::new(),
+                links: Vec::new(),
+                extra_head: Vec::new(),
+                touched: Vec::new(),
             },
             search: Search::default(),
             lpa: Lpa::default(),
@@ -340,18 +349,19 @@ impl<'a, C: ValidityChecker + ?Sized> PrmPlanner<'a, C> {
         self.roadmap.k_nearest(state, k, &mut found);
         let base_found = found.len();
         let d = space.dimension();
-        for (i, other) in self.overlay.states.chunks_exact(d).enumerate() {
-            let other_id = n + i as u32;
-            // Earlier overlay nodes only: each pair is linked once.
-            if other_id < node {
-                let d2 = space.distance_squared(state, other);
-                if d2 <= max_squared {
-                    found.push((d2, other_id));
-                }
-            }
+        // Earlier overlay nodes only: each pair is linked once.
+        let earlier = (node - n) as usize;
+        let state = node_state(self.roadmap, &self.overlay, node).to_vec();
+        self.overlay.index.k_nearest_within(
+            &self.overlay.states[..earlier * d],
+            &state,
+            k,
+            max_squared,
+            &mut found,
+        );
+        for f in &mut found[base_found..] {
+            f.1 += n;
         }
-        found[base_found..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        found.truncate(base_found + k.min(found.len() - base_found));
         for &(d2, other) in &found {
             if d2 <= max_squared
                 && (other >= n || self.node_status[other as usize] != Status::Invalid)
