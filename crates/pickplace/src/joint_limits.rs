@@ -103,11 +103,49 @@ impl JointLimitsFile {
         };
         let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
             .map_err(|e| err(e.to_string()))?;
-        let value = parse_yaml(&text).map_err(err)?;
+        let value = parse_yaml(&text).map_err(|e| err(e.to_string()))?;
         serde_json::from_value(value)
             .map_err(|e| err(pickplace_geometry::io::short_message(&e.to_string())))
     }
 }
+
+/// A construct of a joint-limits file outside the YAML subset it is read in, with its line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct YamlError {
+    /// The line (1-based; 0 for the end of the file).
+    pub line: usize,
+    /// What is wrong there.
+    pub reason: String,
+}
+
+impl std::fmt::Display for YamlError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.line == 0 {
+            write!(f, "at the end: {}", self.reason)
+        } else {
+            write!(f, "line {}: {}", self.line, self.reason)
+        }
+    }
+}
+
+impl std::error::Error for YamlError {}
+
+/// A limit of a joint-limits entry that is missing or out of its range.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LimitError {
+    /// `max_velocity` or `max_acceleration`.
+    pub field: &'static str,
+    /// What is wrong.
+    pub reason: String,
+}
+
+impl std::fmt::Display for LimitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.field, self.reason)
+    }
+}
+
+impl std::error::Error for LimitError {}
 
 /// Most nested mappings in a joint-limits file (the format needs 2).
 const MAX_DEPTH: usize = 8;
@@ -117,8 +155,8 @@ const MAX_DEPTH: usize = 8;
 /// text strings.
 ///
 /// # Errors
-/// `line N: …` for a construct outside the subset.
-pub fn parse_yaml(text: &str) -> Result<serde_json::Value, String> {
+/// [`YamlError`] for a construct outside the subset, with its line.
+pub fn parse_yaml(text: &str) -> Result<serde_json::Value, YamlError> {
     use serde_json::{Map, Value};
     // The open mappings: (indentation of their keys, key in the parent, entries).
     let mut stack: Vec<(usize, String, Map<String, Value>)> = vec![(0, String::new(), Map::new())];
@@ -126,7 +164,10 @@ pub fn parse_yaml(text: &str) -> Result<serde_json::Value, String> {
     let mut pending: Option<(usize, String)> = None;
     for (n, raw) in text.lines().enumerate() {
         let line_no = n + 1;
-        let at = |reason: &str| format!("line {line_no}: {reason}");
+        let at = |reason: &str| YamlError {
+            line: line_no,
+            reason: reason.to_owned(),
+        };
         let line = strip_comment(raw);
         if line.trim().is_empty() {
             continue;
@@ -168,7 +209,7 @@ pub fn parse_yaml(text: &str) -> Result<serde_json::Value, String> {
         if value.is_empty() {
             pending = Some((indent, key));
         } else {
-            insert(&mut stack, key, scalar(value).map_err(|r| at(&r))?, line_no)?;
+            insert(&mut stack, key, scalar(value, line_no)?, line_no)?;
         }
     }
     if let Some((_, key)) = pending {
@@ -217,9 +258,10 @@ fn split_key(body: &str) -> Option<(String, &str)> {
     Some((key, value.trim()))
 }
 
-/// A scalar: a number, a boolean, null, or text.
-fn scalar(text: &str) -> Result<serde_json::Value, String> {
+/// A scalar of line `line`: a number, a boolean, null, or text.
+fn scalar(text: &str, line: usize) -> Result<serde_json::Value, YamlError> {
     use serde_json::Value;
+    let at = |reason: String| YamlError { line, reason };
     if let Some(inner) = text
         .strip_prefix('"')
         .and_then(|t| t.strip_suffix('"'))
@@ -228,7 +270,7 @@ fn scalar(text: &str) -> Result<serde_json::Value, String> {
         return Ok(Value::String(inner.to_owned()));
     }
     if text.starts_with(['[', '{', '&', '*', '!', '|', '>']) {
-        return Err("only plain scalars are read as values".into());
+        return Err(at("only plain scalars are read as values".into()));
     }
     Ok(match text {
         "true" | "True" | "TRUE" => Value::Bool(true),
@@ -238,7 +280,7 @@ fn scalar(text: &str) -> Result<serde_json::Value, String> {
             Ok(v) if v.is_finite() => serde_json::Number::from_f64(v)
                 .map(Value::Number)
                 .unwrap_or_else(|| Value::String(text.to_owned())),
-            Ok(_) => return Err(format!("{text} is not a finite number")),
+            Ok(_) => return Err(at(format!("{text} is not a finite number"))),
             Err(_) => Value::String(text.to_owned()),
         },
     })
@@ -250,12 +292,16 @@ fn insert(
     key: String,
     value: serde_json::Value,
     line_no: usize,
-) -> Result<(), String> {
+) -> Result<(), YamlError> {
+    let at = |reason: String| YamlError {
+        line: line_no,
+        reason,
+    };
     let Some(top) = stack.last_mut() else {
-        return Err(format!("line {line_no}: no open mapping"));
+        return Err(at("no open mapping".into()));
     };
     if top.2.contains_key(&key) {
-        return Err(format!("line {line_no}: key {key:?} appears twice"));
+        return Err(at(format!("key {key:?} appears twice")));
     }
     top.2.insert(key, value);
     Ok(())
@@ -265,7 +311,7 @@ fn insert(
 fn close(
     stack: &mut Vec<(usize, String, serde_json::Map<String, serde_json::Value>)>,
     line_no: usize,
-) -> Result<(), String> {
+) -> Result<(), YamlError> {
     if let Some((_, key, map)) = stack.pop() {
         insert(stack, key, serde_json::Value::Object(map), line_no)?;
     }
@@ -280,8 +326,8 @@ fn applies(has: Option<bool>, value: Option<Real>) -> Option<Real> {
 /// Checks that the limits a table gives are positive and finite; `field` names the entry.
 ///
 /// # Errors
-/// The field and what is wrong.
-pub fn check_spec(spec: &JointLimitSpec) -> Result<(), String> {
+/// [`LimitError`]: the field and what is wrong.
+pub fn check_spec(spec: &JointLimitSpec) -> Result<(), LimitError> {
     for (name, has, value) in [
         ("max_velocity", spec.has_velocity_limits, spec.max_velocity),
         (
@@ -291,10 +337,10 @@ pub fn check_spec(spec: &JointLimitSpec) -> Result<(), String> {
         ),
     ] {
         if has == Some(true) && value.is_none() {
-            return Err(format!(
-                "has_{}_limits is true but {name} is missing",
-                &name[4..]
-            ));
+            return Err(LimitError {
+                field: name,
+                reason: format!("has_{}_limits is true but it is missing", &name[4..]),
+            });
         }
         let range = if name == "max_velocity" {
             crate::ranges::JOINT_VELOCITY
@@ -302,7 +348,10 @@ pub fn check_spec(spec: &JointLimitSpec) -> Result<(), String> {
             crate::ranges::JOINT_ACCELERATION
         };
         if let Some(v) = value {
-            range.check(v).map_err(|e| format!("{name}: {e}"))?;
+            range.check(v).map_err(|e| LimitError {
+                field: name,
+                reason: e.to_string(),
+            })?;
         }
     }
     Ok(())
@@ -339,7 +388,7 @@ pub fn resolve(
     for (table, source, prefix) in tables {
         for (joint, spec) in table.iter() {
             let field = format!("joint_limits.{joint}");
-            check_spec(spec).map_err(|r| (source.clone(), field.clone(), r))?;
+            check_spec(spec).map_err(|r| (source.clone(), field.clone(), r.to_string()))?;
             let full = format!("{prefix}{joint}");
             let Some(i) = variables.iter().position(|n| *n == full) else {
                 if joints.contains(&full) {
@@ -413,12 +462,21 @@ joint_limits:
             ("a:\n    b: 1\n  c: 2", 3),
         ] {
             let e = parse_yaml(text).expect_err(text);
-            assert!(e.starts_with(&format!("line {line}:")), "{text:?}: {e}");
+            assert_eq!(e.line, line, "{text:?}: {e}");
+            assert!(
+                e.to_string().starts_with(&format!("line {line}:")),
+                "{text:?}: {e}"
+            );
         }
         let deep: String = (0..20)
             .map(|d| format!("{}k{d}:\n", "  ".repeat(d)))
             .collect();
-        assert!(parse_yaml(&deep).expect_err("too deep").contains("deeper"));
+        assert!(
+            parse_yaml(&deep)
+                .expect_err("too deep")
+                .reason
+                .contains("deeper")
+        );
     }
 
     #[test]

@@ -675,7 +675,7 @@ impl Scene {
             pickplace_geometry::io::check_name("the joint name", joint)
                 .map_err(|r| invalid("trajectory.joint_limits", r))?;
             crate::joint_limits::check_spec(spec)
-                .map_err(|r| invalid(&format!("trajectory.joint_limits.{joint}"), r))?;
+                .map_err(|r| invalid(&format!("trajectory.joint_limits.{joint}"), r.to_string()))?;
         }
         let p = &scene.planner;
         range(

@@ -302,7 +302,7 @@ mod tests {
         let mut r = |lo: Real, hi: Real| rng.uniform(lo, hi);
         let (mut disagreements, mut touching, mut apart) = (0, 0, 0);
         for _ in 0..20_000 {
-            let mut random_pose = |r: &mut dyn FnMut(Real, Real) -> Real| {
+            let random_pose = |r: &mut dyn FnMut(Real, Real) -> Real| {
                 let axis = Vector::new(r(-1.0, 1.0), r(-1.0, 1.0), r(-1.0, 1.0));
                 let rotation = if axis.length() > 1e-3 {
                     Rotation::from_axis_angle(axis.normalize(), r(-3.2, 3.2))
