@@ -125,7 +125,7 @@ fn yaml(plan: &Plan, messages: &[ExportedTrajectory]) -> String {
 /// # Errors
 /// A motion out of range (saying how many there are), or a selection with no message.
 fn selected(plan: &Plan, args: &ExportArgs) -> Result<Vec<ExportedTrajectory>, String> {
-    let all = pickplace::export::joint_trajectories(plan)?;
+    let all = pickplace::export::joint_trajectories(plan).map_err(|e| e.to_string())?;
     if let Some(n) = args.motion {
         let count = plan.motions().len();
         if n >= count {

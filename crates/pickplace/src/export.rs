@@ -10,7 +10,7 @@
 //! [`to_yaml`] writes a [`JointTrajectory`] as the YAML `ros2 topic pub` takes. Pure
 //! functions: nothing here reads or writes files.
 
-use crate::plan::{ArmJoints, Plan};
+use crate::plan::{ArmJoints, Plan, PlanFormError};
 use crate::strategy::Arm;
 use crate::tool_frame::{ToolFrame, TransformStamped};
 use pickplace_geometry::io::fmt_real;
@@ -34,12 +34,13 @@ impl Duration {
     ///
     /// # Errors
     /// A negative or non-finite value, or one of 2³¹ s or more (`sec` is an `int32`).
-    pub fn from_seconds(seconds: Real) -> Result<Self, String> {
+    pub fn from_seconds(seconds: Real) -> Result<Self, PlanFormError> {
         if !seconds.is_finite() || seconds < 0.0 || seconds >= f64::from(i32::MAX) + 1.0 {
             return Err(format!(
                 "time {} s is not a duration from 0 to 2^31 s",
                 fmt_real(seconds)
-            ));
+            )
+            .into());
         }
         // Whole seconds and the fraction are exact in f64 (subtracting the floor drops
         // bits only), so only the fraction is rounded.
@@ -221,14 +222,16 @@ pub struct DisplayTrajectory {
 }
 
 /// The columns of `names` in the plan.
-fn columns(plan: &Plan, names: &[String]) -> Result<Vec<usize>, String> {
+fn columns(plan: &Plan, names: &[String]) -> Result<Vec<usize>, PlanFormError> {
     names
         .iter()
         .map(|name| {
             plan.joint_names
                 .iter()
                 .position(|n| n == name)
-                .ok_or_else(|| format!("joint {name:?} is not in the plan's joint_names"))
+                .ok_or_else(|| {
+                    PlanFormError::from(format!("joint {name:?} is not in the plan's joint_names"))
+                })
         })
         .collect()
 }
@@ -241,7 +244,7 @@ fn trajectory(
     columns: &[usize],
     first: usize,
     last: usize,
-) -> Result<JointTrajectory, String> {
+) -> Result<JointTrajectory, PlanFormError> {
     let samples = plan
         .trajectory
         .get(first..=last)
@@ -262,9 +265,7 @@ fn trajectory(
             || (!p.velocities.is_empty() && p.velocities.len() != n)
             || (!p.accelerations.is_empty() && p.accelerations.len() != n)
         {
-            return Err(format!(
-                "trajectory[{i}] does not have one value per joint name"
-            ));
+            return Err(format!("trajectory[{i}] does not have one value per joint name").into());
         }
         let time_from_start = Duration::from_seconds(p.time_from_start - start)
             .map_err(|e| format!("trajectory[{i}]: {e}"))?;
@@ -274,7 +275,7 @@ fn trajectory(
             return Err(format!(
                 "trajectory[{i}]: time_from_start {} s is not after the sample before it (to the nanosecond)",
                 fmt_real(p.time_from_start)
-            ));
+            ).into());
         }
         points.push(JointTrajectoryPoint {
             positions: pick(&p.positions),
@@ -314,13 +315,13 @@ fn moves(plan: &Plan, columns: &[usize], first: usize, last: usize) -> bool {
 /// A plan without [`Plan::arms`] (format `pickplace.plan/1` has none: which joints each
 /// arm's controller takes is unknown), an arm joint not in the plan's joint names, a sample
 /// of the wrong length, or times that are not strictly increasing to the nanosecond.
-pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String> {
+pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, PlanFormError> {
     if plan.arms.is_empty() {
         return Err(format!(
             "the plan has no `arms` (format {:?} lists no joints per arm); plan it again to get format {:?}",
             plan.format,
             crate::plan::PLAN_FORMAT
-        ));
+        ).into());
     }
     let base_frame = plan
         .base
@@ -368,11 +369,11 @@ pub fn joint_trajectories(plan: &Plan) -> Result<Vec<ExportedTrajectory>, String
 /// # Errors
 /// An empty trajectory, a sample of the wrong length, or times that are not strictly
 /// increasing to the nanosecond.
-pub fn display_trajectory(plan: &Plan, model_id: &str) -> Result<DisplayTrajectory, String> {
+pub fn display_trajectory(plan: &Plan, model_id: &str) -> Result<DisplayTrajectory, PlanFormError> {
     let first = plan
         .trajectory
         .first()
-        .ok_or_else(|| "the plan's trajectory is empty".to_owned())?;
+        .ok_or_else(|| PlanFormError::from("the plan's trajectory is empty"))?;
     let all: Vec<usize> = (0..plan.joint_names.len()).collect();
     let joint_trajectory = trajectory(plan, &plan.joint_names, &all, 0, plan.trajectory.len() - 1)?;
     Ok(DisplayTrajectory {
@@ -709,7 +710,7 @@ mod tests {
         assert!(to_yaml(&t[0].message).contains("  velocities: []\n"));
         p.arms.clear();
         let e = joint_trajectories(&p).expect_err("no arms");
-        assert!(e.contains("the plan has no `arms`"), "{e}");
+        assert!(e.reason().contains("the plan has no `arms`"), "{e}");
         // The display trajectory needs no arms.
         let shown = display_trajectory(&p, "robot").expect("display");
         assert_eq!(shown.trajectory[0].joint_trajectory.points.len(), 6);
@@ -720,7 +721,10 @@ mod tests {
         let mut p = plan(PLAN_FORMAT);
         p.trajectory[4].time_from_start = p.trajectory[3].time_from_start + 1e-10;
         let e = joint_trajectories(&p).expect_err("same nanosecond");
-        assert!(e.starts_with("trajectory[4]: time_from_start"), "{e}");
+        assert!(
+            e.reason().starts_with("trajectory[4]: time_from_start"),
+            "{e}"
+        );
     }
 
     #[test]
