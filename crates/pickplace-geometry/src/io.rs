@@ -48,29 +48,42 @@ pub const MAX_NAME_BYTES: usize = 1024;
 /// names and package folders (Linux's `PATH_MAX`).
 pub const MAX_PATH_BYTES: usize = 4096;
 
-/// Refuses a name longer than [`MAX_NAME_BYTES`]: `Err` holds the message
-/// "WHAT is N bytes, over the limit of 1024" (without the name itself, which may be huge).
+/// A name or a path over its length limit: "WHAT is N bytes, over the limit of L" (without the
+/// text itself, which may be huge).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{what} is {bytes} bytes, over the limit of {limit}")]
+pub struct TooLong {
+    /// What the text is (`the name`, `the path`).
+    pub what: String,
+    /// Its length (bytes).
+    pub bytes: usize,
+    /// The limit (bytes).
+    pub limit: usize,
+}
+
+/// Refuses a name longer than [`MAX_NAME_BYTES`].
 ///
 /// # Errors
-/// The message when `name` is too long.
-pub fn check_name(what: &str, name: &str) -> Result<(), String> {
+/// [`TooLong`] when `name` is too long.
+pub fn check_name(what: &str, name: &str) -> Result<(), TooLong> {
     check_length(what, name, MAX_NAME_BYTES)
 }
 
 /// Refuses a path longer than [`MAX_PATH_BYTES`], as [`check_name`].
 ///
 /// # Errors
-/// The message when `path` is too long.
-pub fn check_path_text(what: &str, path: &str) -> Result<(), String> {
+/// [`TooLong`] when `path` is too long.
+pub fn check_path_text(what: &str, path: &str) -> Result<(), TooLong> {
     check_length(what, path, MAX_PATH_BYTES)
 }
 
-fn check_length(what: &str, text: &str, limit: usize) -> Result<(), String> {
+fn check_length(what: &str, text: &str, limit: usize) -> Result<(), TooLong> {
     if text.len() > limit {
-        return Err(format!(
-            "{what} is {} bytes, over the limit of {limit}",
-            text.len()
-        ));
+        return Err(TooLong {
+            what: what.to_owned(),
+            bytes: text.len(),
+            limit,
+        });
     }
     Ok(())
 }
@@ -401,7 +414,7 @@ mod tests {
     fn long_names_and_paths_are_refused_with_their_length() {
         assert!(super::check_name("object name", &"n".repeat(1024)).is_ok());
         assert_eq!(
-            super::check_name("object name", &"n".repeat(1025)),
+            super::check_name("object name", &"n".repeat(1025)).map_err(|e| e.to_string()),
             Err("object name is 1025 bytes, over the limit of 1024".to_string())
         );
         assert!(super::check_path_text("mesh", &"p".repeat(4096)).is_ok());

@@ -673,7 +673,7 @@ impl Scene {
         )?;
         for (joint, spec) in &t.joint_limits {
             pickplace_geometry::io::check_name("the joint name", joint)
-                .map_err(|r| invalid("trajectory.joint_limits", r))?;
+                .map_err(|r| invalid("trajectory.joint_limits", r.to_string()))?;
             crate::joint_limits::check_spec(spec)
                 .map_err(|r| invalid(&format!("trajectory.joint_limits.{joint}"), r.to_string()))?;
         }
@@ -733,9 +733,11 @@ impl Scene {
 /// over [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES): `Err((field, reason))`.
 fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
     use pickplace_geometry::io::{check_name, check_path_text};
-    let name = |field: String, text: &str| check_name("the name", text).map_err(|r| (field, r));
+    let name = |field: String, text: &str| {
+        check_name("the name", text).map_err(|r| (field, r.to_string()))
+    };
     let path = |field: String, p: &Path| {
-        check_path_text("the path", &p.to_string_lossy()).map_err(|r| (field, r))
+        check_path_text("the path", &p.to_string_lossy()).map_err(|r| (field, r.to_string()))
     };
     let several = scene.robots.len() > 1;
     for (i, robot) in scene.robots.iter().enumerate() {
