@@ -54,27 +54,43 @@ pub(super) fn prepare_out_dir(dir: &Path) -> Result<PathBuf, BatchError> {
     if let Err(reason) = check_regular_or_absent(&summary) {
         return Err(BatchError::Output {
             path: summary,
-            reason,
+            reason: reason.to_string(),
         });
     }
     Ok(summary)
 }
 
-/// `Ok` when nothing is at `path` or a regular file is; else what is there, in words.
-fn check_regular_or_absent(path: &Path) -> Result<(), String> {
+/// Why a batch output cannot be written where it goes (the sentence follows its path).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(super) enum UnusableOutput {
+    /// A symbolic link is there.
+    #[error(
+        "is a symbolic link; batch outputs replace what is at their path, so remove it or give another output folder"
+    )]
+    SymbolicLink,
+    /// A folder is there.
+    #[error("is a folder where the batch writes a file")]
+    Folder,
+    /// A device, FIFO or socket is there.
+    #[error("is a device, FIFO or socket, not a regular file; outputs are regular files only")]
+    Special,
+    /// The path is (or is a link to) an input of the scene.
+    #[error("is {}, an input of the scene; it would be overwritten", .0.display())]
+    AnInput(PathBuf),
+}
+
+/// `Ok` when nothing is at `path` or a regular file is; else what is there.
+fn check_regular_or_absent(path: &Path) -> Result<(), UnusableOutput> {
     let Ok(meta) = std::fs::symlink_metadata(path) else {
         return Ok(());
     };
     let kind = meta.file_type();
     if kind.is_symlink() {
-        Err("is a symbolic link; batch outputs replace what is at their path, so remove it or give another output folder".to_owned())
+        Err(UnusableOutput::SymbolicLink)
     } else if kind.is_dir() {
-        Err("is a folder where the batch writes a file".to_owned())
+        Err(UnusableOutput::Folder)
     } else if !kind.is_file() {
-        Err(
-            "is a device, FIFO or socket, not a regular file; outputs are regular files only"
-                .to_owned(),
-        )
+        Err(UnusableOutput::Special)
     } else {
         Ok(())
     }
@@ -96,13 +112,10 @@ pub(super) fn scene_inputs(scene_path: &Path, scene: &Scene) -> Vec<PathBuf> {
 
 /// `Ok` when a plan may be written at `plan_path`: nothing there, or a regular file that is
 /// none of `inputs` (compared by identity: another path or a hard link to an input counts).
-pub(super) fn check_plan_path(plan_path: &Path, inputs: &[PathBuf]) -> Result<(), String> {
+pub(super) fn check_plan_path(plan_path: &Path, inputs: &[PathBuf]) -> Result<(), UnusableOutput> {
     check_regular_or_absent(plan_path)?;
     if let Some(input) = inputs.iter().find(|i| same_file(plan_path, i)) {
-        return Err(format!(
-            "is {}, an input of the scene; it would be overwritten",
-            input.display()
-        ));
+        return Err(UnusableOutput::AnInput(input.clone()));
     }
     Ok(())
 }
