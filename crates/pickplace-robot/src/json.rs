@@ -199,10 +199,11 @@ pub struct DriveJson {
     pub open: Real,
 }
 
-fn split<T>(r: Result<T, String>) -> (Option<T>, Option<String>) {
+/// A result as the JSON's pair of optional fields: the value, or the error's message.
+fn split<T, E: std::fmt::Display>(r: std::result::Result<T, E>) -> (Option<T>, Option<String>) {
     match r {
         Ok(t) => (Some(t), None),
-        Err(e) => (None, Some(e)),
+        Err(e) => (None, Some(e.to_string())),
     }
 }
 
@@ -211,33 +212,33 @@ fn arms_report(model: &RobotModel, semantics: Option<&Semantics>) -> Vec<ArmJson
     use crate::gripper::{Gripper, GripperOptions};
     use crate::limbs::find_arms;
     let name = |l: usize| model.links()[l].name.clone();
-    let gripper = |variables: &[usize]| -> Result<GripperJson, String> {
-        let g = Gripper::derive(model, variables, &GripperOptions::default())
-            .map_err(|e| e.to_string())?;
-        let (lo, hi) = g.opening_range();
-        let t = g.tip_from_tcp();
-        let q = t.rotation.quaternion();
-        Ok(GripperJson {
-            opening_mm: [lo * 1e3, hi * 1e3],
-            drives: g
-                .drives()
-                .iter()
-                .map(|d| DriveJson {
-                    joint: model.variable_joint(d.variable).name.clone(),
-                    closed: d.closed,
-                    open: d.open,
-                })
-                .collect(),
-            fingers: g
-                .finger_links()
-                .clone()
-                .map(|side| side.into_iter().map(name).collect()),
-            tool_point: (
-                [t.translation.x, t.translation.y, t.translation.z],
-                [q.i, q.j, q.k, q.w],
-            ),
-        })
-    };
+    let gripper =
+        |variables: &[usize]| -> std::result::Result<GripperJson, crate::gripper::GripperError> {
+            let g = Gripper::derive(model, variables, &GripperOptions::default())?;
+            let (lo, hi) = g.opening_range();
+            let t = g.tip_from_tcp();
+            let q = t.rotation.quaternion();
+            Ok(GripperJson {
+                opening_mm: [lo * 1e3, hi * 1e3],
+                drives: g
+                    .drives()
+                    .iter()
+                    .map(|d| DriveJson {
+                        joint: model.variable_joint(d.variable).name.clone(),
+                        closed: d.closed,
+                        open: d.open,
+                    })
+                    .collect(),
+                fingers: g
+                    .finger_links()
+                    .clone()
+                    .map(|side| side.into_iter().map(name).collect()),
+                tool_point: (
+                    [t.translation.x, t.translation.y, t.translation.z],
+                    [q.i, q.j, q.k, q.w],
+                ),
+            })
+        };
     let tip_of = |variables: &[usize]| {
         variables
             .iter()
