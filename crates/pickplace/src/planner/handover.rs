@@ -46,7 +46,7 @@ pub(super) type HandoverArmMemo = BTreeMap<(Arm, usize, usize), Memo<Vec<Real>>>
 /// Memo of a second grasp at a handover: per (picking arm, handover candidate, first grasp,
 /// second grasp), the scored handover or the reason the second grasp fails there.
 pub(super) type SecondGraspMemo =
-    BTreeMap<(Arm, usize, usize, usize), std::result::Result<(Real, Handover), String>>;
+    BTreeMap<(Arm, usize, usize, usize), std::result::Result<(Real, Handover), Rejection>>;
 
 impl Ctx<'_> {
     /// Tests a handover at object pose `world_from_object` (the `hi`-th candidate) with pick
@@ -121,7 +121,7 @@ impl Ctx<'_> {
                     regrasp.accept();
                     return Ok(found);
                 }
-                Err(reason) => regrasp.reject(reason),
+                Err(reason) => regrasp.reject(reason.to_string()),
             }
         }
         Err(Rejection::NoRegrasp.into())
@@ -140,7 +140,7 @@ impl Ctx<'_> {
         (g1, g2): (usize, usize),
         (q_a, salt): (&[Real], u64),
         holding_a: &pickplace_robot::collision::CollisionWorld,
-    ) -> crate::Result<std::result::Result<(Real, Handover), String>> {
+    ) -> crate::Result<std::result::Result<(Real, Handover), Rejection>> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
         let grasp1 = &self.grasps[g1];
         let pose_a = world_from_object * grasp1.object_from_tcp;
@@ -148,17 +148,17 @@ impl Ctx<'_> {
         let grasp2 = &self.grasps[g2];
         let pose_b = world_from_object * grasp2.object_from_tcp;
         if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
-            return Ok(Err(Rejection::ArmOutOfReach(Role::Placing).to_string()));
+            return Ok(Err(Rejection::ArmOutOfReach(Role::Placing)));
         }
         // The two hands must not overlap: the second grasp's gripper against the first.
         if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
-            return Ok(Err(Rejection::HandsOverlap.to_string()));
+            return Ok(Err(Rejection::HandsOverlap));
         }
         let seed = self.opened(b, q_a);
         let q_b = match split(self.free_ik(b, &pose_b, &seed, salt ^ (g2 as u64) << 40, holding_a))?
         {
             Ok(q) => q,
-            Err(r) => return Ok(Err(r.at(Step::Regrasp).to_string())),
+            Err(r) => return Ok(Err(r.at(Step::Regrasp))),
         };
         let pre_pose =
             pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
@@ -168,7 +168,7 @@ impl Ctx<'_> {
                     p.reverse();
                     p
                 }
-                Err(r) => return Ok(Err(r.at(Step::RegraspApproach).to_string())),
+                Err(r) => return Ok(Err(r.at(Step::RegraspApproach))),
             };
         // Both hold: B closes, then A opens and retreats with B holding.
         let both = self.gripping(b, &q_b, grasp2.width);
@@ -178,14 +178,12 @@ impl Ctx<'_> {
             || self.hands_too_close(&both)?
             || self.hands_too_close(&self.opened(a, &both))?
         {
-            return Ok(Err(Rejection::HandsTooClose.to_string()));
+            return Ok(Err(Rejection::HandsTooClose));
         }
         let holding_b = self.world_holding(b, &grasp2.object_from_tcp, &[])?;
         let a_open = self.opened(a, &both);
         if let Some(c) = self.collision(&holding_b, &a_open, 0.0)? {
-            return Ok(Err(Rejection::Collision(c)
-                .at(Step::FirstHandRelease)
-                .to_string()));
+            return Ok(Err(Rejection::Collision(c).at(Step::FirstHandRelease)));
         }
         let retreat_pose =
             pose_a * Translation3::from(-self.approach_axis() * self.options.approach_distance);
@@ -197,7 +195,7 @@ impl Ctx<'_> {
             salt ^ 0x66,
         ))? {
             Ok(p) => p,
-            Err(r) => return Ok(Err(r.at(Step::FirstHandRetreat).to_string())),
+            Err(r) => return Ok(Err(r.at(Step::FirstHandRetreat))),
         };
         // Score: clearance of the handover configuration (both arms at the object).
         let clearance = with_scratch(|scratch| {
