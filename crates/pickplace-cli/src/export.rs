@@ -124,18 +124,18 @@ fn yaml(plan: &Plan, messages: &[ExportedTrajectory]) -> String {
 ///
 /// # Errors
 /// A motion out of range (saying how many there are), or a selection with no message.
-fn selected(plan: &Plan, args: &ExportArgs) -> Result<Vec<ExportedTrajectory>, String> {
-    let all = pickplace::export::joint_trajectories(plan).map_err(|e| e.to_string())?;
+fn selected(plan: &Plan, args: &ExportArgs) -> anyhow::Result<Vec<ExportedTrajectory>> {
+    let all = pickplace::export::joint_trajectories(plan)?;
     if let Some(n) = args.motion {
         let count = plan.motions().len();
         if n >= count {
-            return Err(match count {
+            return Err(anyhow::anyhow!(match count {
                 0 => format!("--motion {n}: the plan has no motion"),
                 _ => format!(
                     "--motion {n}: the plan has {count} motions, numbered 0 to {}",
                     count - 1
                 ),
-            });
+            }));
         }
     }
     let arm = args.arm.map(|a| match a {
@@ -164,7 +164,7 @@ fn selected(plan: &Plan, args: &ExportArgs) -> Result<Vec<ExportedTrajectory>, S
         let place = args
             .motion
             .map_or_else(|| "the plan".to_owned(), |n| format!("motion {n}"));
-        return Err(format!(
+        return Err(anyhow::anyhow!(
             "no message selected: in {place} move {}",
             if what.is_empty() {
                 "no arm".to_owned()

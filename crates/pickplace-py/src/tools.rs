@@ -19,12 +19,12 @@ use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// A mesh file scaled by `scale`, with the library's message (naming the file) on failure.
-fn load_mesh(path: &Path, scale: Real) -> Result<TriMesh, String> {
+fn load_mesh(path: &Path, scale: Real) -> PyResult<TriMesh> {
     let options = MeshOptions {
         scale,
         ..MeshOptions::default()
     };
-    mesh::load(path, &options).map_err(|e| message(&e))
+    mesh::load(path, &options).map_err(|e| input_msg(message(&e)))
 }
 
 /// `scale` in the CLI's `--scale` range ([`pickplace::ranges::MESH_SCALE`]).
@@ -73,13 +73,11 @@ pub fn clusters<'py>(
         .validate()
         .map_err(|e| input_msg(format!("h_max: {}", message(&e))))?;
     check_scale(scale)?;
-    let doc = py
-        .detach(|| -> Result<_, String> {
-            let m = load_mesh(&mesh, scale)?;
-            let db = ClusterDatabase::build(&m, &params).map_err(|e| message(&e))?;
-            Ok(db.to_json(&m, &mesh.to_string_lossy()))
-        })
-        .map_err(input_msg)?;
+    let doc = py.detach(|| -> PyResult<_> {
+        let m = load_mesh(&mesh, scale)?;
+        let db = ClusterDatabase::build(&m, &params).map_err(|e| input_msg(message(&e)))?;
+        Ok(db.to_json(&m, &mesh.to_string_lossy()))
+    })?;
     to_python(py, &doc)
 }
 
@@ -124,52 +122,55 @@ pub fn placements<'py>(
             Ok(Point3::new(v[0], v[1], v[2]))
         })
         .transpose()?;
-    let doc = py
-        .detach(|| -> Result<PlacementsJson, String> {
-            let object_mesh = load_mesh(&object, scale)?;
-            let cog = MassProperties::of(&object_mesh).center_of_mass;
-            let object_name = object.display().to_string();
-            let Some(env_path) = &on else {
-                let poses = resting_poses(&object_mesh, &cog, &RestingOptions::default())
-                    .map_err(|e| format!("{object_name}: resting poses: {}", message(&e)))?;
-                return Ok(PlacementsJson::from_resting(object_name, &poses, max));
-            };
-            let env_mesh = load_mesh(env_path, scale)?;
-            let params = ClusterParams {
-                h_max,
-                ..ClusterParams::environment()
-            };
-            let object_clusters = cluster_surface(&object_mesh, &params)
-                .map_err(|e| format!("{object_name}: clustering: {}", message(&e)))?;
-            let env_clusters = cluster_surface(&env_mesh, &params)
-                .map_err(|e| format!("{}: clustering: {}", env_path.display(), message(&e)))?;
-            let object_model =
-                ObjectModel::new(&object_mesh, &object_clusters, cog).map_err(|e| message(&e))?;
-            let env = EnvironmentModel::new(&env_mesh, &env_clusters, &world_from_env)
-                .map_err(|e| message(&e))?;
-            let options = PlacementOptions {
-                max_candidates: max,
-                ..PlacementOptions::default()
-            };
-            let target = match target {
-                Some(t) => t,
-                None => default_target(&env, &options).ok_or_else(|| {
-                    format!(
-                        "{}: no upward-facing cluster to place on",
-                        env_path.display()
-                    )
-                })?,
-            };
-            let set = candidates(&object_model, &env, &target, &options)
-                .map_err(|e| format!("{}: {e}", env_path.display()))?;
-            Ok(PlacementsJson::from_set(
-                object_name,
-                env_path.display().to_string(),
-                &target,
-                &set,
+    let doc = py.detach(|| -> PyResult<PlacementsJson> {
+        let object_mesh = load_mesh(&object, scale)?;
+        let cog = MassProperties::of(&object_mesh).center_of_mass;
+        let object_name = object.display().to_string();
+        let Some(env_path) = &on else {
+            let poses = resting_poses(&object_mesh, &cog, &RestingOptions::default())
+                .map_err(|e| input_msg(format!("{object_name}: resting poses: {}", message(&e))))?;
+            return Ok(PlacementsJson::from_resting(object_name, &poses, max));
+        };
+        let env_mesh = load_mesh(env_path, scale)?;
+        let params = ClusterParams {
+            h_max,
+            ..ClusterParams::environment()
+        };
+        let object_clusters = cluster_surface(&object_mesh, &params)
+            .map_err(|e| input_msg(format!("{object_name}: clustering: {}", message(&e))))?;
+        let env_clusters = cluster_surface(&env_mesh, &params).map_err(|e| {
+            input_msg(format!(
+                "{}: clustering: {}",
+                env_path.display(),
+                message(&e)
             ))
-        })
-        .map_err(input_msg)?;
+        })?;
+        let object_model = ObjectModel::new(&object_mesh, &object_clusters, cog)
+            .map_err(|e| input_msg(message(&e)))?;
+        let env = EnvironmentModel::new(&env_mesh, &env_clusters, &world_from_env)
+            .map_err(|e| input_msg(message(&e)))?;
+        let options = PlacementOptions {
+            max_candidates: max,
+            ..PlacementOptions::default()
+        };
+        let target = match target {
+            Some(t) => t,
+            None => default_target(&env, &options).ok_or_else(|| {
+                input_msg(format!(
+                    "{}: no upward-facing cluster to place on",
+                    env_path.display()
+                ))
+            })?,
+        };
+        let set = candidates(&object_model, &env, &target, &options)
+            .map_err(|e| input_msg(format!("{}: {e}", env_path.display())))?;
+        Ok(PlacementsJson::from_set(
+            object_name,
+            env_path.display().to_string(),
+            &target,
+            &set,
+        ))
+    })?;
     to_python(py, &doc)
 }
 
@@ -215,30 +216,28 @@ pub fn grasps<'py>(
         h_max: h_max.unwrap_or(ClusterParams::finger().h_max),
         ..ClusterParams::finger()
     };
-    let doc = py
-        .detach(|| -> Result<GraspsJson, String> {
-            let gripper_file = if robot.is_dir() {
-                robot.join("gripper.toml")
-            } else {
-                robot.clone()
-            };
-            let gripper = GripperParams::load(&gripper_file).map_err(|e| message(&e))?;
-            let m = load_mesh(&mesh, 1.0)?;
-            let clustering =
-                cluster_surface(&m, &params).map_err(|e| format!("h_max: {}", message(&e)))?;
-            let planner = GraspPlanner::new(&m)
-                .map_err(|e| format!("{}: {}", mesh.display(), message(&e)))?;
-            let set = planner
-                .plan(&clustering, &gripper, &options)
-                .map_err(|e| message(&e))?;
-            Ok(GraspsJson::new(
-                &mesh.display().to_string(),
-                &gripper_file.display().to_string(),
-                params.h_max,
-                &planner.center_of_mass(),
-                &set,
-            ))
-        })
-        .map_err(input_msg)?;
+    let doc = py.detach(|| -> PyResult<GraspsJson> {
+        let gripper_file = if robot.is_dir() {
+            robot.join("gripper.toml")
+        } else {
+            robot.clone()
+        };
+        let gripper = GripperParams::load(&gripper_file).map_err(|e| input_msg(message(&e)))?;
+        let m = load_mesh(&mesh, 1.0)?;
+        let clustering = cluster_surface(&m, &params)
+            .map_err(|e| input_msg(format!("h_max: {}", message(&e))))?;
+        let planner = GraspPlanner::new(&m)
+            .map_err(|e| input_msg(format!("{}: {}", mesh.display(), message(&e))))?;
+        let set = planner
+            .plan(&clustering, &gripper, &options)
+            .map_err(|e| input_msg(message(&e)))?;
+        Ok(GraspsJson::new(
+            &mesh.display().to_string(),
+            &gripper_file.display().to_string(),
+            params.h_max,
+            &planner.center_of_mass(),
+            &set,
+        ))
+    })?;
     to_python(py, &doc)
 }

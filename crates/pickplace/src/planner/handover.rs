@@ -229,14 +229,15 @@ impl Ctx<'_> {
     pub(super) fn hands_too_close(&self, q: &[Real]) -> crate::Result<bool> {
         let check = match self
             .hand_clearance
-            .get_or_init(|| crate::rules::HandClearance::new(self.setup).map_err(|e| e.to_string()))
+            .get_or_init(|| crate::rules::HandClearance::new(self.setup))
         {
             Ok(Some(check)) => check,
             Ok(None) => return Ok(false),
-            Err(reason) => {
+            // Built once; every later ask reports the same failure.
+            Err(e) => {
                 return Err(crate::Error::Internal {
                     stage: "hand clearance",
-                    reason: reason.clone(),
+                    reason: e.to_string(),
                 });
             }
         };

@@ -253,7 +253,7 @@ struct Ctx<'a> {
     /// Each second grasp at each handover candidate per first grasp, shared by the placements.
     second_grasp_memo: Mutex<handover::SecondGraspMemo>,
     /// The hands' clearance check, built once (`Ctx::hands_too_close`).
-    hand_clearance: OnceLock<std::result::Result<Option<crate::rules::HandClearance>, String>>,
+    hand_clearance: OnceLock<Result<Option<crate::rules::HandClearance>>>,
     /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
     rests: OnceLock<Vec<Placement>>,
     /// Environment bodies the object touches at each rest, found once.
