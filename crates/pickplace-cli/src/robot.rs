@@ -132,7 +132,42 @@ pub struct LoadArgs {
     skip_unreadable_meshes: bool,
 }
 
+/// Refuses a scene file where a URDF is expected, naming the scene's robot files (the
+/// URDF parser's own message would be "No elements found").
+fn not_a_scene(path: &Path) -> anyhow::Result<()> {
+    if !path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    {
+        return Ok(());
+    }
+    let robots = match pickplace::Scene::load(path) {
+        Ok(scene) => scene
+            .robots
+            .iter()
+            .map(|r| {
+                let srdf = r
+                    .srdf
+                    .as_ref()
+                    .map_or_else(String::new, |s| format!(" --srdf {}", s.display()));
+                format!("`{}{srdf}`", r.urdf.display())
+            })
+            .collect::<Vec<_>>()
+            .join(" or "),
+        Err(_) => String::new(),
+    };
+    if robots.is_empty() {
+        anyhow::bail!("{}: a TOML file, not a URDF", path.display());
+    }
+    anyhow::bail!(
+        "{}: a scene, not a URDF; its robot is {robots} (`package://` paths need \
+         --package-dir)",
+        path.display()
+    )
+}
+
 fn load(urdf: &Path, args: &LoadArgs) -> anyhow::Result<RobotModel> {
+    not_a_scene(urdf)?;
     let options = LoadOptions {
         package_dirs: args.package_dirs.clone(),
         unreadable_mesh: if args.skip_unreadable_meshes {
@@ -236,6 +271,7 @@ fn check(
         unreadable_mesh: UnreadableMesh::Skip,
         ..LoadOptions::default()
     };
+    not_a_scene(urdf)?;
     let model = RobotModel::from_urdf_file(urdf, &options)?;
     let semantics = srdf
         .map(|path| Semantics::from_file(&model, path))

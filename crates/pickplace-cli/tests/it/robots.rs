@@ -313,3 +313,19 @@ fn pr2_baxter_and_talos_hand_over_as_shipped() {
         );
     }
 }
+
+/// A scene given where a URDF goes is refused with the scene's robot files, not the XML
+/// parser's "No elements found".
+#[test]
+fn robot_check_of_a_scene_names_its_robot_files() {
+    let scene = root().join("scenes/robots/so101.toml");
+    let o = run(crate::args!["robot", "check", &scene]);
+    crate::support::fails_with(
+        &o,
+        &[
+            "so101.toml: a scene, not a URDF",
+            "package://example-robot-data/robots/so_arm_description/urdf/so101.urdf",
+            "--package-dir",
+        ],
+    );
+}
