@@ -88,8 +88,8 @@ const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write t
      modes and count the adjacent cluster pairs that could still be merged; exit 1 when any \
      is left (docs/clustering.md)\n  \
      mbm          [--sample N] [--scenarios GLOB] [--seed S] [--write]: MotionBenchMaker's \
-     700 Panda problems (vamp-planner 0.6.4's source archive, fetched pinned into \
-     target/mbm) planned by pickplace_prm::rrt_connect with the exact checker, every path \
+     problems, the Panda's 700 and Baxter's 1 800 (vamp-planner 0.6.4's source archive, \
+     fetched pinned into target/mbm) planned by pickplace_prm::rrt_connect with the exact checker, every path \
      checked again at 1°; --write records the figures in benches/mbm.json and \
      docs/benchmarks.md; exit 1 when a path collides";
 

@@ -1,25 +1,26 @@
 //! `cargo xtask mbm [--sample N] [--scenarios GLOB] [--seed S] [--write]`: MotionBenchMaker's
-//! Panda problems (Chamzas et al., "MotionBenchMaker", RA-L 2022) solved by this project's
-//! motion planner, as a user of the crates would (issue 35).
+//! problems (Chamzas et al., "MotionBenchMaker", RA-L 2022) solved by this project's motion
+//! planner, as a user of the crates would (issue 35).
 //!
-//! The problems and the robot they were made for ship in the source archive of
-//! `vamp-planner` 0.6.4 on PyPI (`resources/panda/`: `problems.tar.bz2`, `panda.urdf`,
-//! `panda.srdf` and the collision meshes), fetched by `pip download --no-deps` with its hash
-//! checked into `target/mbm/`. Seven scenarios of 100 problems each (`table_pick`,
-//! `table_under_pick`, `box`, `bookshelf_small`, `bookshelf_tall`, `bookshelf_thin`, `cage`):
-//! a MoveIt planning scene of boxes and cylinders and a request from a start to a goal joint
-//! state of the group `panda_arm`.
+//! The problems and the robots they were made for ship in the source archive of
+//! `vamp-planner` 0.6.4 on PyPI (`resources/panda/` and `resources/baxter/`:
+//! `problems.tar.bz2`, the URDF, the SRDF and the meshes), fetched by `pip download --no-deps`
+//! with its hash checked into `target/mbm/`. The Panda's seven scenarios of 100 problems each
+//! (`table_pick`, `table_under_pick`, `box`, `bookshelf_small`, `bookshelf_tall`,
+//! `bookshelf_thin`, `cage`; group `panda_arm`, 7 joints) and Baxter's three of 600
+//! (`bookshelf_tall_both_arms_{easy,medium,hard}`; group `both_arms`, 14 joints): a MoveIt
+//! planning scene of boxes and cylinders and a request from a start to a goal joint state.
 //!
-//! Each problem: the obstacles go into a [`CollisionWorld`] of the Panda (the SRDF's and the
-//! scene's allowed pairs), [`pickplace::checker::ArmChecker`] checks the arm's states exactly
+//! Each problem: the obstacles go into a [`CollisionWorld`] of its robot (the SRDF's and the
+//! scene's allowed pairs), [`pickplace::checker::ArmChecker`] checks the group's states exactly
 //! (convex link pieces through parry, no margin), and [`pickplace_prm::rrt_connect`] plans
 //! with its default options, seed `--seed` and a time limit of 1 s instead of an iteration
 //! cap (one thread). Only the planner's call is timed.
 //! Every path returned is then checked again at 1° (max-norm joint step) by a fresh checker.
 //! A problem counts as solved when a path came back within 1 s.
 //!
-//! Prints one line per scenario (solved, median and 95th percentile time, path length, paths
-//! in collision) and writes `target/mbm/results.json`; `--write` also writes the results to
+//! Prints one line per scenario and per robot (solved, median and 95th percentile time, path
+//! length, paths in collision, time per state checked) and writes `target/mbm/results.json`; `--write` also writes the results to
 //! `benches/mbm.json`, from which `cargo xtask bench` renders the MotionBenchMaker section
 //! of docs/benchmarks.md (regenerated at once). Exit status 1 when a returned path collides.
 
@@ -44,8 +45,22 @@ use std::time::Instant;
 const SDIST: &str = "vamp_planner-0.6.4.tar.gz";
 /// Its sha256 (as PyPI lists it).
 const SDIST_SHA256: &str = "d3150c6b67ff941af9ad56480b31d3fb73b12211ea21dc684f7737b059f6daba";
-/// The Panda's folder inside the archive.
-const PANDA: &str = "vamp_planner-0.6.4/resources/panda";
+/// The robots of the problems: (name, folder inside the archive, URDF, SRDF). Their
+/// scenarios' folders end in `_<name>`.
+const ROBOTS: [(&str, &str, &str, &str); 2] = [
+    (
+        "panda",
+        "vamp_planner-0.6.4/resources/panda",
+        "panda.urdf",
+        "panda.srdf",
+    ),
+    (
+        "baxter",
+        "vamp_planner-0.6.4/resources/baxter",
+        "baxter.urdf",
+        "baxter.srdf",
+    ),
+];
 /// A problem is solved when the planner returned within this time (s).
 pub const TIME_LIMIT: Real = 1.0;
 /// The resolution of the re-check: the validator's 1° joint step.
@@ -105,17 +120,19 @@ fn parse(args: &[String]) -> anyhow::Result<Args> {
     Ok(out)
 }
 
-/// The Panda's resources unpacked from the pinned archive into `dir` (once; a stamp file
-/// holding the archive's hash marks completion), and the problems' folder.
-fn resources(dir: &Path) -> anyhow::Result<(PathBuf, PathBuf)> {
-    let panda = dir.join(PANDA);
+/// The robots' resources unpacked from the pinned archive into `dir` (once; a stamp file
+/// holding the archive's hash marks completion) and the problems of both, under
+/// `dir/problems/<scenario>/`.
+fn resources(dir: &Path) -> anyhow::Result<PathBuf> {
     let problems = dir.join("problems");
     let stamp = dir.join("unpacked");
-    if std::fs::read_to_string(&stamp).ok().as_deref() == Some(SDIST_SHA256)
-        && panda.is_dir()
+    if std::fs::read_to_string(&stamp).ok().as_deref() == Some(UNPACKED)
         && problems.is_dir()
+        && ROBOTS
+            .iter()
+            .all(|(_, folder, ..)| dir.join(folder).is_dir())
     {
-        return Ok((panda, problems));
+        return Ok(problems);
     }
     let sdist = pinned::fetch_pinned_file(
         "xtask mbm",
@@ -133,24 +150,30 @@ fn resources(dir: &Path) -> anyhow::Result<(PathBuf, PathBuf)> {
         }
         Ok(())
     };
-    run(Command::new("tar")
-        .arg("xzf")
-        .arg(&sdist)
-        .arg("-C")
-        .arg(dir)
-        .arg(PANDA))?;
     let _ = std::fs::remove_dir_all(&problems);
     std::fs::create_dir_all(&problems)?;
-    // The archive holds `problems/<scenario>/…`.
-    run(Command::new("tar")
-        .arg("xjf")
-        .arg(panda.join("problems.tar.bz2"))
-        .arg("-C")
-        .arg(&problems)
-        .arg("--strip-components=1"))?;
-    std::fs::write(&stamp, SDIST_SHA256)?;
-    Ok((panda, problems))
+    for (_, folder, ..) in ROBOTS {
+        run(Command::new("tar")
+            .arg("xzf")
+            .arg(&sdist)
+            .arg("-C")
+            .arg(dir)
+            .arg(folder))?;
+        // Each archive holds `problems/<scenario>/…`.
+        run(Command::new("tar")
+            .arg("xjf")
+            .arg(dir.join(folder).join("problems.tar.bz2"))
+            .arg("-C")
+            .arg(&problems)
+            .arg("--strip-components=1"))?;
+    }
+    std::fs::write(&stamp, UNPACKED)?;
+    Ok(problems)
 }
+
+/// What the stamp file of an unpacked archive holds: its hash and the robots taken from it.
+const UNPACKED: &str =
+    "d3150c6b67ff941af9ad56480b31d3fb73b12211ea21dc684f7737b059f6daba panda baxter";
 
 /// Every problem of the scenarios matching `glob` (sorted by scenario and number), the first
 /// `sample` of each when given.
@@ -185,10 +208,13 @@ fn problems(folder: &Path, glob: &str, sample: Option<usize>) -> anyhow::Result<
     Ok(out)
 }
 
-/// The robot of the problems: the archive's Panda (its fingers on fixed joints, 6.5 cm apart,
-/// as MotionBenchMaker made the problems) and its SRDF.
+/// A robot of the problems as the archive ships it (the Panda with its fingers on fixed joints,
+/// 6.5 cm apart, as MotionBenchMaker made its problems; Baxter) and its SRDF.
 struct Robot {
+    /// `panda` or `baxter`.
+    name: &'static str,
     model: RobotModel,
+    semantics: Semantics,
     /// The SRDF's allowed pairs.
     acm: AllowedCollisionMatrix,
     /// The world with the robot and no obstacle.
@@ -196,21 +222,36 @@ struct Robot {
 }
 
 impl Robot {
-    fn load(panda: &Path) -> anyhow::Result<Self> {
+    fn load(
+        dir: &Path,
+        (name, folder, urdf, srdf): (&'static str, &str, &str, &str),
+    ) -> anyhow::Result<Self> {
+        let folder = dir.join(folder);
         let options = LoadOptions {
-            // `package://meshes/…`: the folder `meshes` beside the URDF.
-            package_dirs: vec![panda.to_path_buf()],
+            // The Panda's `package://meshes/…`: the folder `meshes` beside the URDF (Baxter's
+            // mesh paths are relative).
+            package_dirs: vec![folder.clone()],
             ..LoadOptions::default()
         };
-        let urdf = panda.join("panda.urdf");
+        let urdf = folder.join(urdf);
         let model = RobotModel::from_urdf_file(&urdf, &options)
             .with_context(|| format!("loading {}", urdf.display()))?;
-        let srdf = panda.join("panda.srdf");
+        let srdf = folder.join(srdf);
         let semantics = Semantics::from_file(&model, &srdf)
             .with_context(|| format!("loading {}", srdf.display()))?;
-        let acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+        // The SRDF's pairs and the links joined by a joint, as the planner completes a matrix
+        // (`pickplace::setup`): Baxter's SRDF leaves out a finger and its tip, fixed to each
+        // other.
+        let mut acm = AllowedCollisionMatrix::from_srdf(semantics.srdf());
+        acm.merge(&AllowedCollisionMatrix::adjacent_links(&model));
         let world = CollisionWorld::new(&model, acm.clone())?;
-        Ok(Self { model, acm, world })
+        Ok(Self {
+            name,
+            model,
+            semantics,
+            acm,
+            world,
+        })
     }
 }
 
@@ -247,8 +288,11 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
         let (shape, correction) = CollisionShape::from_shape(&o.shape)?;
         world.add_environment(&o.name, shape, &(o.pose * correction));
     }
-    let semantics_group = robot_group(model, &p.group)?;
-    let variables = &semantics_group;
+    let variables = &robot
+        .semantics
+        .group(&p.group)
+        .with_context(|| format!("{}: planning group {:?}", p.name, p.group))?
+        .variables;
     let mut template = vec![0.0; model.variable_count()];
     for (name, &value) in &p.start {
         if let Some(v) = model.variable_index(name) {
@@ -303,16 +347,31 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
                 failure: None,
             }
         }
-        Err(e) => Outcome {
-            problem: p.name.clone(),
-            seconds,
-            found: false,
-            length: 0.0,
-            waypoints: 0,
-            states,
-            collides: false,
-            failure: Some(e.to_string()),
-        },
+        Err(e) => {
+            // Which pair makes an end invalid, named.
+            let pair = |q: &[Real]| {
+                checker
+                    .first_collision(q)
+                    .map_or_else(String::new, |(a, b)| {
+                        format!(" ({} touches {})", world.body_name(a), world.body_name(b))
+                    })
+            };
+            let detail = match e {
+                pickplace::prm::Error::StartInvalid => pair(&start),
+                pickplace::prm::Error::GoalInvalid => pair(&goal),
+                _ => String::new(),
+            };
+            Outcome {
+                problem: p.name.clone(),
+                seconds,
+                found: false,
+                length: 0.0,
+                waypoints: 0,
+                states,
+                collides: false,
+                failure: Some(format!("{e}{detail}")),
+            }
+        }
     })
 }
 
@@ -336,22 +395,6 @@ fn unit_space(space: &JointSpace) -> anyhow::Result<JointSpace> {
         space.lower().to_vec(),
         space.upper().to_vec(),
     )?)
-}
-
-/// The variables of the SRDF group `group` (the request's planning group), in model order.
-fn robot_group(model: &RobotModel, group: &str) -> anyhow::Result<Vec<usize>> {
-    // The Panda's arm group is the chain panda_link0 → panda_link8: its seven joints.
-    if group != "panda_arm" {
-        bail!("planning group {group:?}: only the Panda's panda_arm is supported");
-    }
-    (1..=7)
-        .map(|i| {
-            let name = format!("panda_joint{i}");
-            model
-                .variable_index(&name)
-                .with_context(|| format!("the Panda has no joint {name}"))
-        })
-        .collect()
 }
 
 /// The figures of one scenario (or of all).
@@ -425,7 +468,7 @@ pub fn render(results: &Results) -> String {
     use crate::bench::report::format_time;
     use std::fmt::Write;
     let mut out = String::from(
-        "## MotionBenchMaker: the Panda's 700 problems (issue 35, `cargo xtask mbm`)\n\n",
+        "## MotionBenchMaker: the Panda's 700 problems and Baxter's 1 800 (issue 35, `cargo xtask mbm`)\n\n",
     );
     let _ = writeln!(
         out,
@@ -434,7 +477,8 @@ pub fn render(results: &Results) -> String {
     );
     out.push_str(
         "The problems of MotionBenchMaker (Chamzas et al., RA-L 2022) as `vamp-planner` 0.6.4 \
-         ships them, with its Panda: `pickplace_prm::rrt_connect` with its default options \
+         ships them, with its robots: the Panda's seven scenarios (7 joints) and Baxter's three \
+         bookshelf scenarios for both arms at once (14 joints). `pickplace_prm::rrt_connect` with its default options \
          (step 0.3, every segment checked at 1°), states checked exactly by \
          `pickplace::checker::ArmChecker` (the links' convex pieces through parry), one thread, \
          a time limit of 1 s instead of the iteration cap, the planner's call timed. Solved: a path within 1 s. Median and 95th percentile over \
@@ -464,11 +508,11 @@ pub fn render(results: &Results) -> String {
     let (median, p95, length, solved) = VAMP_PUBLISHED;
     let _ = writeln!(
         out,
-        "| VAMP 0.6.4, published (Ryzen 9 7950X) | {solved} | {} | {} | {length:.2} | | |",
+        "| VAMP 0.6.4 on the Panda's, published (Ryzen 9 7950X) | {solved} | {} | {} | {length:.2} | | |",
         format_time(median),
         format_time(p95),
     );
-    if let Some(all) = results.summaries.iter().find(|s| s.scenario == "all") {
+    if let Some(all) = results.summaries.iter().find(|s| s.scenario == "all panda") {
         let _ = writeln!(
             out,
             "\nRatio of our median to VAMP's published median: {:.0}; of the 95th percentiles: \
@@ -487,9 +531,18 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let args = parse(args)?;
     let dir = root.join("target/mbm");
     std::fs::create_dir_all(&dir)?;
-    let (panda, folder) = resources(&dir)?;
-    let robot = Robot::load(&panda)?;
+    let folder = resources(&dir)?;
+    let robots = ROBOTS
+        .iter()
+        .map(|&r| Robot::load(&dir, r))
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let problems = problems(&folder, &args.scenarios, args.sample)?;
+    let robot_of = |p: &Problem| {
+        robots
+            .iter()
+            .find(|r| p.scenario.ends_with(&format!("_{}", r.name)))
+            .with_context(|| format!("{}: a scenario of no known robot", p.scenario))
+    };
     eprintln!(
         "xtask mbm: {} problems, rrt_connect with its defaults, seed {}",
         problems.len(),
@@ -498,7 +551,7 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let load_start = crate::bench::machine::load_average();
     let mut outcomes = Vec::with_capacity(problems.len());
     for p in &problems {
-        let o = solve(&robot, p, args.seed)?;
+        let o = solve(robot_of(p)?, p, args.seed)?;
         if o.collides {
             eprintln!("{}: the path collides at 1°", o.problem);
         }
@@ -519,7 +572,17 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
             .collect();
         summaries.push(summarise(s, &these));
     }
-    summaries.push(summarise("all", &outcomes.iter().collect::<Vec<_>>()));
+    for r in &robots {
+        let these: Vec<&Outcome> = outcomes
+            .iter()
+            .zip(&problems)
+            .filter(|(_, p)| p.scenario.ends_with(&format!("_{}", r.name)))
+            .map(|(o, _)| o)
+            .collect();
+        if !these.is_empty() {
+            summaries.push(summarise(&format!("all {}", r.name), &these));
+        }
+    }
     let info = crate::bench::machine::describe_machine(
         format!("cargo xtask mbm --seed {}", args.seed),
         load_start,
