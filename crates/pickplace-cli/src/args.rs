@@ -179,7 +179,10 @@ fn same_file(path: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
 /// The files a scene names (the scene itself, each robot's URDF, SRDF and gripper file, the
 /// object and environment meshes), as inputs for [`check_output_file`]. `package://` paths
 /// and the meshes a URDF names are not included.
-pub fn scene_inputs(scene_path: &Path, scene: &pickplace::Scene) -> Vec<(String, PathBuf)> {
+pub fn scene_inputs<O: SceneObject, T>(
+    scene_path: &Path,
+    scene: &pickplace::scene::SceneOf<O, T>,
+) -> Vec<(String, PathBuf)> {
     let mut inputs = vec![("the scene".to_owned(), scene_path.to_path_buf())];
     for robot in &scene.robots {
         inputs.push(("the robot's URDF".to_owned(), robot.urdf.clone()));
@@ -190,11 +193,32 @@ pub fn scene_inputs(scene_path: &Path, scene: &pickplace::Scene) -> Vec<(String,
             inputs.push(("the gripper file".to_owned(), p.clone()));
         }
     }
-    inputs.push(("the object mesh".to_owned(), scene.object.mesh.clone()));
+    if let Some(mesh) = scene.object.mesh() {
+        inputs.push(("the object mesh".to_owned(), mesh.to_path_buf()));
+    }
     for env in &scene.environment {
         inputs.push((format!("the mesh of {:?}", env.name), env.mesh.clone()));
     }
     inputs
+}
+
+/// The object of a scene, required ([`pickplace::Scene`]) or not
+/// ([`pickplace::scene::MotionScene`]).
+pub trait SceneObject {
+    /// Its mesh file, when there is an object.
+    fn mesh(&self) -> Option<&Path>;
+}
+
+impl SceneObject for pickplace::scene::ObjectSpec {
+    fn mesh(&self) -> Option<&Path> {
+        Some(&self.mesh)
+    }
+}
+
+impl SceneObject for Option<pickplace::scene::ObjectSpec> {
+    fn mesh(&self) -> Option<&Path> {
+        self.as_ref().map(|o| o.mesh.as_path())
+    }
 }
 
 /// `inputs` as [`Input`]s.

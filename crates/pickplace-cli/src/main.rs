@@ -10,6 +10,7 @@ mod clusters;
 mod demo;
 mod export;
 mod grasps;
+mod motion;
 mod output;
 mod placements;
 mod plan;
@@ -58,6 +59,9 @@ enum Command {
     /// Plan a pick-and-place motion for a scene (paper Fig. 8): strategy, grasps, placement,
     /// key poses and a timed trajectory.
     Plan(plan::PlanArgs),
+    /// A collision-free, timed motion of one planning group between two joint states among
+    /// the scene's obstacles (docs/motion.md).
+    Motion(motion::MotionArgs),
     /// Plan many scenes in parallel into one folder: a plan file per scene and a JSON-lines
     /// summary, resumable (docs/batch.md).
     Batch(batch::BatchArgs),
@@ -116,6 +120,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Robot { command } => robot::run(command),
         Command::Grasps(args) => grasps::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Motion(args) => motion::run(&args),
         Command::Batch(args) => batch::run(&args),
         Command::Validate(args) => plan::run_validate(&args),
         Command::View(args) => view::run(&args),

@@ -122,6 +122,22 @@ impl CacheChoice {
             (None, false) => Self::Default,
         }
     }
+
+    /// The folder chosen, if any: the per-user folder when it can be found (else a warning on
+    /// stderr and none).
+    pub fn folder(self) -> Option<PathBuf> {
+        match self {
+            Self::Folder(dir) => Some(dir),
+            Self::Off => None,
+            Self::Default => match pickplace::cache::default_dir() {
+                Ok(dir) => Some(dir),
+                Err(warning) => {
+                    note!("warning: {warning}");
+                    None
+                }
+            },
+        }
+    }
 }
 
 /// Loads a scene with its log, the cache's warning (if any) and progress on stderr.
@@ -137,19 +153,8 @@ fn setup_with(
     load: fn(&Path, &SetupOptions) -> Result<Setup, pickplace::Error>,
 ) -> anyhow::Result<Setup> {
     let t = Instant::now();
-    let cache_dir = match cache {
-        CacheChoice::Folder(dir) => Some(dir),
-        CacheChoice::Off => None,
-        CacheChoice::Default => match pickplace::cache::default_dir() {
-            Ok(dir) => Some(dir),
-            Err(warning) => {
-                note!("warning: {warning}");
-                None
-            }
-        },
-    };
     let options = SetupOptions {
-        cache_dir,
+        cache_dir: cache.folder(),
         package_dirs: package_dirs.to_vec(),
         progress: crate::progress::receiver(),
     };

@@ -49,6 +49,7 @@ pub mod export;
 mod hand_fit;
 pub mod joint_limits;
 pub mod mesh_warning;
+pub mod motion;
 pub mod plan;
 pub mod planner;
 pub mod precompute;
@@ -62,6 +63,7 @@ pub mod self_check;
 pub mod setup;
 mod start;
 pub mod strategy;
+mod timing;
 pub mod tool_frame;
 pub mod validate;
 

@@ -6,23 +6,23 @@
 //! What the files lack is completed, and said once in [`RobotSetup::notes`]: arms found in
 //! the URDF when the SRDF names none, a single arm when only one is found.
 
+mod arms;
+
 use crate::error::{Error, Result};
 use crate::joint_limits::JointLimitSpec;
-use crate::scene::{GroupSpecToml, RobotSpec, Scene};
+use crate::scene::{GroupSpecToml, RobotSpec, Scene, SceneOf};
 use crate::strategy::Arm;
 use pickplace_geometry::io::{FileKind, fmt_real};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_grasp::GripperParams;
 use pickplace_grasp::gripper::PalmBox;
 use pickplace_robot::gripper::{Gripper, GripperOptions};
-use pickplace_robot::limbs::find_arms;
 use pickplace_robot::srdf::{ChainSpec, GroupSpec};
 use pickplace_robot::{KinematicChain, LoadOptions, RobotModel, Semantics, Srdf};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The fewest actuated joints of an arm found in the URDF.
-const MIN_ARM_JOINTS: usize = 4;
 
 /// One arm as the planner sees it.
 #[derive(Debug, Clone)]
@@ -210,6 +210,15 @@ impl GripperOverrides {
     }
 }
 
+/// What a robot is loaded for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RobotPurpose {
+    /// Pick and place: the arms and their grippers found and measured.
+    PickAndPlace,
+    /// Motion queries only ([`crate::motion`]): no arm or gripper needed.
+    Motion,
+}
+
 /// The robot of a scene, ready for planning.
 #[derive(Debug, Clone)]
 pub struct RobotSetup {
@@ -258,6 +267,21 @@ impl RobotSetup {
     /// value that does not fit the robot (an arm group that does not exist, a gripper that
     /// cannot open or close), naming the field.
     pub fn load(scene: &Scene, scene_path: &Path, package_dirs: &[PathBuf]) -> Result<Self> {
+        Self::load_for(scene, scene_path, package_dirs, RobotPurpose::PickAndPlace)
+    }
+
+    /// Loads the robot(s) of any scene for `purpose`: with [`RobotPurpose::Motion`] the arms
+    /// and grippers are neither looked for nor measured ([`RobotSetup::arms`] is empty), so a
+    /// robot without a usable hand plans motions.
+    ///
+    /// # Errors
+    /// As [`RobotSetup::load`].
+    pub fn load_for<O, T>(
+        scene: &SceneOf<O, T>,
+        scene_path: &Path,
+        package_dirs: &[PathBuf],
+        purpose: RobotPurpose,
+    ) -> Result<Self> {
         let invalid = |field: &str, reason: String| Error::Invalid {
             path: scene_path.to_path_buf(),
             field: field.to_owned(),
@@ -399,134 +423,23 @@ impl RobotSetup {
         let semantics =
             Semantics::resolve(&model, &srdf, &srdf_path).map_err(robot_err(&srdf_path))?;
 
-        // The arms: the scene's groups, else `right_arm` / `left_arm`, else found in the URDF.
-        let overrides = match gripper_file.as_ref() {
-            Some(path) => GripperOverrides::load(path)?,
-            None => GripperOverrides::default(),
+        // The arms and their grippers (a pick-and-place scene's; a motion query needs none).
+        let (model, arms) = match purpose {
+            RobotPurpose::PickAndPlace => {
+                let (model, arms, overrides) = arms::choose(
+                    model,
+                    &semantics,
+                    &scene.planner,
+                    gripper_file.as_deref(),
+                    &first_urdf,
+                    scene_path,
+                    &mut notes,
+                )?;
+                key_text.push_str(&format!("{overrides:?}"));
+                (model, arms)
+            }
+            RobotPurpose::Motion => (model, Vec::new()),
         };
-        let has_group = |name: &str| semantics.group(name).is_ok();
-        let pick = |given: &Option<String>, default: &str| -> Option<String> {
-            match given {
-                Some(g) if g.is_empty() => None,
-                Some(g) => Some(g.clone()),
-                None => has_group(default).then(|| default.to_owned()),
-            }
-        };
-        let p = &scene.planner;
-        let mut chosen: Vec<(Arm, String, Vec<usize>, &'static str)> = Vec::new();
-        for (arm, given, default, f) in [
-            (Arm::Right, &p.right_arm, "right_arm", "planner.right_arm"),
-            (Arm::Left, &p.left_arm, "left_arm", "planner.left_arm"),
-        ] {
-            if let Some(group) = pick(given, default) {
-                let g = semantics.group(&group).map_err(|e| {
-                    invalid(
-                        f,
-                        format!(
-                            "{e} (groups: {})",
-                            semantics
-                                .groups()
-                                .iter()
-                                .map(|g| g.name.as_str())
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        ),
-                    )
-                })?;
-                if g.variables.is_empty() {
-                    let why = semantics
-                        .left_out_of(&group)
-                        .map(|w| format!(" ({w})"))
-                        .unwrap_or_default();
-                    return Err(invalid(
-                        f,
-                        format!("group {group:?} has no actuated joint{why}"),
-                    ));
-                }
-                chosen.push((arm, group, g.variables.clone(), f));
-            }
-        }
-        let explicit = p.right_arm.is_some() || p.left_arm.is_some();
-        if chosen.is_empty() && !explicit {
-            let found = find_arms(&model, MIN_ARM_JOINTS);
-            if found.is_empty() {
-                return Err(invalid(
-                    "planner.right_arm",
-                    format!(
-                        "the SRDF has no group right_arm or left_arm and no arm ending in a parallel gripper was found in {}; name the arm groups",
-                        first_urdf.display()
-                    ),
-                ));
-            }
-            // Which is right: the hand farther to the robot's right (−y of the root frame) at
-            // the zero configuration.
-            let q = model.zero_configuration();
-            let poses = model
-                .link_poses(&q)
-                .map_err(crate::error::internal("forward kinematics"))?;
-            let mut by_side: Vec<_> = found
-                .into_iter()
-                .map(|a| (poses[a.tip_link].translation.vector.y, a))
-                .collect();
-            by_side.sort_by(|a, b| a.0.total_cmp(&b.0));
-            for (k, (_, a)) in by_side.into_iter().take(2).enumerate() {
-                let arm = if k == 0 { Arm::Right } else { Arm::Left };
-                let group = format!("arm_{}", model.links()[a.tip_link].name);
-                notes.push(format!(
-                    "{arm} arm found in the URDF: {} joints from {:?} to {:?} (name it with planner.{arm}_arm)",
-                    a.variables.len(),
-                    model.links()[a.base_link].name,
-                    model.links()[a.tip_link].name
-                ));
-                chosen.push((arm, group, a.variables, "planner.right_arm"));
-            }
-        }
-        if chosen.len() == 1 {
-            let (arm, group, ..) = &chosen[0];
-            notes.push(format!(
-                "one arm ({arm}: {group}): single-arm strategies only; a handover needs two arms"
-            ));
-        }
-        if chosen.is_empty() {
-            return Err(invalid(
-                "planner.right_arm",
-                "no arm: both arm groups are empty".into(),
-            ));
-        }
-
-        // Grippers and tool links.
-        let options = overrides.options();
-        let mut model = model;
-        let mut arms = Vec::with_capacity(chosen.len());
-        for (arm, group, variables, f) in chosen {
-            let gripper = Gripper::derive(&model, &variables, &options)
-                .map_err(|e| invalid(f, format!("arm {group:?}: {e}")))?;
-            let mut name = format!("{group}_tool");
-            while model.link_index(&name).is_some() {
-                name.push('_');
-            }
-            model = model
-                .with_fixed_link(&name, gripper.arm_tip(), *gripper.tip_from_tcp())
-                .map_err(crate::error::internal("tool link"))?;
-            let tcp_link = model
-                .link_index(&name)
-                .ok_or_else(|| crate::error::internal("tool link")("missing"))?;
-            // A bad value names the overrides file when there is one, else the URDF it was
-            // measured on.
-            let source = gripper_file.as_deref().unwrap_or(&first_urdf);
-            let gripper_params = grasp_model(&gripper, &overrides, source)
-                .map_err(|e| invalid(f, format!("arm {group:?}: gripper: {e}")))?;
-            arms.push(RobotArm {
-                arm,
-                group,
-                variables,
-                gripper,
-                gripper_params,
-                tcp_link,
-                tcp_name: name,
-            });
-        }
-        key_text.push_str(&format!("{overrides:?}"));
         // A sampled collision matrix (a robot without one) depends on its options too.
         if srdf.disabled_collisions.is_empty() {
             key_text.push_str(&format!(

@@ -196,10 +196,19 @@ impl PoseSpec {
     }
 }
 
-/// A whole scene file.
+/// A whole pick-and-place scene file: robots, environment, the object to move and the target.
+pub type Scene = SceneOf<ObjectSpec, TargetSpec>;
+
+/// A scene file read for motion queries (`pickplace motion`, [`crate::motion`]): the robots and
+/// the environment; the object, when given, is an obstacle at its start pose, and a target is
+/// read (and checked) but unused. A pick-and-place [`Scene`] is one with both.
+pub type MotionScene = SceneOf<Option<ObjectSpec>, Option<TargetSpec>>;
+
+/// A scene file, whether its object (`O`) and target (`T`) are required ([`Scene`]) or not
+/// ([`MotionScene`]). One format, one parser ([`MotionScene::parse`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Scene {
+pub struct SceneOf<O, T> {
     /// Scene format version (default: the current one). A newer version is an error.
     #[serde(default = "current_format")]
     pub format: u32,
@@ -211,12 +220,14 @@ pub struct Scene {
     #[serde(default)]
     pub robots: Vec<RobotSpec>,
     /// The object to move.
-    pub object: ObjectSpec,
+    #[serde(default)]
+    pub object: O,
     /// Static environment meshes.
     #[serde(default)]
     pub environment: Vec<EnvironmentSpec>,
     /// Where the object should go.
-    pub target: TargetSpec,
+    #[serde(default)]
+    pub target: T,
     /// Planner options.
     #[serde(default)]
     pub planner: PlannerOptions,
@@ -524,27 +535,82 @@ pub enum SceneError {
     },
 }
 
+/// The text of the scene file at `path` and the folder its relative paths are relative to.
+fn read_scene_text(path: &Path) -> Result<(String, &Path), SceneError> {
+    let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
+        .map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    Ok((text, path.parent().unwrap_or(Path::new("."))))
+}
+
 impl Scene {
     /// Reads and validates a scene file; relative paths in it become relative to its folder.
     ///
     /// # Errors
     /// [`SceneError`] naming the file, and the field or line at fault.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
-            .map_err(|source| SceneError::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        let base = path.parent().unwrap_or(Path::new("."));
+        let (text, base) = read_scene_text(path)?;
         Self::parse(&text, path, base)
     }
 
     /// Parses scene text. `path` names the source in errors; relative paths are joined to `base`.
     ///
     /// # Errors
+    /// [`SceneError::Syntax`] or [`SceneError::Invalid`] (a missing `[object]` or `[target]`
+    /// included).
+    pub fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, SceneError> {
+        let scene = MotionScene::parse(text, path, base)?;
+        let missing = |field: &str, what: &str| SceneError::Invalid {
+            path: path.to_path_buf(),
+            field: field.to_owned(),
+            reason: format!("missing: a pick-and-place scene needs {what}"),
+        };
+        let object = scene
+            .object
+            .ok_or_else(|| missing("object", "[object] (the mesh to move and its start_pose)"))?;
+        let target = scene
+            .target
+            .ok_or_else(|| missing("target", "[target] (the point where the object goes)"))?;
+        Ok(SceneOf {
+            format: scene.format,
+            robot: None,
+            robots: scene.robots,
+            object,
+            environment: scene.environment,
+            target,
+            planner: scene.planner,
+            trajectory: scene.trajectory,
+            collision_matrix: scene.collision_matrix,
+        })
+    }
+
+    /// The target point.
+    pub fn target_point(&self) -> Point3 {
+        Point3::from(self.target.point)
+    }
+}
+
+impl MotionScene {
+    /// Reads and validates a scene file for motion queries (object and target optional);
+    /// relative paths in it become relative to its folder.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the file, and the field or line at fault.
+    pub fn load(path: &Path) -> Result<Self, SceneError> {
+        let (text, base) = read_scene_text(path)?;
+        Self::parse(&text, path, base)
+    }
+
+    /// Parses scene text (the one parser of the format: [`Scene::parse`] then requires the
+    /// object and the target). `path` names the source in errors; relative paths are joined
+    /// to `base`.
+    ///
+    /// # Errors
     /// [`SceneError::Syntax`] or [`SceneError::Invalid`].
     pub fn parse(text: &str, path: &Path, base: &Path) -> Result<Self, SceneError> {
-        let mut scene: Scene = toml::from_str(text).map_err(|e| SceneError::Syntax {
+        let mut scene: MotionScene = toml::from_str(text).map_err(|e| SceneError::Syntax {
             path: path.to_path_buf(),
             message: pickplace_geometry::io::parse_error(
                 text,
@@ -637,7 +703,16 @@ impl Scene {
         ranges::COLLISION_FRACTION
             .check(matrix.min_collision_fraction)
             .map_err(|e| invalid("collision_matrix.min_collision_fraction", e.to_string()))?;
-        pose("object.start_pose", &scene.object.start_pose)?;
+        if let Some(object) = &scene.object {
+            pose("object.start_pose", &object.start_pose)?;
+            range("object.scale", object.scale, ranges::MESH_SCALE)?;
+            if let Some(m) = object.mass {
+                range("object.mass", m, ranges::MASS)?;
+            }
+            if let Some(c) = &object.center_of_gravity {
+                point("object.center_of_gravity", c)?;
+            }
+        }
         for (i, env) in scene.environment.iter().enumerate() {
             pose(&format!("environment[{i}].pose"), &env.pose)?;
             range(
@@ -646,16 +721,11 @@ impl Scene {
                 ranges::MESH_SCALE,
             )?;
         }
-        range("object.scale", scene.object.scale, ranges::MESH_SCALE)?;
-        if let Some(m) = scene.object.mass {
-            range("object.mass", m, ranges::MASS)?;
-        }
-        if let Some(c) = &scene.object.center_of_gravity {
-            point("object.center_of_gravity", c)?;
-        }
-        point("target.point", &scene.target.point)?;
-        if let Some(t) = scene.target.tolerance {
-            range("target.tolerance", t, ranges::TARGET_TOLERANCE)?;
+        if let Some(target) = &scene.target {
+            point("target.point", &target.point)?;
+            if let Some(t) = target.tolerance {
+                range("target.tolerance", t, ranges::TARGET_TOLERANCE)?;
+            }
         }
         let t = &scene.trajectory;
         for (field, value) in [
@@ -716,22 +786,19 @@ impl Scene {
                 resolve(p);
             }
         }
-        resolve(&mut scene.object.mesh);
+        if let Some(object) = &mut scene.object {
+            resolve(&mut object.mesh);
+        }
         for env in &mut scene.environment {
             resolve(&mut env.mesh);
         }
         Ok(scene)
     }
-
-    /// The target point.
-    pub fn target_point(&self) -> Point3 {
-        Point3::from(self.target.point)
-    }
 }
 
 /// Refuses names over [`MAX_NAME_BYTES`](pickplace_geometry::io::MAX_NAME_BYTES) and paths
 /// over [`MAX_PATH_BYTES`](pickplace_geometry::io::MAX_PATH_BYTES): `Err((field, reason))`.
-fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
+fn check_lengths(scene: &MotionScene) -> Result<(), (String, String)> {
     use pickplace_geometry::io::{check_name, check_path_text};
     let name = |field: String, text: &str| {
         check_name("the name", text).map_err(|r| (field, r.to_string()))
@@ -781,7 +848,9 @@ fn check_lengths(scene: &Scene) -> Result<(), (String, String)> {
             }
         }
     }
-    path("object.mesh".into(), &scene.object.mesh)?;
+    if let Some(object) = &scene.object {
+        path("object.mesh".into(), &object.mesh)?;
+    }
     for (i, env) in scene.environment.iter().enumerate() {
         name(format!("environment[{i}].name"), &env.name)?;
         path(format!("environment[{i}].mesh"), &env.mesh)?;

@@ -35,6 +35,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod purpose;
+pub(crate) mod robot_state;
 
 pub use purpose::SetupPurpose;
 use purpose::{no_clusters, no_grasps};
@@ -325,88 +326,9 @@ impl Setup {
         let semantics = robot.semantics.clone();
         let world_from_root = robot.world_from_root;
         let urdf_path = robot.urdf_path.clone();
-        let srdf_path = robot.srdf_path.clone();
         let gripper = robot.arms[0].gripper_params;
 
-        // Start state: zeros, the SRDF's `home` when it has one, then the scene's values.
-        let mut start = model.zero_configuration();
-        let several = scene.robots.len() > 1;
-        for (i, spec) in scene.robots.iter().enumerate() {
-            let prefix = if several { spec.prefix.as_str() } else { "" };
-            let state = match &spec.named_state {
-                Some(name) => Some(format!("{prefix}{name}")),
-                None => Some(format!("{prefix}home")),
-            };
-            if let Some(state) = state {
-                let exists = semantics
-                    .srdf()
-                    .group_states
-                    .iter()
-                    .any(|s| s.name == state);
-                if exists {
-                    semantics
-                        .apply_state(&model, &state, &mut start)
-                        .map_err(robot_err(&srdf_path))?;
-                } else if spec.named_state.is_some() {
-                    let field = if several {
-                        format!("robots[{i}].named_state")
-                    } else {
-                        "robot.named_state".to_owned()
-                    };
-                    return Err(invalid(
-                        &field,
-                        format!(
-                            "the SRDF has no group_state {state:?} (it has: {})",
-                            semantics
-                                .srdf()
-                                .group_states
-                                .iter()
-                                .map(|s| s.name.as_str())
-                                .collect::<Vec<_>>()
-                                .join(", ")
-                        ),
-                    ));
-                }
-            }
-        }
-        for (i, spec) in scene.robots.iter().enumerate() {
-            for (name, &value) in &spec.start_state {
-                let field = if several {
-                    format!("robots[{i}].start_state.{name}")
-                } else {
-                    format!("robot.start_state.{name}")
-                };
-                let full = format!("{}{name}", if several { spec.prefix.as_str() } else { "" });
-                let v = model.variable_index(&full).ok_or_else(|| {
-                    invalid(
-                        &field,
-                        format!(
-                            "the robot {:?} has no actuated joint of that name",
-                            model.name()
-                        ),
-                    )
-                })?;
-                let limits = model.variable_joint(v).limits;
-                if !limits.contains(value, 1e-9) {
-                    return Err(invalid(
-                        &field,
-                        format!(
-                            "{value} is outside the joint's limits [{}, {}]",
-                            limits.lower, limits.upper
-                        ),
-                    ));
-                }
-                start[v] = value;
-            }
-        }
-        // Continuous joints start within [−π, π), where the motion planner's space is.
-        for (v, x) in start.iter_mut().enumerate() {
-            let l = model.variable_joint(v).limits;
-            if !l.lower.is_finite() && !l.upper.is_finite() {
-                *x = (*x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
-            }
-        }
+        let start = robot_state::start_configuration(&scene, &robot, scene_path)?;
         if let Some(strategy_arms) = missing_arm(&scene, &robot) {
             return Err(invalid("planner.strategy", strategy_arms));
         }
@@ -434,17 +356,13 @@ impl Setup {
 
         // The collision world: robot, SRDF's disabled pairs (else sampled), environment meshes.
         let mut cache = Cache::open(options.cache_dir.as_deref());
-        let acm = crate::collision_matrix::complete_acm(
-            &model,
-            &semantics,
+        let self_world = robot_state::self_world(
+            &robot,
             &start,
-            (&scene.collision_matrix, &robot.key_text),
+            &scene.collision_matrix,
             &mut cache,
             &mut log,
-        )
-        .map_err(robot_err(&urdf_path))?;
-        let mut self_world = CollisionWorld::new(&model, acm).map_err(robot_err(&urdf_path))?;
-        self_world.set_world_from_root(world_from_root);
+        )?;
         let mut world = self_world.clone();
 
         // Environment meshes and their clusters.
@@ -755,7 +673,7 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-fn load_mesh(path: &Path, scale: Real, what: &str) -> Result<TriMesh> {
+pub(crate) fn load_mesh(path: &Path, scale: Real, what: &str) -> Result<TriMesh> {
     pickplace_geometry::mesh::load(
         path,
         &MeshOptions {

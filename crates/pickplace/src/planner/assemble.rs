@@ -11,9 +11,10 @@ use crate::plan::{
 };
 use crate::scene::PoseSpec;
 use crate::strategy::{Arm, Strategy};
+use crate::timing::{Timed, snap_part_ends, tighten, time_parts, timing_error};
 use pickplace_geometry::math::{Isometry3, Real};
 use pickplace_placement::{ContactKind, Placement};
-use pickplace_prm::toppra::{self, BlendedPath, ToppraOptions};
+use pickplace_prm::toppra::{BlendedPath, ToppraOptions};
 use pickplace_robot::collision::CollisionWorld;
 use std::sync::Arc;
 use std::time::Instant;
@@ -25,20 +26,6 @@ pub(super) const STRAIGHT_BLEND_TOLERANCE: Real = 0.005;
 /// How far (m) the tool point of a straight motion may leave the straight line between its
 /// ends once timed.
 pub(super) const STRAIGHT_DEVIATION: Real = 0.001;
-
-/// Times a blend is tightened (the tolerance divided by 4) when what it changed collides or
-/// leaves the line, before the segment is timed without blends (a stop at every waypoint).
-const BLEND_ATTEMPTS: usize = 3;
-
-/// Fewest grid stages of a timed part of a path.
-const MIN_STAGES: Real = 32.0;
-
-/// The plan's samples (times from its start) and, for each, the part of the path and the
-/// arc length it is at.
-struct Timed {
-    points: Vec<pickplace_prm::TrajectoryPoint>,
-    at: Vec<(usize, Real)>,
-}
 
 /// The timed plan: its samples, and for each segment the sample where it ends.
 struct TimedPlan {
@@ -285,18 +272,6 @@ pub(super) struct Found {
     pub rests: Vec<usize>,
 }
 
-/// The timing's refusal as the façade's error: a trajectory too long to sample is the
-/// input's fault ([`crate::Error::TrajectoryLimit`]); anything else is a defect.
-fn timing_error(e: pickplace_prm::Error) -> crate::Error {
-    match e {
-        pickplace_prm::Error::TooManySamples { .. }
-        | pickplace_prm::Error::TooManyPoints { .. } => crate::Error::TrajectoryLimit {
-            reason: e.to_string(),
-        },
-        other => crate::error::internal("timing")(other),
-    }
-}
-
 /// Times are rounded to the microsecond so that the JSON is short and stable.
 fn round_time(t: Real) -> Real {
     (t * 1e6).round() / 1e6
@@ -507,7 +482,7 @@ impl Ctx<'_> {
     /// where a blend was refused. Each corner's blend is checked ([`Ctx::blend_failures`]);
     /// a corner whose blend collides (free motions) or takes a tool point off its line
     /// (straight motions) is tightened (its tolerance divided by 4), and after
-    /// [`BLEND_ATTEMPTS`] the robot stops there, on the path exactly as it was checked.
+    /// [`BLEND_ATTEMPTS`](crate::timing::BLEND_ATTEMPTS) the robot stops there, on the path exactly as it was checked.
     ///
     /// # Errors
     /// [`crate::Error::TrajectoryLimit`] when the trajectory would be too long to sample;
@@ -523,91 +498,23 @@ impl Ctx<'_> {
         loop {
             let parts =
                 BlendedPath::split_with(&path.waypoints, &tolerances).map_err(timing_error)?;
-            let mut timed = self.time_parts(&parts, limits, path.waypoints.first())?;
+            let mut timed = time_parts(
+                &parts,
+                limits,
+                path.waypoints.first(),
+                self.setup.model.variable_count(),
+            )?;
             let failed = self.blend_failures(segments, path, &parts, &timed)?;
             if failed.is_empty() {
-                // Each part ends at rest exactly at its last waypoint (a grasp, a key pose),
-                // not where the arc length's rounding puts it.
-                for (i, &(k, _)) in timed.at.iter().enumerate() {
-                    let part_end = timed.at.get(i + 1).is_none_or(|&(next, _)| next != k);
-                    if part_end
-                        && let Some(part) = parts.get(k)
-                        && let (Some(p), Some(q)) =
-                            (timed.points.get_mut(i), path.waypoints.get(part.ends().1))
-                    {
-                        p.positions.clone_from(q);
-                        p.velocities.iter_mut().for_each(|v| *v = 0.0);
-                    }
-                }
+                snap_part_ends(&mut timed, &parts, &path.waypoints);
                 let ends = path.segment_samples(segments, &parts, &timed);
                 return Ok(TimedPlan {
                     points: timed.points,
                     ends,
                 });
             }
-            for c in failed {
-                tightened[c] += 1;
-                tolerances[c] = if tightened[c] > BLEND_ATTEMPTS {
-                    0.0
-                } else {
-                    tolerances[c] / 4.0
-                };
-            }
+            tighten(&mut tolerances, &mut tightened, failed);
         }
-    }
-
-    /// The parts timed one after the other, the robot at rest between them.
-    fn time_parts(
-        &self,
-        parts: &[BlendedPath],
-        limits: &ToppraOptions,
-        first: Option<&Vec<Real>>,
-    ) -> Result<Timed> {
-        let n = self.setup.model.variable_count();
-        let mut timed = Timed {
-            points: Vec::new(),
-            at: Vec::new(),
-        };
-        if let Some(q) = first {
-            timed.points.push(pickplace_prm::TrajectoryPoint {
-                time_from_start: 0.0,
-                positions: q.clone(),
-                velocities: vec![0.0; n],
-                accelerations: vec![0.0; n],
-            });
-            timed.at.push((0, 0.0));
-        }
-        let mut offset = 0.0;
-        for (k, part) in parts.iter().enumerate() {
-            // At least MIN_STAGES stages on every part, however short (a gripper closing
-            // by millimetres): TOPP-RA's speed lives between the grid points.
-            let options = ToppraOptions {
-                grid_step: limits.grid_step.min(part.length() / MIN_STAGES),
-                ..limits.clone()
-            };
-            let timing = toppra::parameterize(part, &options).map_err(timing_error)?;
-            let mut samples =
-                toppra::sample(part, &timing, limits.sample_period).map_err(timing_error)?;
-            // A last sample within a millisecond of the one before it is merged into it: the
-            // times are rounded to the microsecond, which such a step would not survive.
-            let m = samples.points.len();
-            if m >= 3
-                && samples.points[m - 1].time_from_start - samples.points[m - 2].time_from_start
-                    < 1e-3
-            {
-                samples.points.remove(m - 2);
-            }
-            // Each part's first sample is where the one before ended, at rest.
-            for p in samples.points.into_iter().skip(1) {
-                timed.at.push((k, timing.state(p.time_from_start).0));
-                timed.points.push(pickplace_prm::TrajectoryPoint {
-                    time_from_start: offset + p.time_from_start,
-                    ..p
-                });
-            }
-            offset += timing.duration();
-        }
-        Ok(timed)
     }
 
     /// The corners whose blends do not hold. For a pair of consecutive samples that are not
