@@ -504,6 +504,11 @@ impl CollisionWorld {
         self.world_from_root = world_from_root;
     }
 
+    /// Where the robot's root link is in the world ([`CollisionWorld::set_world_from_root`]).
+    pub fn world_from_root(&self) -> Isometry3 {
+        self.world_from_root
+    }
+
     /// Number of link shape pairs checked for self-collision.
     pub fn self_pair_count(&self) -> usize {
         self.self_pairs.len()

@@ -1,6 +1,7 @@
 //! Integration tests of the pickplace façade: set up the shipped scenes, plan, validate.
 
 mod fuzz_regressions;
+mod motion;
 mod tool_frame;
 mod validate;
 
