@@ -197,7 +197,9 @@ pub fn scene_inputs<O: SceneObject, T>(
         inputs.push(("the object mesh".to_owned(), mesh.to_path_buf()));
     }
     for env in &scene.environment {
-        inputs.push((format!("the mesh of {:?}", env.name), env.mesh.clone()));
+        if let Some(mesh) = &env.mesh {
+            inputs.push((format!("the mesh of {:?}", env.name), mesh.clone()));
+        }
     }
     inputs
 }

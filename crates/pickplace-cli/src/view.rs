@@ -264,17 +264,11 @@ pub fn plan_view(scene: &Scene, scene_path: &Path, plan: &Plan) -> Result<PlanVi
     };
     let mut environment = Vec::with_capacity(scene.environment.len());
     for (i, env) in scene.environment.iter().enumerate() {
-        let m = mesh::load(
-            &env.mesh,
-            &MeshOptions {
-                scale: env.scale,
-                ..MeshOptions::default()
-            },
-        )?;
+        let body = pickplace::obstacle::load_environment(env, i, scene_path)?;
         environment.push(Prop {
             name: env.name.clone(),
-            geometry: Arc::new(Geometry::from_trimesh(&m)),
-            world_from_mesh: pose(&env.pose, "environment pose")?,
+            geometry: Arc::new(Geometry::from_trimesh(&body.mesh)),
+            world_from_mesh: body.world_from_mesh,
             colour: ENVIRONMENT_COLOURS[i % ENVIRONMENT_COLOURS.len()],
         });
     }

@@ -50,6 +50,7 @@ mod hand_fit;
 pub mod joint_limits;
 pub mod mesh_warning;
 pub mod motion;
+pub mod obstacle;
 pub mod plan;
 pub mod planner;
 pub mod precompute;

@@ -135,6 +135,8 @@ pub const SCALING: Range = Range::closed(0.001, 1.0, "");
 pub const SAMPLE_PERIOD: Range = Range::closed(0.001, 1.0, "s");
 /// A coordinate of a position or point (m).
 pub const COORDINATE: Range = Range::closed(-10_000.0, 10_000.0, "m");
+/// A primitive's size (box side, radius, length).
+pub const SHAPE_SIZE: Range = Range::above(0.0, 1e4, "m");
 /// A mesh's scale factor (0.001 for millimetres).
 pub const MESH_SCALE: Range = Range::closed(1e-6, 1e6, "");
 /// An object's mass (kg).

@@ -398,20 +398,84 @@ fn one() -> Real {
     1.0
 }
 
-/// One static environment mesh.
+/// One static part of the environment: a mesh file, or a box, a cylinder or a sphere
+/// ([`crate::obstacle`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnvironmentSpec {
     /// A name for messages and outputs.
     pub name: String,
-    /// Mesh file.
-    pub mesh: PathBuf,
-    /// Scale applied to the mesh's coordinates (default: 1).
+    /// Mesh file (exactly one of `mesh`, `box`, `cylinder` and `sphere`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<PathBuf>,
+    /// A box: its full sizes along x, y and z (m), centred on `pose`.
+    #[serde(default, rename = "box", skip_serializing_if = "Option::is_none")]
+    pub box_size: Option<[Real; 3]>,
+    /// A cylinder along z, centred on `pose`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cylinder: Option<CylinderSpec>,
+    /// A sphere centred on `pose`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sphere: Option<SphereSpec>,
+    /// Scale applied to the mesh's coordinates (default: 1; meshes only).
     #[serde(default = "one")]
     pub scale: Real,
     /// Pose of the mesh in the world (default: identity).
     #[serde(default = "identity_pose")]
     pub pose: PoseSpec,
+}
+
+/// An environment cylinder's size.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSpec {
+    /// Radius (m).
+    pub radius: Real,
+    /// Length along its axis, z (m).
+    pub length: Real,
+}
+
+/// An environment sphere's size.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSpec {
+    /// Radius (m).
+    pub radius: Real,
+}
+
+/// What an environment part is made of.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EnvironmentSource<'a> {
+    /// A mesh file.
+    Mesh(&'a Path),
+    /// A box, cylinder or sphere.
+    Primitive(&'a EnvironmentSpec),
+}
+
+impl EnvironmentSpec {
+    /// Its mesh file, or the primitive it is (exactly one, checked when the scene is read).
+    pub fn source(&self) -> EnvironmentSource<'_> {
+        match &self.mesh {
+            Some(path) => EnvironmentSource::Mesh(path),
+            None => EnvironmentSource::Primitive(self),
+        }
+    }
+
+    /// Its primitive's shape, or `None` for a mesh.
+    pub fn primitive(&self) -> Option<crate::obstacle::ObstacleShape> {
+        use crate::obstacle::ObstacleShape;
+        if let Some(size) = self.box_size {
+            Some(ObstacleShape::Box { size })
+        } else if let Some(c) = self.cylinder {
+            Some(ObstacleShape::Cylinder {
+                radius: c.radius,
+                length: c.length,
+            })
+        } else {
+            self.sphere
+                .map(|s| ObstacleShape::Sphere { radius: s.radius })
+        }
+    }
 }
 
 /// The target: the paper's click on the environment.
@@ -720,6 +784,49 @@ impl MotionScene {
                 env.scale,
                 ranges::MESH_SCALE,
             )?;
+            let given: Vec<&str> = [
+                ("mesh", env.mesh.is_some()),
+                ("box", env.box_size.is_some()),
+                ("cylinder", env.cylinder.is_some()),
+                ("sphere", env.sphere.is_some()),
+            ]
+            .into_iter()
+            .filter_map(|(k, on)| on.then_some(k))
+            .collect();
+            if given.len() != 1 {
+                return Err(invalid(
+                    &format!("environment[{i}]"),
+                    format!(
+                        "give exactly one of mesh, box, cylinder and sphere (given: {})",
+                        if given.is_empty() {
+                            "none".to_owned()
+                        } else {
+                            given.join(", ")
+                        }
+                    ),
+                ));
+            }
+            if env.mesh.is_none() && env.scale != 1.0 {
+                return Err(invalid(
+                    &format!("environment[{i}].scale"),
+                    "scales a mesh; give a primitive's sizes as they are".into(),
+                ));
+            }
+            let field = |f: &str| format!("environment[{i}].{f}");
+            let sizes: Vec<(String, Real)> = match (env.box_size, env.cylinder, env.sphere) {
+                (Some(b), ..) => (0..3)
+                    .map(|k| (format!("{}[{k}]", field("box")), b[k]))
+                    .collect(),
+                (_, Some(c), _) => vec![
+                    (field("cylinder.radius"), c.radius),
+                    (field("cylinder.length"), c.length),
+                ],
+                (.., Some(sp)) => vec![(field("sphere.radius"), sp.radius)],
+                _ => Vec::new(),
+            };
+            for (f, v) in sizes {
+                range(&f, v, ranges::SHAPE_SIZE)?;
+            }
         }
         if let Some(target) = &scene.target {
             point("target.point", &target.point)?;
@@ -790,7 +897,9 @@ impl MotionScene {
             resolve(&mut object.mesh);
         }
         for env in &mut scene.environment {
-            resolve(&mut env.mesh);
+            if let Some(mesh) = &mut env.mesh {
+                resolve(mesh);
+            }
         }
         Ok(scene)
     }
@@ -853,7 +962,9 @@ fn check_lengths(scene: &MotionScene) -> Result<(), (String, String)> {
     }
     for (i, env) in scene.environment.iter().enumerate() {
         name(format!("environment[{i}].name"), &env.name)?;
-        path(format!("environment[{i}].mesh"), &env.mesh)?;
+        if let Some(mesh) = &env.mesh {
+            path(format!("environment[{i}].mesh"), mesh)?;
+        }
     }
     for (f, n) in [
         ("planner.right_arm", &scene.planner.right_arm),
@@ -895,7 +1006,10 @@ point = [0.45, 0.1, 0.02]
         assert_eq!(s.robots[0].urdf, PathBuf::from("/scenes/robot.urdf"));
         assert_eq!(s.robots.len(), 1);
         assert!(s.robot.is_none());
-        assert_eq!(s.environment[0].mesh, PathBuf::from("/abs/pallet.stl"));
+        assert_eq!(
+            s.environment[0].mesh,
+            Some(PathBuf::from("/abs/pallet.stl"))
+        );
         assert_eq!(s.planner, PlannerOptions::default());
         assert_eq!(s.object.start_pose.orientation, [0.0, 0.0, 0.0, 1.0]);
         assert_eq!(s.target.tolerance, None);

@@ -378,12 +378,20 @@ impl Setup {
         let mut environment = Vec::new();
         for (i, env) in scene.environment.iter().enumerate() {
             let what = format!("environment[{i}] {:?}", env.name);
-            let mesh = load_mesh(&env.mesh, env.scale, &what)?;
-            mesh_warnings.extend(crate::mesh_warning::check(&mesh, &what, &env.mesh, None));
+            let body = crate::obstacle::load_environment(env, i, scene_path)?;
+            let mesh = body.mesh;
+            if body.from_file {
+                mesh_warnings.extend(crate::mesh_warning::check(
+                    &mesh,
+                    &what,
+                    &body.cache_name,
+                    None,
+                ));
+            }
             let clustering = if planning {
                 clusters(
                     &mesh,
-                    &env.mesh,
+                    &body.cache_name,
                     &env_params,
                     &mut cache,
                     &what,
@@ -393,12 +401,8 @@ impl Setup {
             } else {
                 no_clusters(&env_params)
             };
-            let world_from_mesh = env
-                .pose
-                .to_isometry()
-                .map_err(|r| invalid(&format!("environment[{i}].pose"), r.into()))?;
-            let shape = CollisionShape::mesh(&mesh).map_err(robot_err(&env.mesh))?;
-            world.add_environment(&env.name, shape, &world_from_mesh);
+            let world_from_mesh = body.world_from_mesh;
+            world.add_environment(&env.name, body.shape, &body.world_from_shape);
             let collider = if planning {
                 Some(
                     ObjectCollider::new(&mesh.transformed(&world_from_mesh)).map_err(|source| {

@@ -106,7 +106,7 @@ pub(super) fn scene_inputs(scene_path: &Path, scene: &Scene) -> Vec<PathBuf> {
         inputs.extend(robot.gripper.iter().cloned());
     }
     inputs.push(scene.object.mesh.clone());
-    inputs.extend(scene.environment.iter().map(|e| e.mesh.clone()));
+    inputs.extend(scene.environment.iter().filter_map(|e| e.mesh.clone()));
     inputs
 }
 

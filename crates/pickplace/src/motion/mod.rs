@@ -40,7 +40,8 @@
 
 mod world;
 
-pub use world::{MotionWorld, Obstacle, ObstacleShape};
+pub use crate::obstacle::{Obstacle, ObstacleShape};
+pub use world::MotionWorld;
 
 use crate::checker::ArmChecker;
 use crate::error::Result;

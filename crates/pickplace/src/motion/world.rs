@@ -4,75 +4,15 @@
 
 use crate::cache::{Cache, CacheWarning};
 use crate::error::{Error, Result};
+use crate::obstacle::{Obstacle, ObstacleShape};
 use crate::robot_setup::{RobotPurpose, RobotSetup, robot_err};
 use crate::scene::{MotionScene, PoseSpec, RobotSpec, SceneOf};
 use crate::setup::SetupOptions;
 use crate::setup::robot_state;
-use pickplace_geometry::math::{Isometry3, Real, Vector3};
-use pickplace_geometry::mesh::TriMesh;
-use pickplace_robot::collision::{CollisionShape, CollisionWorld};
-use pickplace_robot::model::Shape;
+use pickplace_geometry::math::{Isometry3, Real};
+use pickplace_robot::collision::CollisionWorld;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-
-/// The shape of an obstacle, in its own frame (centred on it).
-#[derive(Debug, Clone)]
-pub enum ObstacleShape {
-    /// A box of these full sizes along x, y and z (m), as `shape_msgs/SolidPrimitive` BOX.
-    Box {
-        /// Sizes along x, y, z (m).
-        size: [Real; 3],
-    },
-    /// A cylinder along z, as URDF's and `shape_msgs/SolidPrimitive` CYLINDER.
-    Cylinder {
-        /// Radius (m).
-        radius: Real,
-        /// Length along z (m).
-        length: Real,
-    },
-    /// A sphere.
-    Sphere {
-        /// Radius (m).
-        radius: Real,
-    },
-    /// A triangle mesh, checked by its triangles (not its hull: a shelf's inside is free).
-    Mesh(TriMesh),
-}
-
-/// An obstacle: a name (unique in the world, for messages), a shape and its pose in the world.
-#[derive(Debug, Clone)]
-pub struct Obstacle {
-    /// Its name.
-    pub name: String,
-    /// Its shape.
-    pub shape: ObstacleShape,
-    /// `world_from_obstacle`.
-    pub pose: Isometry3,
-}
-
-impl ObstacleShape {
-    /// The shape for the collision library and its pose in the obstacle's frame (a cylinder's
-    /// axis turned onto z).
-    ///
-    /// # Errors
-    /// [`pickplace_robot::Error::InvalidParameter`] for a size that is not positive and finite,
-    /// or a mesh with no triangle.
-    pub fn collision_shape(&self) -> pickplace_robot::Result<(CollisionShape, Isometry3)> {
-        match self {
-            Self::Box { size } => CollisionShape::from_shape(&Shape::Box {
-                half_extents: Vector3::from(*size) / 2.0,
-            }),
-            Self::Cylinder { radius, length } => CollisionShape::from_shape(&Shape::Cylinder {
-                radius: *radius,
-                length: *length,
-            }),
-            Self::Sphere { radius } => {
-                CollisionShape::from_shape(&Shape::Sphere { radius: *radius })
-            }
-            Self::Mesh(mesh) => Ok((CollisionShape::mesh(mesh)?, Isometry3::identity())),
-        }
-    }
-}
 
 /// A robot and its obstacles, ready for motion queries ([`super::plan_motion`]).
 #[derive(Debug, Clone)]
@@ -190,13 +130,10 @@ impl MotionWorld {
             warnings,
         };
         for (i, env) in scene.environment.iter().enumerate() {
-            let what = format!("environment[{i}] {:?}", env.name);
-            let mesh = crate::setup::load_mesh(&env.mesh, env.scale, &what)?;
-            let pose = env
-                .pose
-                .to_isometry()
-                .map_err(|r| out.invalid(&format!("environment[{i}].pose"), r.into()))?;
-            out.add(&env.name, &ObstacleShape::Mesh(mesh), &pose, &env.mesh)?;
+            let body = crate::obstacle::load_environment(env, i, scene_path)?;
+            out.insert_name(&env.name)?;
+            out.world
+                .add_environment(&env.name, body.shape, &body.world_from_shape);
         }
         if let Some(object) = &scene.object {
             let mesh = crate::setup::load_mesh(&object.mesh, object.scale, "object.mesh")?;
@@ -231,15 +168,21 @@ impl MotionWorld {
         pose: &Isometry3,
         source: &Path,
     ) -> Result<()> {
+        self.insert_name(name)?;
+        let (collision, correction) = shape.collision_shape().map_err(robot_err(source))?;
+        self.world
+            .add_environment(name, collision, &(pose * correction));
+        Ok(())
+    }
+
+    /// Records an obstacle's name, refused when it is not a name or is taken.
+    fn insert_name(&mut self, name: &str) -> Result<()> {
         let field = format!("obstacle {name:?}");
         pickplace_geometry::io::check_name("the obstacle's name", name)
             .map_err(|r| self.invalid(&field, r.to_string()))?;
         if !self.names.insert(name.to_owned()) {
             return Err(self.invalid(&field, "two obstacles have this name".into()));
         }
-        let (collision, correction) = shape.collision_shape().map_err(robot_err(source))?;
-        self.world
-            .add_environment(name, collision, &(pose * correction));
         Ok(())
     }
 
