@@ -8,6 +8,7 @@ mod demo;
 mod export;
 mod hardening;
 mod limits;
+mod motion;
 mod numbers;
 mod placements;
 mod plan;

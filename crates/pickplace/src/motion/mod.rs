@@ -61,6 +61,12 @@ pub const MOTION_FORMAT: &str = "pickplace.motion/1";
 /// takes the seed itself.
 const SHORTCUT_STREAM: u64 = 1;
 
+/// The random stream of the search, per attempt.
+const SEARCH_STREAM: u64 = 2;
+
+/// Clearance (m) added to the options' margin by each attempt of the search.
+const EXTRA_MARGIN: [Real; 3] = [0.0, 0.001, 0.003];
+
 /// The validator's resolution: 1° of joint motion between states checked.
 const CHECK_STEP: Real = crate::rules::MAX_JOINT_STEP;
 
@@ -158,10 +164,13 @@ pub struct MotionPlan {
 pub struct MotionStats {
     /// Time of the search (ms).
     pub search_ms: f64,
-    /// Time of shortcutting, timing and the final check (ms).
+    /// Time of shortcutting, timing and the final check (ms), over every attempt.
     pub timing_ms: f64,
     /// States the search checked.
     pub states_checked: usize,
+    /// Searches made: 1, or more when a path's timed samples grazed an obstacle between the
+    /// states its search checked and it was searched again further from everything.
+    pub attempts: usize,
     /// Waypoints of the search's path, before shortcutting.
     pub raw_waypoints: usize,
     /// Joint-space length of the path (rad, or m for prismatic joints; Euclidean).
@@ -231,14 +240,6 @@ pub fn plan_motion(
     let goal = state(world, &group, &variables, &request.goal, "goal")?;
     let space = crate::roadmaps::arm_space(model, &variables)?;
     let collision_world = world.collision_world();
-    let checker = ArmChecker::new(
-        model,
-        collision_world,
-        &variables,
-        world.start().to_vec(),
-        options.margin,
-    )
-    .exempt(vec![start.clone(), goal.clone()], CHECK_STEP);
     let name = |b| collision_world.body_name(b).to_owned();
     // The ends, exactly (the margin does not apply there).
     let exact = ArmChecker::new(
@@ -259,59 +260,87 @@ pub fn plan_motion(
             }));
         }
     }
-    let counting = Counting {
-        inner: &checker,
-        states: 0.into(),
-    };
-    let t = Instant::now();
-    let found = pickplace_prm::rrt_connect(
-        &space,
-        &counting,
-        &start,
-        &goal,
-        &RrtOptions {
-            seed: options.seed,
-            max_iterations: usize::MAX,
-            time_limit: Some(options.time_limit),
-            resolution: CHECK_STEP,
-            ..RrtOptions::default()
-        },
-    );
-    let search_ms = t.elapsed().as_secs_f64() * 1e3;
-    checker.check_error()?;
-    let raw = match found {
-        Ok(path) => path,
-        Err(e) => return Ok(MotionOutcome::NoMotion(NoMotion::NotFound(e.to_string()))),
-    };
-    let t = Instant::now();
-    let path = if options.shortcut_attempts > 0 {
-        pickplace_prm::shortcut(
-            &space,
-            &checker,
-            &raw,
-            &ShortcutOptions {
-                attempts: options.shortcut_attempts,
-                resolution: CHECK_STEP,
-                seed: pickplace_prm::rng::Rng::derive(options.seed, SHORTCUT_STREAM, 0).next_u64(),
-            },
-        )
-        .unwrap_or_else(|_| raw.clone())
-    } else {
-        raw.clone()
-    };
-    checker.check_error()?;
-    let waypoints: Vec<Vec<Real>> = path.waypoints().map(<[Real]>::to_vec).collect();
     let limits = timing_limits(world, &variables, options);
-    let trajectory = time_checked(&waypoints, &limits, options.blend_tolerance, &exact)?;
-    exact.check_error()?;
-    let Some(trajectory) = trajectory else {
-        // The path's own samples collide between the planner's checks: not seen on any
-        // benchmark, reported rather than returned.
-        return Ok(MotionOutcome::NoMotion(NoMotion::NotFound(
-            "the timed path touches an obstacle between the states the search checked".into(),
-        )));
+    let began = Instant::now();
+    let (mut search_ms, mut states) = (0.0, 0);
+    let mut attempt = 0;
+    let (raw, path, trajectory) = loop {
+        // The search keeps `margin`, then a little more on each new attempt: a path whose
+        // timed samples graze an obstacle between the states the search checked is searched
+        // again, further from everything (the ends exempt).
+        let checker = ArmChecker::new(
+            model,
+            collision_world,
+            &variables,
+            world.start().to_vec(),
+            options.margin + EXTRA_MARGIN[attempt],
+        )
+        .exempt(vec![start.clone(), goal.clone()], CHECK_STEP);
+        let counting = Counting {
+            inner: &checker,
+            states: 0.into(),
+        };
+        let t = Instant::now();
+        let found = pickplace_prm::rrt_connect(
+            &space,
+            &counting,
+            &start,
+            &goal,
+            &RrtOptions {
+                seed: pickplace_prm::rng::Rng::derive(options.seed, SEARCH_STREAM, attempt as u64)
+                    .next_u64(),
+                max_iterations: usize::MAX,
+                time_limit: Some(options.time_limit.saturating_sub(began.elapsed())),
+                resolution: CHECK_STEP,
+                ..RrtOptions::default()
+            },
+        );
+        search_ms += t.elapsed().as_secs_f64() * 1e3;
+        states += counting.states.into_inner();
+        checker.check_error()?;
+        let raw = match found {
+            Ok(path) => path,
+            Err(e) => return Ok(MotionOutcome::NoMotion(NoMotion::NotFound(e.to_string()))),
+        };
+        let path = if options.shortcut_attempts > 0 {
+            pickplace_prm::shortcut(
+                &space,
+                &checker,
+                &raw,
+                &ShortcutOptions {
+                    attempts: options.shortcut_attempts,
+                    resolution: CHECK_STEP,
+                    seed: pickplace_prm::rng::Rng::derive(
+                        options.seed,
+                        SHORTCUT_STREAM,
+                        attempt as u64,
+                    )
+                    .next_u64(),
+                },
+            )
+            .unwrap_or_else(|_| raw.clone())
+        } else {
+            raw.clone()
+        };
+        checker.check_error()?;
+        let waypoints: Vec<Vec<Real>> = path.waypoints().map(<[Real]>::to_vec).collect();
+        let trajectory = time_checked(&waypoints, &limits, options.blend_tolerance, &exact)?;
+        exact.check_error()?;
+        attempt += 1;
+        match trajectory {
+            Some(trajectory) => break (raw, path, trajectory),
+            None if attempt < EXTRA_MARGIN.len() => {}
+            None => {
+                return Ok(MotionOutcome::NoMotion(NoMotion::NotFound(format!(
+                    "{attempt} paths found touch an obstacle between the states their search \
+                     checked (at 1°), even {:.0} mm away from everything",
+                    EXTRA_MARGIN[attempt - 1] * 1e3
+                ))));
+            }
+        }
     };
-    let timing_ms = t.elapsed().as_secs_f64() * 1e3;
+    let waypoints: Vec<Vec<Real>> = path.waypoints().map(<[Real]>::to_vec).collect();
+    let timing_ms = began.elapsed().as_secs_f64() * 1e3 - search_ms;
     let unit = JointSpace::with_unit_weights(space.lower().to_vec(), space.upper().to_vec())
         .map_err(crate::error::internal("joint space"))?;
     let names: Vec<String> = variables
@@ -334,7 +363,8 @@ pub fn plan_motion(
         stats: MotionStats {
             search_ms,
             timing_ms,
-            states_checked: counting.states.into_inner(),
+            states_checked: states,
+            attempts: attempt,
             raw_waypoints: raw.len(),
             length: path.length(&unit),
             duration,

@@ -258,3 +258,56 @@ fn a_scene_without_object_or_target_is_a_motion_scene_only() {
     // And it plans.
     planned(&world, &request(&START, &GOAL));
 }
+
+#[test]
+fn every_motion_of_random_queries_and_options_is_free_at_one_degree() {
+    // The shipped motion scene: a table box, the pallet mesh, a post and a ball.
+    let world = MotionWorld::load(
+        &root().join("scenes/motion/nx-hiro-table.toml"),
+        &SetupOptions::default(),
+    )
+    .expect("loads");
+    let mut rng = pickplace::prm::rng::Rng::new(7);
+    let space = pickplace::roadmaps::arm_space(
+        world.model(),
+        &(0..6)
+            .map(|j| {
+                world
+                    .model()
+                    .variable_index(&format!("RARM_JOINT{j}"))
+                    .expect("NX-HIRO's right arm")
+            })
+            .collect::<Vec<_>>(),
+    )
+    .expect("a space");
+    let mut sample = |rng: &mut pickplace::prm::rng::Rng| -> Vec<Real> {
+        space
+            .lower()
+            .iter()
+            .zip(space.upper())
+            .map(|(&lo, &hi)| rng.uniform(lo, hi))
+            .collect()
+    };
+    let (mut planned, mut retried) = (0, 0);
+    for k in 0..300u64 {
+        let options = MotionOptions {
+            seed: k,
+            shortcut_attempts: [0, 100][k as usize % 2],
+            blend_tolerance: [0.1, 0.3, 0.02][k as usize % 3],
+            sample_period: [0.04, 0.1][k as usize % 2],
+            ..MotionOptions::default()
+        };
+        let (a, b) = (sample(&mut rng), sample(&mut rng));
+        match plan_motion(&world, &request(&a, &b), &options).expect("well formed") {
+            MotionOutcome::Planned(m) => {
+                planned += 1;
+                retried += usize::from(m.stats.attempts > 1);
+                let hits = collisions(&world, &m);
+                assert!(hits.is_empty(), "query {k}: {hits:?}");
+            }
+            MotionOutcome::NoMotion(_) => {}
+        }
+    }
+    eprintln!("{planned} of 300 random queries planned, {retried} searched again");
+    assert!(planned >= 50, "only {planned} planned");
+}
