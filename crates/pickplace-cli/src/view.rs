@@ -264,7 +264,8 @@ pub fn plan_view(scene: &Scene, scene_path: &Path, plan: &Plan) -> Result<PlanVi
     };
     let mut environment = Vec::with_capacity(scene.environment.len());
     for (i, env) in scene.environment.iter().enumerate() {
-        let body = pickplace::obstacle::load_environment(env, i, scene_path)?;
+        let body =
+            pickplace::obstacle::load_environment(env, &format!("environment[{i}]"), scene_path)?;
         environment.push(Prop {
             name: env.name.clone(),
             geometry: Arc::new(Geometry::from_trimesh(&body.mesh)),

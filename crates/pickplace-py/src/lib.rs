@@ -11,6 +11,7 @@
 mod batch;
 mod convert;
 mod errors;
+mod motion;
 mod plan;
 mod robot;
 mod scene;
@@ -31,6 +32,9 @@ fn _pickplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<plan::ValidationReport>()?;
     m.add_class::<robot::Robot>()?;
     m.add_class::<robot::IkSolution>()?;
+    m.add_class::<motion::MotionWorld>()?;
+    m.add_class::<motion::Motion>()?;
+    m.add_function(wrap_pyfunction!(motion::plan_motion, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     m.add_function(wrap_pyfunction!(plan::validate, m)?)?;
     m.add_function(wrap_pyfunction!(tools::clusters, m)?)?;

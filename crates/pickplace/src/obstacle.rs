@@ -155,28 +155,34 @@ pub struct EnvironmentBody {
     pub from_file: bool,
 }
 
-/// Reads `scene.environment[i]` (`env`); errors name `scene_path` and the field, or the file.
+/// Reads an environment part (`env`, named `field` in errors, `environment[2]`, of the file
+/// `source`); its form is checked ([`EnvironmentSpec::check`]).
 ///
 /// # Errors
 /// [`Error::Mesh`] for an unreadable mesh, [`Error::Invalid`] for a pose or size out of
 /// range, [`Error::Robot`] when the collision library refuses the shape.
 pub fn load_environment(
     env: &EnvironmentSpec,
-    i: usize,
-    scene_path: &Path,
+    field: &str,
+    source: &Path,
 ) -> Result<EnvironmentBody> {
-    let invalid = |field: &str, reason: String| Error::Invalid {
-        path: scene_path.to_path_buf(),
-        field: format!("environment[{i}].{field}"),
+    let invalid = |f: &str, reason: String| Error::Invalid {
+        path: source.to_path_buf(),
+        field: format!("{field}.{f}"),
         reason,
     };
+    env.check(field).map_err(|(field, reason)| Error::Invalid {
+        path: source.to_path_buf(),
+        field,
+        reason,
+    })?;
     let world_from_mesh = env
         .pose
         .to_isometry()
         .map_err(|r| invalid("pose", r.into()))?;
     match (env.source(), env.primitive()) {
         (EnvironmentSource::Mesh(path), _) => {
-            let what = format!("environment[{i}] {:?}", env.name);
+            let what = format!("{field} {:?}", env.name);
             let mesh = crate::setup::load_mesh(path, env.scale, &what)?;
             let shape = CollisionShape::mesh(&mesh).map_err(robot_err(path))?;
             Ok(EnvironmentBody {

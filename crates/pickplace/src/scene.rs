@@ -453,6 +453,63 @@ pub enum EnvironmentSource<'a> {
 }
 
 impl EnvironmentSpec {
+    /// Checks that it is one thing (a mesh, a box, a cylinder or a sphere) of sizes in range;
+    /// `field` names it (`environment[2]`) in the error `(field, reason)`.
+    ///
+    /// # Errors
+    /// Several shapes or none, a scale on a primitive, a size out of range.
+    pub fn check(&self, field: &str) -> Result<(), (String, String)> {
+        let given: Vec<&str> = [
+            ("mesh", self.mesh.is_some()),
+            ("box", self.box_size.is_some()),
+            ("cylinder", self.cylinder.is_some()),
+            ("sphere", self.sphere.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(k, on)| on.then_some(k))
+        .collect();
+        if given.len() != 1 {
+            return Err((
+                field.to_owned(),
+                format!(
+                    "give exactly one of mesh, box, cylinder and sphere (given: {})",
+                    if given.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        given.join(", ")
+                    }
+                ),
+            ));
+        }
+        let at = |f: &str| format!("{field}.{f}");
+        if let Err(e) = ranges::MESH_SCALE.check(self.scale) {
+            return Err((at("scale"), e.to_string()));
+        }
+        if self.mesh.is_none() && self.scale != 1.0 {
+            return Err((
+                at("scale"),
+                "scales a mesh; give a primitive's sizes as they are".into(),
+            ));
+        }
+        let sizes: Vec<(String, Real)> = match (self.box_size, self.cylinder, self.sphere) {
+            (Some(b), ..) => (0..3)
+                .map(|k| (format!("{}[{k}]", at("box")), b[k]))
+                .collect(),
+            (_, Some(c), _) => vec![
+                (at("cylinder.radius"), c.radius),
+                (at("cylinder.length"), c.length),
+            ],
+            (.., Some(sp)) => vec![(at("sphere.radius"), sp.radius)],
+            _ => Vec::new(),
+        };
+        for (f, v) in sizes {
+            ranges::SHAPE_SIZE
+                .check(v)
+                .map_err(|e| (f, e.to_string()))?;
+        }
+        Ok(())
+    }
+
     /// Its mesh file, or the primitive it is (exactly one, checked when the scene is read).
     pub fn source(&self) -> EnvironmentSource<'_> {
         match &self.mesh {
@@ -779,54 +836,8 @@ impl MotionScene {
         }
         for (i, env) in scene.environment.iter().enumerate() {
             pose(&format!("environment[{i}].pose"), &env.pose)?;
-            range(
-                &format!("environment[{i}].scale"),
-                env.scale,
-                ranges::MESH_SCALE,
-            )?;
-            let given: Vec<&str> = [
-                ("mesh", env.mesh.is_some()),
-                ("box", env.box_size.is_some()),
-                ("cylinder", env.cylinder.is_some()),
-                ("sphere", env.sphere.is_some()),
-            ]
-            .into_iter()
-            .filter_map(|(k, on)| on.then_some(k))
-            .collect();
-            if given.len() != 1 {
-                return Err(invalid(
-                    &format!("environment[{i}]"),
-                    format!(
-                        "give exactly one of mesh, box, cylinder and sphere (given: {})",
-                        if given.is_empty() {
-                            "none".to_owned()
-                        } else {
-                            given.join(", ")
-                        }
-                    ),
-                ));
-            }
-            if env.mesh.is_none() && env.scale != 1.0 {
-                return Err(invalid(
-                    &format!("environment[{i}].scale"),
-                    "scales a mesh; give a primitive's sizes as they are".into(),
-                ));
-            }
-            let field = |f: &str| format!("environment[{i}].{f}");
-            let sizes: Vec<(String, Real)> = match (env.box_size, env.cylinder, env.sphere) {
-                (Some(b), ..) => (0..3)
-                    .map(|k| (format!("{}[{k}]", field("box")), b[k]))
-                    .collect(),
-                (_, Some(c), _) => vec![
-                    (field("cylinder.radius"), c.radius),
-                    (field("cylinder.length"), c.length),
-                ],
-                (.., Some(sp)) => vec![(field("sphere.radius"), sp.radius)],
-                _ => Vec::new(),
-            };
-            for (f, v) in sizes {
-                range(&f, v, ranges::SHAPE_SIZE)?;
-            }
+            env.check(&format!("environment[{i}]"))
+                .map_err(|(field, reason)| invalid(&field, reason))?;
         }
         if let Some(target) = &scene.target {
             point("target.point", &target.point)?;

@@ -378,7 +378,8 @@ impl Setup {
         let mut environment = Vec::new();
         for (i, env) in scene.environment.iter().enumerate() {
             let what = format!("environment[{i}] {:?}", env.name);
-            let body = crate::obstacle::load_environment(env, i, scene_path)?;
+            let body =
+                crate::obstacle::load_environment(env, &format!("environment[{i}]"), scene_path)?;
             let mesh = body.mesh;
             if body.from_file {
                 mesh_warnings.extend(crate::mesh_warning::check(

@@ -27,6 +27,8 @@ from ._pickplace import (
     PLAN_FORMAT,
     IkSolution,
     InputError,
+    Motion,
+    MotionWorld,
     NoPlanError,
     Plan,
     Robot,
@@ -37,6 +39,7 @@ from ._pickplace import (
     grasps,
     placements,
     plan,
+    plan_motion,
     validate,
 )
 
@@ -44,6 +47,8 @@ __all__ = [
     "PLAN_FORMAT",
     "IkSolution",
     "InputError",
+    "Motion",
+    "MotionWorld",
     "NoPlanError",
     "Plan",
     "Robot",
@@ -55,6 +60,7 @@ __all__ = [
     "grasps",
     "placements",
     "plan",
+    "plan_motion",
     "pose_matrix",
     "pose_parts",
     "validate",

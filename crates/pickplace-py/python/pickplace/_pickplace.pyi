@@ -35,6 +35,9 @@ __all__ = [
     "ValidationReport",
     "Robot",
     "IkSolution",
+    "MotionWorld",
+    "Motion",
+    "plan_motion",
     "plan",
     "validate",
     "clusters",
@@ -315,6 +318,102 @@ def plan(
     sample_period: float | None = None,
 ) -> Plan:
     """Plans a pick-and-place motion (GIL released); raises NoPlanError."""
+
+_State = str | _Vector | dict[str, float]
+
+@final
+class MotionWorld:
+    """A robot and its obstacles, ready for motion queries (immutable)."""
+
+    @staticmethod
+    def load(
+        path: _Path,
+        *,
+        obstacles: Sequence[dict[str, Any]] | None = None,
+        cache_dir: _Path | None = None,
+        use_cache: bool = True,
+        package_dirs: Sequence[_Path] = (),
+    ) -> MotionWorld:
+        """The world of a scene file, with obstacles added."""
+    @staticmethod
+    def for_robot(
+        urdf: _Path,
+        srdf: _Path | None = None,
+        *,
+        obstacles: Sequence[dict[str, Any]] | None = None,
+        cache_dir: _Path | None = None,
+        use_cache: bool = True,
+        package_dirs: Sequence[_Path] = (),
+    ) -> MotionWorld:
+        """The world of a robot alone, with obstacles."""
+    def with_obstacles(self, obstacles: Sequence[dict[str, Any]]) -> MotionWorld:
+        """A new world with obstacles added."""
+    @property
+    def joint_names(self) -> list[str]:
+        """Every actuated joint, model order."""
+    @property
+    def start(self) -> _F64_1:
+        """The start state (every joint)."""
+    @property
+    def obstacles(self) -> list[str]:
+        """The obstacles' names, sorted."""
+    @property
+    def log(self) -> list[str]:
+        """What loading did."""
+    @property
+    def warnings(self) -> list[str]:
+        """What loading went on from."""
+
+@final
+class Motion:
+    """A planned motion: the group's joints, path and timed trajectory."""
+
+    def to_json(self) -> str:
+        """The motion as JSON (`pickplace motion --out`)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The motion as a dict."""
+    @property
+    def group(self) -> str:
+        """The planning group."""
+    @property
+    def joint_names(self) -> list[str]:
+        """The group's joints."""
+    @property
+    def times(self) -> _F64_1:
+        """Sample times, (N,)."""
+    @property
+    def positions(self) -> _F64_2:
+        """Joint positions, (N, J)."""
+    @property
+    def velocities(self) -> _F64_2:
+        """Joint velocities, (N, J)."""
+    @property
+    def waypoints(self) -> _F64_2:
+        """The path, (W, J)."""
+    @property
+    def duration(self) -> float:
+        """Duration, s."""
+    @property
+    def stats(self) -> dict[str, Any]:
+        """How it was found."""
+
+def plan_motion(
+    world: MotionWorld | _Path,
+    goal: _State,
+    start: _State | None = None,
+    *,
+    group: str | None = None,
+    seed: int = 1,
+    time_limit: float = 1.0,
+    margin: float = 0.0,
+    shortcut_attempts: int = 100,
+    velocity_scaling: float | None = None,
+    acceleration_scaling: float | None = None,
+    sample_period: float = 0.04,
+    blend_tolerance: float = 0.1,
+    timings: bool = False,
+) -> Motion:
+    """A collision-free, timed motion of a group (GIL released); raises NoPlanError."""
 
 def validate(scene: Scene, plan: Plan, *, plan_name: _Path = ...) -> ValidationReport:
     """Re-checks a plan against a scene (GIL released)."""

@@ -6,7 +6,7 @@ use crate::cache::{Cache, CacheWarning};
 use crate::error::{Error, Result};
 use crate::obstacle::{Obstacle, ObstacleShape};
 use crate::robot_setup::{RobotPurpose, RobotSetup, robot_err};
-use crate::scene::{MotionScene, PoseSpec, RobotSpec, SceneOf};
+use crate::scene::{EnvironmentSpec, MotionScene, PoseSpec, RobotSpec, SceneOf};
 use crate::setup::SetupOptions;
 use crate::setup::robot_state;
 use pickplace_geometry::math::{Isometry3, Real};
@@ -130,10 +130,7 @@ impl MotionWorld {
             warnings,
         };
         for (i, env) in scene.environment.iter().enumerate() {
-            let body = crate::obstacle::load_environment(env, i, scene_path)?;
-            out.insert_name(&env.name)?;
-            out.world
-                .add_environment(&env.name, body.shape, &body.world_from_shape);
+            out.add_environment(env, &format!("environment[{i}]"))?;
         }
         if let Some(object) = &scene.object {
             let mesh = crate::setup::load_mesh(&object.mesh, object.scale, "object.mesh")?;
@@ -149,6 +146,21 @@ impl MotionWorld {
             )?;
         }
         Ok(out)
+    }
+
+    /// Adds an environment part given as a scene writes it (a mesh file, relative paths to the
+    /// working folder, or a box, cylinder or sphere; `docs/scene-format.md`); `field` names it
+    /// in errors (`obstacles[2]`).
+    ///
+    /// # Errors
+    /// As [`MotionWorld::add_obstacle`], and [`crate::Error::Mesh`] for an unreadable mesh.
+    pub fn add_environment(&mut self, env: &EnvironmentSpec, field: &str) -> Result<()> {
+        let source = self.source.clone();
+        let body = crate::obstacle::load_environment(env, field, &source)?;
+        self.insert_name(&env.name)?;
+        self.world
+            .add_environment(&env.name, body.shape, &body.world_from_shape);
+        Ok(())
     }
 
     /// Adds an obstacle.
