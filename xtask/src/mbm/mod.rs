@@ -32,7 +32,7 @@ use anyhow::{Context, bail};
 use pickplace::checker::ArmChecker;
 use pickplace::prm::{JointSpace, RrtOptions, rrt_connect};
 use pickplace_geometry::math::Real;
-use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionShape, CollisionWorld};
+use pickplace_robot::collision::{AllowedCollisionMatrix, CollisionWorld};
 use pickplace_robot::srdf::DisableReason;
 use pickplace_robot::{LoadOptions, RobotModel, Semantics};
 use problem::Problem;
@@ -285,7 +285,7 @@ fn solve(robot: &Robot, p: &Problem, seed: u64) -> anyhow::Result<Outcome> {
     let mut world = robot.world.clone();
     world.set_acm(acm);
     for o in &p.obstacles {
-        let (shape, correction) = CollisionShape::from_shape(&o.shape)?;
+        let (shape, correction) = o.shape.collision_shape()?;
         world.add_environment(&o.name, shape, &(o.pose * correction));
     }
     let variables = &robot

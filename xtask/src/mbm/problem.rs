@@ -4,9 +4,9 @@
 //! by name), the scene's allowed collisions, and the start and goal of the planning group.
 
 use anyhow::{Context, bail};
+use pickplace::obstacle::{Obstacle, ObstacleShape};
 use pickplace_geometry::math::nalgebra::Quaternion;
-use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion, Vector3};
-use pickplace_robot::model::Shape;
+use pickplace_geometry::math::{Isometry3, Real, Translation3, UnitQuaternion};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -83,17 +83,6 @@ struct JointConstraint {
     position: Real,
 }
 
-/// One obstacle of a scene.
-#[derive(Debug, Clone)]
-pub struct Obstacle {
-    /// `<object id>/<primitive index>`.
-    pub name: String,
-    /// Its shape (MoveIt's cylinder axis is z, as URDF's).
-    pub shape: Shape,
-    /// Its pose in the planning frame.
-    pub pose: Isometry3,
-}
-
 /// One problem: a scene and a request.
 #[derive(Debug, Clone)]
 pub struct Problem {
@@ -126,14 +115,14 @@ fn pose(msg: &PoseMsg) -> anyhow::Result<Isometry3> {
 
 /// A `shape_msgs/SolidPrimitive` as a shape: BOX `[x, y, z]`, SPHERE `[radius]`, CYLINDER
 /// `[height, radius]`.
-fn shape(p: &Primitive) -> anyhow::Result<Shape> {
+fn shape(p: &Primitive) -> anyhow::Result<ObstacleShape> {
     let d = &p.dimensions;
     Ok(match (p.kind.as_str(), d.len()) {
-        ("box", 3) => Shape::Box {
-            half_extents: Vector3::new(d[0], d[1], d[2]) / 2.0,
+        ("box", 3) => ObstacleShape::Box {
+            size: [d[0], d[1], d[2]],
         },
-        ("sphere", 1) => Shape::Sphere { radius: d[0] },
-        ("cylinder", 2) => Shape::Cylinder {
+        ("sphere", 1) => ObstacleShape::Sphere { radius: d[0] },
+        ("cylinder", 2) => ObstacleShape::Cylinder {
             radius: d[1],
             length: d[0],
         },
@@ -263,11 +252,11 @@ mod tests {
         assert_eq!(p.obstacles.len(), 2);
         assert!(matches!(
             p.obstacles[0].shape,
-            Shape::Cylinder { radius, length } if radius == 0.03 && length == 0.2
+            ObstacleShape::Cylinder { radius, length } if radius == 0.03 && length == 0.2
         ));
         assert!(matches!(
             p.obstacles[1].shape,
-            Shape::Box { half_extents } if half_extents == Vector3::new(0.5, 1.0, 0.02)
+            ObstacleShape::Box { size } if size == [1.0, 2.0, 0.04]
         ));
         assert!((p.obstacles[1].pose.rotation.angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-6);
         assert_eq!(p.allowed, vec![("a".to_owned(), "b".to_owned())]);
