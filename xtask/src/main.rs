@@ -15,6 +15,7 @@ mod suite;
 mod suite_run;
 mod test;
 mod torture;
+mod venv;
 
 use std::path::PathBuf;
 

@@ -62,35 +62,7 @@ fn toppra_compare(root: &Path) -> anyhow::Result<()> {
     let venv = std::env::var_os("PICKPLACE_TOPPRA_VENV")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target/toppra-venv"));
-    let python = venv.join("bin/python");
-    let has_toppra = Command::new(&python)
-        .args(["-c", "import toppra"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !has_toppra {
-        if let Some(parent) = venv.parent() {
-            std::fs::create_dir_all(parent)
-                .with_context(|| format!("cannot create {}", parent.display()))?;
-        }
-        let system = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
-        eprintln!("xtask test: creating {} with {system}", venv.display());
-        let status = Command::new(&system)
-            .args(["-m", "venv"])
-            .arg(&venv)
-            .status()
-            .with_context(|| format!("cannot run {system}"))?;
-        if !status.success() {
-            bail!("{system} -m venv {} failed ({status})", venv.display());
-        }
-        eprintln!("xtask test: pip install {TOPPRA}");
-        let status = Command::new(venv.join("bin/pip"))
-            .args(["install", "--quiet", "--disable-pip-version-check", TOPPRA])
-            .status()
-            .context("cannot run pip")?;
-        if !status.success() {
-            bail!("pip install {TOPPRA} failed ({status})");
-        }
-    }
+    let python = crate::venv::ensure(&venv, "import toppra", &[TOPPRA], "xtask test")?;
     let mut scenes: Vec<PathBuf> = std::fs::read_dir(root.join("scenes"))
         .context("cannot list scenes/")?
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -29,6 +29,10 @@ pub struct Catalogue {
     /// ([`crate::mbm::RESULTS_PATH`]), when present.
     #[serde(skip)]
     pub mbm: Option<crate::mbm::Results>,
+    /// OMPL's figures on the same problems (`cargo xtask mbm --ompl --write`,
+    /// [`crate::mbm::ompl::RESULTS_PATH`]), when present.
+    #[serde(skip)]
+    pub mbm_ompl: Option<crate::mbm::ompl::OmplResults>,
 }
 
 /// One area of benches: a heading of the medians table and a section of notes.
@@ -147,6 +151,15 @@ impl Catalogue {
             catalogue.mbm = Some(
                 serde_json::from_str(&text)
                     .with_context(|| format!("parsing {}", mbm.display()))?,
+            );
+        }
+        let ompl = root.join(crate::mbm::ompl::RESULTS_PATH);
+        if ompl.is_file() {
+            let text = std::fs::read_to_string(&ompl)
+                .with_context(|| format!("reading {}", ompl.display()))?;
+            catalogue.mbm_ompl = Some(
+                serde_json::from_str(&text)
+                    .with_context(|| format!("parsing {}", ompl.display()))?,
             );
         }
         Ok(catalogue)

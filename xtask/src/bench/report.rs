@@ -257,7 +257,7 @@ pub fn render_document(catalogue: &Catalogue, summary: &str) -> String {
     }
     if let Some(mbm) = &catalogue.mbm {
         out.push('\n');
-        out.push_str(&crate::mbm::render(mbm));
+        out.push_str(&crate::mbm::render(mbm, catalogue.mbm_ompl.as_ref()));
     }
     out
 }

@@ -24,6 +24,7 @@
 //! `benches/mbm.json`, from which `cargo xtask bench` renders the MotionBenchMaker section
 //! of docs/benchmarks.md (regenerated at once). Exit status 1 when a returned path collides.
 
+pub mod ompl;
 pub mod problem;
 
 use crate::stability::data as pinned;
@@ -74,6 +75,8 @@ struct Args {
     scenarios: String,
     seed: u64,
     write: bool,
+    /// OMPL's side-by-side run instead of ours.
+    ompl: bool,
 }
 
 fn parse(args: &[String]) -> anyhow::Result<Args> {
@@ -82,6 +85,7 @@ fn parse(args: &[String]) -> anyhow::Result<Args> {
         scenarios: "*".into(),
         seed: 1,
         write: false,
+        ompl: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -108,9 +112,10 @@ fn parse(args: &[String]) -> anyhow::Result<Args> {
                     .with_context(|| format!("--seed {v}: an unsigned integer"))?;
             }
             "--write" => out.write = true,
+            "--ompl" => out.ompl = true,
             other => bail!(
                 "unknown argument {other:?}; usage: cargo xtask mbm [--sample N] \
-                 [--scenarios GLOB] [--seed S] [--write]"
+                 [--scenarios GLOB] [--seed S] [--write] [--ompl]"
             ),
         }
     }
@@ -464,7 +469,7 @@ pub struct Results {
 const VAMP_PUBLISHED: (Real, Real, Real, &str) = (35e-6, 343.3e-6, 8.659, "699/700");
 
 /// The MotionBenchMaker section of docs/benchmarks.md.
-pub fn render(results: &Results) -> String {
+pub fn render(results: &Results, ompl: Option<&ompl::OmplResults>) -> String {
     use crate::bench::report::format_time;
     use std::fmt::Write;
     let mut out = String::from(
@@ -523,6 +528,9 @@ pub fn render(results: &Results) -> String {
             all.p95 / p95
         );
     }
+    if let Some(o) = ompl {
+        out.push_str(&ompl::render(o, results));
+    }
     out
 }
 
@@ -532,6 +540,12 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let dir = root.join("target/mbm");
     std::fs::create_dir_all(&dir)?;
     let folder = resources(&dir)?;
+    if args.ompl {
+        if args.scenarios != "*" {
+            bail!("--ompl runs the Panda's scenarios (all, or --sample N of each)");
+        }
+        return ompl::run(root, &dir, args.sample, args.seed, args.write);
+    }
     let robots = ROBOTS
         .iter()
         .map(|&r| Robot::load(&dir, r))

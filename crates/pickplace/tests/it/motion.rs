@@ -280,7 +280,7 @@ fn every_motion_of_random_queries_and_options_is_free_at_one_degree() {
             .collect::<Vec<_>>(),
     )
     .expect("a space");
-    let mut sample = |rng: &mut pickplace::prm::rng::Rng| -> Vec<Real> {
+    let sample = |rng: &mut pickplace::prm::rng::Rng| -> Vec<Real> {
         space
             .lower()
             .iter()
