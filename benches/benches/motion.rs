@@ -14,7 +14,7 @@ fn scene() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/motion/nx-hiro-table.toml")
 }
 
-/// Start and goal of the right arm: around the post, to the side, a long swing.
+/// Start and goal of the right arm: around the post, beside it, and back around it.
 const QUERIES: [(&str, [f64; 6], [f64; 6]); 3] = [
     (
         "around_the_post",
@@ -27,9 +27,9 @@ const QUERIES: [(&str, [f64; 6], [f64; 6]); 3] = [
         [0.1, -0.5, -1.6, 0.0, 0.0, 0.0],
     ),
     (
-        "over_the_pallet",
-        [0.1, -0.5, -1.6, 0.0, 0.0, 0.0],
-        [-0.1, -0.9, -1.2, 0.0, 0.5, 0.0],
+        "back_around_the_post",
+        [0.3, -0.5, -1.5, 0.0, 0.0, 0.0],
+        [-0.6, -0.2, -2.2, 0.0, 0.5, 0.0],
     ),
 ];
 
