@@ -1,11 +1,12 @@
 //! `pickplace.Scene`: a scene file read and set up for planning (robot, meshes, cluster
 //! databases, roadmaps), as `pickplace plan` does before it plans.
 
-use crate::convert::to_python;
+use crate::convert::{matrix4, rows, to_python};
 use crate::errors::{facade, input, input_msg};
-use numpy::{PyArray1, PyArray2, ToPyArray};
+use numpy::{IntoPyArray, PyArray1, PyArray2, ToPyArray};
 use pickplace::{Setup, SetupOptions};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -242,6 +243,45 @@ impl Scene {
             .iter()
             .map(|e| e.name.clone())
             .collect()
+    }
+
+    /// The environment parts as the planner has them, in scene order: dicts with `name`,
+    /// `vertices` (V, 3) and `faces` (F, 3) in the part's frame (a mesh file's triangles, or a
+    /// box's, cylinder's or sphere's tessellation), `world_from_mesh` (4x4) and `clusters`
+    /// (its environment-contact clusters, the `clusters` list of `pickplace.clusters`).
+    fn environment_parts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let mut out = Vec::new();
+        for part in &self.setup.environment {
+            let d = PyDict::new(py);
+            d.set_item("name", &part.name)?;
+            let vertices: Vec<[f64; 3]> = part
+                .mesh
+                .vertices()
+                .iter()
+                .map(|v| [v.x, v.y, v.z])
+                .collect();
+            let v: Vec<&[f64]> = vertices.iter().map(|v| v.as_slice()).collect();
+            d.set_item("vertices", rows(py, &v, 3)?)?;
+            let faces: Vec<i64> = part
+                .mesh
+                .triangles()
+                .iter()
+                .flat_map(|t| t.iter().map(|&i| i64::from(i)))
+                .collect();
+            let faces = numpy::ndarray::Array2::from_shape_vec((faces.len() / 3, 3), faces)
+                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+            d.set_item("faces", faces.into_pyarray(py))?;
+            d.set_item("world_from_mesh", matrix4(py, &part.world_from_mesh))?;
+            let doc = pickplace_geometry::cluster::ClustersJson::new(
+                &part.clustering,
+                &part.mesh,
+                &part.name,
+            );
+            let doc = to_python(py, &doc)?;
+            d.set_item("clusters", doc.get_item("clusters")?)?;
+            out.push(d);
+        }
+        Ok(out)
     }
 
     /// What setting up did (cache hits, builds, times), one line each.

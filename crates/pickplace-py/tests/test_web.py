@@ -314,3 +314,22 @@ def test_plan_viewer_plays_a_given_plan(root, cache_dir, browser, near_plan, tmp
         page.close()
     finally:
         v.stop()
+
+
+def test_a_scene_of_primitives_is_drawn_and_picked(root, cache_dir, tmp_path):
+    # fig9-near with the table's top as a box: the page draws the parts the planner has.
+    text = (root / "scenes/fig9-near.toml").read_text().replace('"../', f'"{root}/')
+    text = text.replace(f'mesh = "{root}/meshes/table.stl"', "box = [0.6, 0.9, 0.04]").replace(
+        "pose = { position = [0.55, 0.0, 0.02], orientation = [0.0, 0.0, -0.70710678, 0.70710678] }",
+        "pose = { position = [0.55, 0.0, 0.70] }",
+    )
+    assert "box = " in text
+    scene = tmp_path / "boxes.toml"
+    scene.write_text(text)
+    v = web.WebView(scene, cache_dir=cache_dir)
+    assert [p.name for p in v.env] == ["table", "pallet"]
+    assert len(v.env[0].world_tris) == 12
+    k, i, point = v.pick(np.array([0.3, 0.3, 1.5]), np.array([0.0, 0.0, -1.0]))
+    assert v.env[k].name == "table"
+    assert point[2] == pytest.approx(0.72)
+    assert v.env[k].cluster_of[i] >= 0

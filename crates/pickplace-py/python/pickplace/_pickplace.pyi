@@ -120,6 +120,8 @@ class Scene:
     @property
     def environment(self) -> list[str]:
         """The environment parts' names."""
+    def environment_parts(self) -> list[dict[str, Any]]:
+        """The environment parts as the planner has them: name, vertices, faces, world_from_mesh, clusters."""
     @property
     def log(self) -> list[str]:
         """What setting up did."""

@@ -89,17 +89,16 @@ class WebView:
         obj = self.base["object"]
         self.object_vertices, self.object_faces = read_mesh(obj["mesh"], obj.get("scale", 1.0))
         self.object_start = self.scene.object_start
-        h_max = self.base["planner"].get("h_max_environment", 0.001)
         self.env: list[EnvPart] = []
         self.env_meshes: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
-        for part in self.base["environment"]:
-            vertices, faces = read_mesh(part["mesh"], part.get("scale", 1.0))
-            world = pickplace.pose_matrix(**part["pose"])
-            doc = pickplace.clusters(part["mesh"], mode="env", h_max=h_max, scale=part.get("scale", 1.0))
+        # The parts as the planner has them (mesh files' triangles, primitives' tessellations,
+        # the environment-contact clusters of the setup).
+        for part in self.scene.environment_parts():
+            vertices, faces, world = part["vertices"], part["faces"], part["world_from_mesh"]
             cluster_of = np.full(len(faces), -1)
-            for c in doc["clusters"]:
+            for c in part["clusters"]:
                 cluster_of[np.asarray(c["triangles"], dtype=int)] = c["id"]
-            self.env.append(EnvPart(part["name"], transform_points(world, vertices)[faces], cluster_of, doc["clusters"]))
+            self.env.append(EnvPart(part["name"], transform_points(world, vertices)[faces], cluster_of, part["clusters"]))
             self.env_meshes.append((vertices, faces, world))
         self.target = np.asarray(self.scene.target, dtype=np.float64)
         self.seed = int(self.scene.seed)
