@@ -383,3 +383,20 @@ pub mod number {
         parse_flag(text, ranges::APPROACHES).map(|v| v as usize)
     }
 }
+
+/// The trajectory's timing options of `plan`, `batch` and `motion` (`#[command(flatten)]`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct TimingArgs {
+    /// Fraction of every joint's velocity limit the trajectories use, in (0, 1] (MoveIt's
+    /// velocity scaling factor; default: the scene's trajectory.velocity_scaling, else the
+    /// joint-limits file's default, else 1).
+    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
+    pub velocity_scaling: Option<f64>,
+    /// Fraction of every joint's acceleration limit the trajectories use, in (0, 1] (default
+    /// as for --velocity-scaling).
+    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
+    pub acceleration_scaling: Option<f64>,
+    /// Time between trajectory samples, seconds, in [0.001, 1] (default: 0.04).
+    #[arg(long, value_name = "SECONDS", value_parser = crate::plan::sample_period)]
+    pub sample_period: Option<f64>,
+}

@@ -38,16 +38,8 @@ pub struct BatchArgs {
     /// planner.time_budget).
     #[arg(long, value_name = "SECONDS", value_parser = time_budget)]
     pub time_budget: Option<f64>,
-    /// Fraction of every joint's velocity limit the trajectories use, in (0, 1] (default: as
-    /// for `pickplace plan`).
-    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
-    pub velocity_scaling: Option<f64>,
-    /// Fraction of every joint's acceleration limit the trajectories use, in (0, 1].
-    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
-    pub acceleration_scaling: Option<f64>,
-    /// Time between trajectory samples, seconds, in [0.001, 1] (default: 0.04).
-    #[arg(long, value_name = "SECONDS", value_parser = crate::plan::sample_period)]
-    pub sample_period: Option<f64>,
+    #[command(flatten)]
+    pub timing: crate::args::TimingArgs,
     /// Keep the plans already in DIR that are valid for their scene and this batch's seed
     /// (their line says "skipped"); any other plan file is planned again.
     #[arg(long)]
@@ -167,9 +159,9 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         seed: args.seed,
         strategy: args.strategy.map(Into::into),
         time_budget: args.time_budget,
-        velocity_scaling: args.velocity_scaling,
-        acceleration_scaling: args.acceleration_scaling,
-        sample_period: args.sample_period,
+        velocity_scaling: args.timing.velocity_scaling,
+        acceleration_scaling: args.timing.acceleration_scaling,
+        sample_period: args.timing.sample_period,
         timings: !args.no_timings,
         resume: args.resume,
         cache_dir,

@@ -45,16 +45,8 @@ pub struct MotionArgs {
     /// Leave the timings out of the output, so that the same seed gives the same bytes.
     #[arg(long)]
     pub no_timings: bool,
-    /// Fraction of every joint's velocity limit used, in (0, 1] (default: the scene's
-    /// trajectory.velocity_scaling, else the joint-limits file's, else 1).
-    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
-    pub velocity_scaling: Option<f64>,
-    /// Fraction of every joint's acceleration limit used (default as for --velocity-scaling).
-    #[arg(long, value_name = "FACTOR", value_parser = crate::plan::scaling_factor)]
-    pub acceleration_scaling: Option<f64>,
-    /// Time between trajectory samples, seconds, in [0.001, 1] (default: 0.04).
-    #[arg(long, value_name = "SECONDS", value_parser = crate::plan::sample_period)]
-    pub sample_period: Option<f64>,
+    #[command(flatten)]
+    pub timing: crate::args::TimingArgs,
     /// Folder of the sampled collision matrix of a robot without one (default: as `plan`).
     #[arg(long, value_name = "DIR")]
     pub cache: Option<PathBuf>,
@@ -146,9 +138,9 @@ pub fn run(args: &MotionArgs) -> anyhow::Result<ExitCode> {
             .time_limit
             .map_or(defaults.time_limit, Duration::from_secs_f64),
         margin: args.margin.unwrap_or(defaults.margin),
-        velocity_scaling: args.velocity_scaling,
-        acceleration_scaling: args.acceleration_scaling,
-        sample_period: args.sample_period.unwrap_or(defaults.sample_period),
+        velocity_scaling: args.timing.velocity_scaling,
+        acceleration_scaling: args.timing.acceleration_scaling,
+        sample_period: args.timing.sample_period.unwrap_or(defaults.sample_period),
         ..defaults
     };
     let request = MotionRequest {

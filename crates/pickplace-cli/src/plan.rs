@@ -66,18 +66,8 @@ pub struct PlanArgs {
     /// Leave the stage timings out of the plan, so that the same seed gives the same bytes.
     #[arg(long)]
     pub no_timings: bool,
-    /// Fraction of every joint's velocity limit the trajectory uses, in (0, 1] (MoveIt's
-    /// velocity scaling factor; default: the scene's trajectory.velocity_scaling, else the
-    /// joint-limits file's default, else 1).
-    #[arg(long, value_name = "FACTOR", value_parser = scaling_factor)]
-    pub velocity_scaling: Option<f64>,
-    /// Fraction of every joint's acceleration limit the trajectory uses, in (0, 1] (default
-    /// as for --velocity-scaling).
-    #[arg(long, value_name = "FACTOR", value_parser = scaling_factor)]
-    pub acceleration_scaling: Option<f64>,
-    /// Time between trajectory samples, seconds, in [0.001, 1] (default: 0.04).
-    #[arg(long, value_name = "SECONDS", value_parser = sample_period)]
-    pub sample_period: Option<f64>,
+    #[command(flatten)]
+    pub timing: crate::args::TimingArgs,
     /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
     /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
     #[arg(long, value_name = "DIR")]
@@ -186,13 +176,13 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
         options.strategy = s.into();
     }
     options.timings = !args.no_timings;
-    if let Some(f) = args.velocity_scaling {
+    if let Some(f) = args.timing.velocity_scaling {
         options.velocity_scaling = f;
     }
-    if let Some(f) = args.acceleration_scaling {
+    if let Some(f) = args.timing.acceleration_scaling {
         options.acceleration_scaling = f;
     }
-    if let Some(p) = args.sample_period {
+    if let Some(p) = args.timing.sample_period {
         options.sample_period = p;
     }
     let t = Instant::now();

@@ -3,7 +3,8 @@
 
 use crate::errors::input_msg;
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pickplace::plan::TrajectoryPoint;
 use pickplace_geometry::math::nalgebra::Rotation3;
 use pickplace_geometry::math::{Isometry3, Matrix3, Real, Translation3, UnitQuaternion};
 use pyo3::prelude::*;
@@ -49,6 +50,23 @@ pub fn rows<'py>(
     let array = Array2::from_shape_vec((rows.len(), columns), flat)
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     Ok(array.into_pyarray(py))
+}
+
+/// The sample times of a trajectory, shape (N,).
+pub fn times<'py>(py: Python<'py>, points: &[TrajectoryPoint]) -> Bound<'py, PyArray1<Real>> {
+    let t: Vec<Real> = points.iter().map(|p| p.time_from_start).collect();
+    t.into_pyarray(py)
+}
+
+/// One field of a trajectory's samples (positions, velocities, accelerations), shape (N, J).
+pub fn samples<'py>(
+    py: Python<'py>,
+    points: &[TrajectoryPoint],
+    columns: usize,
+    field: impl Fn(&TrajectoryPoint) -> &Vec<Real>,
+) -> PyResult<Bound<'py, PyArray2<Real>>> {
+    let r: Vec<&[Real]> = points.iter().map(|p| field(p).as_slice()).collect();
+    rows(py, &r, columns)
 }
 
 /// The 4 × 4 homogeneous matrix of a pose (row-major numpy array).

@@ -1,7 +1,7 @@
 //! `pickplace.plan_motion`, and the `MotionWorld` and `Motion` classes: motion queries of the
 //! façade's `pickplace::motion` (issue 35), as `pickplace motion` runs them.
 
-use crate::convert::{isometry, rows, to_python, vector};
+use crate::convert::{isometry, rows, samples, times, to_python, vector};
 use crate::errors::{facade, input_msg, no_plan};
 use numpy::{PyArray1, PyArray2, ToPyArray};
 use pickplace::SetupOptions;
@@ -228,37 +228,29 @@ impl Motion {
     /// Sample times, shape (N,), s.
     #[getter]
     fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let t: Vec<f64> = self
-            .inner
-            .trajectory
-            .iter()
-            .map(|p| p.time_from_start)
-            .collect();
-        t.to_pyarray(py)
+        times(py, &self.inner.trajectory)
     }
 
     /// Joint positions, shape (N, J).
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let r: Vec<&[f64]> = self
-            .inner
-            .trajectory
-            .iter()
-            .map(|p| p.positions.as_slice())
-            .collect();
-        rows(py, &r, self.inner.joint_names.len())
+        samples(
+            py,
+            &self.inner.trajectory,
+            self.inner.joint_names.len(),
+            |p| &p.positions,
+        )
     }
 
     /// Joint velocities, shape (N, J).
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let r: Vec<&[f64]> = self
-            .inner
-            .trajectory
-            .iter()
-            .map(|p| p.velocities.as_slice())
-            .collect();
-        rows(py, &r, self.inner.joint_names.len())
+        samples(
+            py,
+            &self.inner.trajectory,
+            self.inner.joint_names.len(),
+            |p| &p.velocities,
+        )
     }
 
     /// The collision-free path the trajectory follows, shape (W, J).

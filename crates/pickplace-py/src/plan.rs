@@ -1,9 +1,9 @@
 //! `pickplace.plan`, `pickplace.validate`, and the `Plan` and `ValidationReport` classes.
 
-use crate::convert::{rows, to_python};
+use crate::convert::{rows, samples, times, to_python};
 use crate::errors::{facade, input_msg, no_plan};
 use crate::scene::Scene;
-use numpy::{PyArray1, PyArray2, ToPyArray};
+use numpy::{PyArray1, PyArray2};
 use pickplace::planner::{Outcome, PlanOptions};
 use pickplace::scene::StrategyChoice;
 use pyo3::prelude::*;
@@ -89,25 +89,18 @@ impl Plan {
     /// Sample times from the start, shape (N,), s.
     #[getter]
     fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let t: Vec<f64> = self
-            .inner
-            .trajectory
-            .iter()
-            .map(|p| p.time_from_start)
-            .collect();
-        t.to_pyarray(py)
+        times(py, &self.inner.trajectory)
     }
 
     /// Joint positions, shape (N, J), float64 (rad or m).
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let r: Vec<&[f64]> = self
-            .inner
-            .trajectory
-            .iter()
-            .map(|p| p.positions.as_slice())
-            .collect();
-        rows(py, &r, self.inner.joint_names.len())
+        samples(
+            py,
+            &self.inner.trajectory,
+            self.inner.joint_names.len(),
+            |p| &p.positions,
+        )
     }
 
     /// Joint velocities, shape (N, J), rad/s or m/s; None when the plan has none (format

@@ -547,6 +547,21 @@ impl RobotSetup {
         })
     }
 
+    /// The default velocity and acceleration scaling factors: the scene's `[trajectory]`,
+    /// else the joint-limits file's defaults, else 1.
+    pub fn scaling(&self, trajectory: &crate::scene::TrajectorySpec) -> (Real, Real) {
+        (
+            trajectory
+                .velocity_scaling
+                .or(self.file_scaling.0)
+                .unwrap_or(1.0),
+            trajectory
+                .acceleration_scaling
+                .or(self.file_scaling.1)
+                .unwrap_or(1.0),
+        )
+    }
+
     /// The arm, if the robot has it.
     pub fn arm(&self, arm: Arm) -> Option<&RobotArm> {
         self.arms.iter().find(|a| a.arm == arm)

@@ -310,18 +310,7 @@ impl Setup {
         log.extend(robot.notes.iter().cloned());
         let robot_warnings = robot.warnings.clone();
         let timing = robot.timing.clone();
-        let scaling = (
-            scene
-                .trajectory
-                .velocity_scaling
-                .or(robot.file_scaling.0)
-                .unwrap_or(1.0),
-            scene
-                .trajectory
-                .acceleration_scaling
-                .or(robot.file_scaling.1)
-                .unwrap_or(1.0),
-        );
+        let scaling = robot.scaling(&scene.trajectory);
         let model = robot.model.clone();
         let semantics = robot.semantics.clone();
         let world_from_root = robot.world_from_root;

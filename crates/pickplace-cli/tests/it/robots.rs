@@ -329,3 +329,63 @@ fn robot_check_of_a_scene_names_its_robot_files() {
         ],
     );
 }
+
+#[test]
+fn public_robots_make_motions_of_their_groups_as_shipped() {
+    // Baxter's right arm (a chain the scene names) and the Panda's SRDF group `arm`, among
+    // their scenes' tables and objects (issue 35).
+    let p = packages();
+    for (scene, group, goal, joint, value) in [
+        (
+            "scenes/robots/baxter.toml",
+            "right_arm",
+            "right_s0=-0.5,right_e1=1.5",
+            "right_s0",
+            -0.5,
+        ),
+        (
+            "scenes/robots/panda.toml",
+            "arm",
+            "panda_joint1=0.8,panda_joint4=-1.5",
+            "panda_joint1",
+            0.8,
+        ),
+    ] {
+        let o = run(crate::args![
+            "motion",
+            scene,
+            "--package-dir",
+            &p,
+            "--group",
+            group,
+            "--to",
+            goal,
+            "--no-timings"
+        ]);
+        assert!(o.status.success(), "{scene}: {}", text(&o));
+        let motion: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        assert_eq!(motion["group"], group);
+        let names = motion["joint_names"].as_array().expect("names");
+        let k = names.iter().position(|n| n == joint).expect("the joint");
+        let last = motion["trajectory"]
+            .as_array()
+            .expect("samples")
+            .last()
+            .cloned();
+        let reached = last.expect("a sample")["positions"][k]
+            .as_f64()
+            .expect("a value");
+        assert!((reached - value).abs() < 1e-9, "{scene}: {reached}");
+    }
+    // A group's name is needed where the SRDF has several.
+    let o = run(crate::args![
+        "motion",
+        "scenes/robots/panda.toml",
+        "--package-dir",
+        &p,
+        "--to",
+        "default"
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("arm (7 joints), hand (1 joint), arm_and_hand (8 joints)"));
+}

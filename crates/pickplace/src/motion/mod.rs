@@ -419,7 +419,10 @@ fn resolve_group(world: &MotionWorld, group: Option<&str>) -> Result<(String, Ve
                 "groups: {}",
                 moving
                     .iter()
-                    .map(|g| format!("{} ({} joints)", g.name, g.variables.len()))
+                    .map(|g| {
+                        let n = g.variables.len();
+                        format!("{} ({n} joint{})", g.name, if n == 1 { "" } else { "s" })
+                    })
                     .collect::<Vec<_>>()
                     .join(", ")
             )

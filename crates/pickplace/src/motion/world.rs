@@ -105,18 +105,7 @@ impl MotionWorld {
             &mut cache,
             &mut log,
         )?;
-        let scaling = (
-            scene
-                .trajectory
-                .velocity_scaling
-                .or(robot.file_scaling.0)
-                .unwrap_or(1.0),
-            scene
-                .trajectory
-                .acceleration_scaling
-                .or(robot.file_scaling.1)
-                .unwrap_or(1.0),
-        );
+        let scaling = robot.scaling(&scene.trajectory);
         let mut warnings = robot.warnings.clone();
         warnings.extend(cache.into_warnings().iter().map(CacheWarning::to_string));
         let mut out = Self {
