@@ -63,6 +63,7 @@ pub mod kinematics;
 pub mod limbs;
 pub mod model;
 pub mod rng;
+pub mod spheres;
 pub mod srdf;
 mod urdf;
 

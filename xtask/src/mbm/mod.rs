@@ -26,6 +26,7 @@
 
 pub mod ompl;
 pub mod problem;
+pub mod spheres;
 
 use crate::stability::data as pinned;
 use crate::suite_run::glob_match;
@@ -77,6 +78,8 @@ struct Args {
     write: bool,
     /// OMPL's side-by-side run instead of ours.
     ompl: bool,
+    /// The sphere models' coverage instead of a run.
+    spheres: bool,
 }
 
 fn parse(args: &[String]) -> anyhow::Result<Args> {
@@ -86,6 +89,7 @@ fn parse(args: &[String]) -> anyhow::Result<Args> {
         seed: 1,
         write: false,
         ompl: false,
+        spheres: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -113,9 +117,10 @@ fn parse(args: &[String]) -> anyhow::Result<Args> {
             }
             "--write" => out.write = true,
             "--ompl" => out.ompl = true,
+            "--spheres" => out.spheres = true,
             other => bail!(
                 "unknown argument {other:?}; usage: cargo xtask mbm [--sample N] \
-                 [--scenarios GLOB] [--seed S] [--write] [--ompl]"
+                 [--scenarios GLOB] [--seed S] [--write] [--ompl] [--spheres]"
             ),
         }
     }
@@ -540,6 +545,9 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
     let dir = root.join("target/mbm");
     std::fs::create_dir_all(&dir)?;
     let folder = resources(&dir)?;
+    if args.spheres {
+        return spheres::run(&dir.join(ROBOTS[0].1));
+    }
     if args.ompl {
         if args.scenarios != "*" {
             bail!("--ompl runs the Panda's scenarios (all, or --sample N of each)");
