@@ -86,10 +86,14 @@ pub fn parse_state(text: &str, option: &str) -> anyhow::Result<StateSpec> {
         }
         return Ok(StateSpec::Joints(joints));
     }
-    let numeric = text
-        .chars()
-        .next()
-        .is_some_and(|c| c.is_ascii_digit() || matches!(c, '-' | '+' | '.'));
+    // Values: a list, or anything that reads as a number (`nan` and `inf` included, to be
+    // refused as such); a state's name otherwise.
+    let numeric = text.contains(',')
+        || text.parse::<f64>().is_ok()
+        || text
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_digit() || matches!(c, '-' | '+' | '.'));
     if numeric {
         return Ok(StateSpec::Values(crate::args::parse_numbers(text, option)?));
     }
@@ -214,7 +218,9 @@ mod tests {
 
     #[test]
     fn malformed_states_are_refused_naming_the_option() {
-        for bad in ["a=x", "a=1,a=2", "a", "1,x", "", "b=1 2"] {
+        for bad in [
+            "a=x", "a=1,a=2", "a", "1,x", "", "b=1 2", "NaN,0", ",,,", "inf",
+        ] {
             match parse_state(bad, "--from") {
                 Err(e) => assert!(e.to_string().contains("--from"), "{bad}: {e}"),
                 // A bare word is a state's name.

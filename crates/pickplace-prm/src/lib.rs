@@ -75,6 +75,7 @@ pub mod timing;
 pub mod toppra;
 pub mod validity;
 pub use error::{Error, Result};
+pub use nn::MAX_DIMENSION;
 pub use path::Path;
 pub use planner::{PrmPlanner, QueryOptions, QueryStats};
 pub use roadmap::{ALGORITHM_VERSION, Roadmap, RoadmapOptions, Validation};

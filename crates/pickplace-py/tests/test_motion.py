@@ -94,6 +94,7 @@ def test_bad_queries_are_input_errors(world, kwargs, needle):
         ({"name": "x", "box": [1, 1, 1], "pose": [[1, 0], [0, 1]]}, "4x4"),
         ({"name": "table", "sphere": {"radius": 0.1}}, "two obstacles"),
         ({"name": "x", "mesh": "no/such.stl"}, "no/such.stl"),
+        ({"name": "x", "sphere": {"radius": 0.1}, "pose": {"position": [1e300, 0, 0]}}, "obstacles[0].pose.position"),
     ],
 )
 def test_bad_obstacles_are_input_errors(world, obstacle, needle):

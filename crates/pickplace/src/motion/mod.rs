@@ -47,6 +47,7 @@ use crate::checker::ArmChecker;
 use crate::error::Result;
 use crate::plan::{Limits, TrajectoryPoint};
 use crate::timing::{snap_part_ends, tighten, time_parts, timing_error};
+use pickplace_geometry::io::fmt_real;
 use pickplace_geometry::math::Real;
 use pickplace_prm::toppra::{BlendedPath, ToppraOptions};
 use pickplace_prm::{JointSpace, RrtOptions, ShortcutOptions, ValidityChecker};
@@ -411,6 +412,20 @@ fn resolve_group(world: &MotionWorld, group: Option<&str>) -> Result<(String, Ve
         .iter()
         .filter(|g| !g.variables.is_empty())
         .collect();
+    let too_many = |name: &str, n: usize| {
+        if n > pickplace_prm::MAX_DIMENSION {
+            Err(world.invalid(
+                "group",
+                format!(
+                    "group {name:?} moves {n} joints; a motion plans at most {} at once: name a \
+                     smaller group",
+                    pickplace_prm::MAX_DIMENSION
+                ),
+            ))
+        } else {
+            Ok(())
+        }
+    };
     let listing = || {
         if moving.is_empty() {
             "the robot has no planning group".to_owned()
@@ -439,12 +454,15 @@ fn resolve_group(world: &MotionWorld, group: Option<&str>) -> Result<(String, Ve
                     format!("group {name:?} moves no actuated joint ({})", listing()),
                 ));
             }
+            too_many(name, g.variables.len())?;
             Ok((name.to_owned(), g.variables.clone()))
         }
         None => match moving.as_slice() {
             [g] => Ok((g.name.clone(), g.variables.clone())),
             [] if semantics.groups().is_empty() => {
-                Ok(("all".into(), (0..world.model().variable_count()).collect()))
+                let n = world.model().variable_count();
+                too_many("all", n)?;
+                Ok(("all".into(), (0..n).collect()))
             }
             _ => Err(world.invalid(
                 "group",
@@ -532,7 +550,10 @@ fn state(
         let mut x = full[v];
         let limits = model.variable_joint(v).limits;
         if !x.is_finite() {
-            return Err(world.invalid(field, format!("joint {:?}: {x} is not finite", name_of(v))));
+            return Err(world.invalid(
+                field,
+                format!("joint {:?}: {} is not finite", name_of(v), fmt_real(x)),
+            ));
         }
         if !limits.lower.is_finite() && !limits.upper.is_finite() {
             x = (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
@@ -540,10 +561,11 @@ fn state(
             return Err(world.invalid(
                 field,
                 format!(
-                    "joint {:?}: {x} is outside its limits [{}, {}]",
+                    "joint {:?}: {} is outside its limits [{}, {}]",
                     name_of(v),
-                    limits.lower,
-                    limits.upper
+                    fmt_real(x),
+                    fmt_real(limits.lower),
+                    fmt_real(limits.upper)
                 ),
             ));
         }

@@ -343,7 +343,8 @@ pub enum EnvironmentSource<'a> {
 }
 
 impl EnvironmentSpec {
-    /// Checks that it is one thing (a mesh, a box, a cylinder or a sphere) of sizes in range;
+    /// Checks that it is one thing (a mesh, a box, a cylinder or a sphere) of sizes in range at
+    /// a pose in range;
     /// `field` names it (`environment[2]`) in the error `(field, reason)`.
     ///
     /// # Errors
@@ -372,6 +373,14 @@ impl EnvironmentSpec {
             ));
         }
         let at = |f: &str| format!("{field}.{f}");
+        self.pose
+            .to_isometry()
+            .map_err(|r| (at("pose"), r.to_owned()))?;
+        for &v in &self.pose.position {
+            ranges::COORDINATE
+                .check(v)
+                .map_err(|e| (at("pose.position"), e.to_string()))?;
+        }
         if let Err(e) = ranges::MESH_SCALE.check(self.scale) {
             return Err((at("scale"), e.to_string()));
         }

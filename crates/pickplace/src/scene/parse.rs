@@ -184,7 +184,6 @@ impl MotionScene {
             }
         }
         for (i, env) in scene.environment.iter().enumerate() {
-            pose(&format!("environment[{i}].pose"), &env.pose)?;
             env.check(&format!("environment[{i}]"))
                 .map_err(|(field, reason)| invalid(&field, reason))?;
         }
