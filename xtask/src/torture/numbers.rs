@@ -190,8 +190,19 @@ impl Torture {
         let clusters = vec!["clusters".into(), can.clone()];
         let check = vec!["robot".into(), "check".into(), urdf.clone()];
         let write = vec!["robot".into(), "srdf".into(), urdf, "--out".into(), srdf];
+        let motion_out: OsString = self.path("numbers-motion.json").into();
+        let motion = vec![
+            "motion".into(),
+            self.repo("scenes/motion/nx-hiro-table.toml").into(),
+            "--group".into(),
+            "right_arm".into(),
+            "--to".into(),
+            "0.2,-0.5,-1.5,0,0,0".into(),
+            "--out".into(),
+            motion_out,
+        ];
         // (command and its other arguments, the flag, its value out of range)
-        let cases: [(&Vec<OsString>, &str, &str); 11] = [
+        let cases: [(&Vec<OsString>, &str, &str); 15] = [
             (&plan, "--velocity-scaling", "1e-300"),
             (&plan, "--sample-period", "1e300"),
             (&batch, "--time-budget", "1e300"),
@@ -203,6 +214,10 @@ impl Torture {
             (&vec!["placements".into(), can], "--scale", "0"),
             (&check, "--min-collision-fraction", "5"),
             (&write, "--samples", "0"),
+            (&motion, "--time-limit", "1e300"),
+            (&motion, "--margin", "1e300"),
+            (&motion, "--velocity-scaling", "0"),
+            (&motion, "--sample-period", "0"),
         ];
         for (command, flag, value) in cases {
             let mut args = command.clone();
@@ -210,7 +225,9 @@ impl Torture {
             let name = format!("{} {flag} {value}", command[0].to_string_lossy());
             self.expect(&name, self.cmd(&args), 2, &[flag, "is not in"])?;
         }
-        let left = self.path("numbers-flag-out").exists() || self.path("numbers.srdf").exists();
+        let left = self.path("numbers-flag-out").exists()
+            || self.path("numbers.srdf").exists()
+            || self.path("numbers-motion.json").exists();
         self.check("flags: no output left", !left, || {
             "an output was written".into()
         });
