@@ -198,18 +198,18 @@ mod tests {
     #[test]
     fn states_parse_in_their_three_forms() {
         assert_eq!(
-            parse_state("ready", "--to").unwrap(),
+            parse_state("ready", "--to").expect("parses"),
             StateSpec::Named("ready".into())
         );
         assert_eq!(
-            parse_state("0, -0.5,1e-1", "--to").unwrap(),
+            parse_state("0, -0.5,1e-1", "--to").expect("parses"),
             StateSpec::Values(vec![0.0, -0.5, 0.1])
         );
         assert_eq!(
-            parse_state(".5", "--to").unwrap(),
+            parse_state(".5", "--to").expect("parses"),
             StateSpec::Values(vec![0.5])
         );
-        let StateSpec::Joints(j) = parse_state("a=1, b=-2", "--to").unwrap() else {
+        let StateSpec::Joints(j) = parse_state("a=1, b=-2", "--to").expect("parses") else {
             panic!("not by name");
         };
         assert_eq!(j.get("a"), Some(&1.0));
