@@ -22,8 +22,6 @@ use pickplace_robot::{KinematicChain, LoadOptions, RobotModel, Semantics, Srdf};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// The fewest actuated joints of an arm found in the URDF.
-
 /// One arm as the planner sees it.
 #[derive(Debug, Clone)]
 pub struct RobotArm {

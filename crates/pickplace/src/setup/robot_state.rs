@@ -44,8 +44,8 @@ pub(crate) fn start_configuration<O, T>(
                 .any(|s| s.name == state);
             if exists {
                 semantics
-                    .apply_state(&model, &state, &mut start)
-                    .map_err(robot_err(&srdf_path))?;
+                    .apply_state(model, &state, &mut start)
+                    .map_err(robot_err(srdf_path))?;
             } else if spec.named_state.is_some() {
                 let field = if several {
                     format!("robots[{i}].named_state")
