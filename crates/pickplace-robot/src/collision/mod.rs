@@ -135,9 +135,9 @@ struct RobotShape {
     link: usize,
     shape: SharedShape,
     link_from_shape: Isometry3,
-    local_aabb: Aabb,
-    /// The local box's centre and half extents: an oriented box around the shape, tested
-    /// (separating axes) before the exact test of a self pair.
+    /// The local box's centre and half extents (the world box is made from them): an
+    /// oriented box around the shape, tested (separating axes) before the exact test of a
+    /// self pair.
     box_centre: parry3d_f64::math::Vector,
     box_half_extents: parry3d_f64::math::Vector,
     /// The shape's support function by climbing, for a hull of many vertices
@@ -156,6 +156,8 @@ struct EnvironmentObject {
     /// tested before the exact test.
     box_centre: parry3d_f64::math::Vector,
     box_half_extents: parry3d_f64::math::Vector,
+    /// The box's frame in the world.
+    frame: narrow::BoxFrame,
     /// Links allowed to touch this object.
     allowed_links: Vec<bool>,
 }
@@ -182,6 +184,8 @@ pub struct CollisionScratch {
     link_poses: Vec<Isometry3>,
     shape_poses: Vec<Pose>,
     shape_aabbs: Vec<Aabb>,
+    /// The shapes' box frames (rotation matrices and box centres).
+    shape_frames: Vec<narrow::BoxFrame>,
     attached_poses: Vec<Pose>,
     attached_aabbs: Vec<Aabb>,
     candidates: Vec<u32>,
@@ -234,7 +238,6 @@ impl CollisionWorld {
                     link,
                     shape: shape.shape,
                     link_from_shape: g.link_from_shape * correction,
-                    local_aabb,
                     box_centre: local_aabb.center(),
                     box_half_extents: local_aabb.half_extents(),
                     climbing,
@@ -344,6 +347,7 @@ impl CollisionWorld {
             world_from_shape: pose,
             box_centre: local.center(),
             box_half_extents: local.half_extents(),
+            frame: narrow::BoxFrame::of(&pose, local.center()),
             allowed_links: self.allowed_links_for(name),
         });
         self.environment_aabbs.push(aabb);
@@ -414,15 +418,8 @@ impl CollisionWorld {
         }
     }
 
-    /// Runs FK and fills the scratch's poses and boxes.
-    fn prepare(
-        &self,
-        model: &RobotModel,
-        q: &[Real],
-        scratch: &mut CollisionScratch,
-        margin: Real,
-        scope: PairScope<'_>,
-    ) -> Result<()> {
+    /// Checks a query's joint values (one per variable of the world's model) and margin.
+    fn check_query(&self, model: &RobotModel, q: &[Real], margin: Real) -> Result<()> {
         if q.len() != self.variable_count || model.links().len() != self.link_names.len() {
             return Err(Error::WrongLength {
                 what: "joint values",
@@ -437,6 +434,19 @@ impl CollisionWorld {
                 reason: "must be finite and >= 0",
             });
         }
+        Ok(())
+    }
+
+    /// Runs FK and fills the scratch's poses and boxes.
+    fn prepare(
+        &self,
+        model: &RobotModel,
+        q: &[Real],
+        scratch: &mut CollisionScratch,
+        margin: Real,
+        scope: PairScope<'_>,
+    ) -> Result<()> {
+        self.check_query(model, q, margin)?;
         if let Some(mask) = scope.mask()
             && mask.len() != self.link_names.len()
         {
@@ -459,6 +469,7 @@ impl CollisionWorld {
         scratch.view_key = None;
         scratch.shape_poses.clear();
         scratch.shape_aabbs.clear();
+        scratch.shape_frames.clear();
         if self.world_from_root != Isometry3::identity() {
             for pose in &mut scratch.link_poses {
                 *pose = self.world_from_root * *pose;
@@ -466,9 +477,11 @@ impl CollisionWorld {
         }
         for s in &self.robot_shapes {
             let pose = parry::pose(&(scratch.link_poses[s.link] * s.link_from_shape));
+            let frame = narrow::BoxFrame::of(&pose, s.box_centre);
             scratch
                 .shape_aabbs
-                .push(s.local_aabb.transform_by(&pose).loosened(margin));
+                .push(frame.aabb(s.box_half_extents).loosened(margin));
+            scratch.shape_frames.push(frame);
             scratch.shape_poses.push(pose);
         }
         scratch.attached_poses.clear();

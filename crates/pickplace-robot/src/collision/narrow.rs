@@ -5,6 +5,7 @@
 
 use super::{CollisionScratch, CollisionWorld, EnvironmentObject, RobotShape};
 use crate::error::Result;
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Matrix, Pose, Vector};
 use parry3d_f64::query;
 use parry3d_f64::query::gjk::{CsoPoint, GJKResult, VoronoiSimplex};
@@ -26,35 +27,64 @@ impl RobotShape {
     }
 }
 
-/// Whether the oriented boxes of two robot shapes, each loosened by half the margin, overlap:
-/// false proves the shapes farther apart than the margin.
+/// A shape's box in the world: its frame's rotation as a matrix and the box's centre,
+/// computed once per shape and query ([`BoxFrame::of`]); the shape's world box
+/// ([`BoxFrame::aabb`]) and each separating-axis test of its pairs use it, so that no pair
+/// test converts a quaternion again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct BoxFrame {
+    rotation: Matrix,
+    centre: Vector,
+}
+
+impl BoxFrame {
+    /// The frame of a box centred at `centre` in the frame `pose`.
+    #[inline]
+    pub(super) fn of(pose: &Pose, centre: Vector) -> Self {
+        Self {
+            rotation: Matrix::from_quat(pose.rotation),
+            centre: pose.transform_point(centre),
+        }
+    }
+
+    /// The world box around the box of half extents `half` (the same arithmetic as parry's
+    /// `Aabb::transform_by` of the local box, so the same numbers).
+    #[inline]
+    pub(super) fn aabb(&self, half: Vector) -> Aabb {
+        let extents = self.rotation.abs() * half;
+        Aabb::new(self.centre + (-extents), self.centre + extents)
+    }
+}
+
+/// Whether the oriented boxes of two robot shapes (at their frames), each loosened by half
+/// the margin, overlap: false proves the shapes farther apart than the margin.
+#[inline]
 pub(super) fn boxes_overlap(
-    pose1: &Pose,
+    frame1: &BoxFrame,
     s1: &RobotShape,
-    pose2: &Pose,
+    frame2: &BoxFrame,
     s2: &RobotShape,
     margin: Real,
 ) -> bool {
     oriented_boxes_overlap(
-        (pose1, s1.box_centre, s1.box_half_extents),
-        (pose2, s2.box_centre, s2.box_half_extents),
+        (frame1, s1.box_half_extents),
+        (frame2, s2.box_half_extents),
         margin,
     )
 }
 
-/// Whether two oriented boxes (a frame, the box's centre in it and its half extents), each
-/// loosened by half the margin, overlap: false proves whatever lies inside them farther apart
-/// than the margin.
+/// Whether two oriented boxes (a frame and the box's half extents), each loosened by half
+/// the margin, overlap: false proves whatever lies inside them farther apart than the
+/// margin.
 fn oriented_boxes_overlap(
-    (pose1, centre1, half1): (&Pose, Vector, Vector),
-    (pose2, centre2, half2): (&Pose, Vector, Vector),
+    (frame1, half1): (&BoxFrame, Vector),
+    (frame2, half2): (&BoxFrame, Vector),
     margin: Real,
 ) -> bool {
     let half = Vector::splat(margin / 2.0);
     let (e1, e2) = (half1 + half, half2 + half);
-    let r1 = Matrix::from_quat(pose1.rotation);
-    let r2 = Matrix::from_quat(pose2.rotation);
-    let d = pose2.transform_point(centre2) - pose1.transform_point(centre1);
+    let (r1, r2) = (frame1.rotation, frame2.rotation);
+    let d = frame2.centre - frame1.centre;
     // The separating-axis test of two oriented boxes (Ericson, Real-Time Collision Detection,
     // §4.4.1): box 2's axes and the centres' offset in box 1's frame; the 15 candidate axes
     // (the 3 + 3 face normals, the 9 edge cross products), the cheapest first.
@@ -237,7 +267,8 @@ impl CollisionWorld {
     ) -> Result<bool> {
         let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
         let (pa, pb) = (&scratch.shape_poses[a], &scratch.shape_poses[b]);
-        Ok(boxes_overlap(pa, sa, pb, sb, margin)
+        let (fa, fb) = (&scratch.shape_frames[a], &scratch.shape_frames[b]);
+        Ok(boxes_overlap(fa, sa, fb, sb, margin)
             && self.robot_shapes_touching(pa, sa, pb, sb, margin)?)
     }
 
@@ -251,14 +282,15 @@ impl CollisionWorld {
     pub(super) fn robot_env_touching(
         &self,
         pose: &Pose,
+        frame: &BoxFrame,
         s: &RobotShape,
         env: &EnvironmentObject,
         margin: Real,
         last: Option<&mut Vector>,
     ) -> Result<bool> {
         if !oriented_boxes_overlap(
-            (pose, s.box_centre, s.box_half_extents),
-            (&env.world_from_shape, env.box_centre, env.box_half_extents),
+            (frame, s.box_half_extents),
+            (&env.frame, env.box_half_extents),
             margin,
         ) {
             return Ok(false);
@@ -320,7 +352,8 @@ mod tests {
             let h1 = Vector::new(r(0.001, 0.2), r(0.001, 0.2), r(0.001, 0.2));
             let h2 = Vector::new(r(0.001, 0.2), r(0.001, 0.2), r(0.001, 0.2));
             let margin = if r(0.0, 1.0) < 0.5 { 0.0 } else { r(0.0, 0.02) };
-            let ours = oriented_boxes_overlap((&p1, c1, h1), (&p2, c2, h2), margin);
+            let (f1, f2) = (BoxFrame::of(&p1, c1), BoxFrame::of(&p2, c2));
+            let ours = oriented_boxes_overlap((&f1, h1), (&f2, h2), margin);
             let half = Vector::splat(margin / 2.0);
             let q1 = Pose::from_parts(p1.transform_point(c1), p1.rotation);
             let q2 = Pose::from_parts(p2.transform_point(c2), p2.rotation);

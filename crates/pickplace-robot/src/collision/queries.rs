@@ -122,8 +122,14 @@ impl CollisionWorld {
                 } else {
                     None
                 };
-                if self.robot_env_touching(&scratch.shape_poses[i], s, env, pair_margin, last)?
-                    && !visit(BodyId::Link(s.link), BodyId::Environment(e))
+                if self.robot_env_touching(
+                    &scratch.shape_poses[i],
+                    &scratch.shape_frames[i],
+                    s,
+                    env,
+                    pair_margin,
+                    last,
+                )? && !visit(BodyId::Link(s.link), BodyId::Environment(e))
                 {
                     return Ok(());
                 }

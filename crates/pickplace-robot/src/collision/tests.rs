@@ -306,7 +306,6 @@ fn self_pairs_of_link_hulls_answer_as_parry() {
             link: k,
             shape: shapes[k].clone(),
             link_from_shape: Isometry3::identity(),
-            local_aabb,
             box_centre: local_aabb.center(),
             box_half_extents: local_aabb.half_extents(),
             climbing: Some(climbing[k].clone()),

@@ -11,7 +11,7 @@
 //! [`PairScope`] mask rule (an object held by a moving link moves against every body but
 //! the ones it may touch).
 
-use super::narrow::boxes_overlap;
+use super::narrow::{BoxFrame, boxes_overlap};
 use super::{BodyId, CheckOptions, CollisionScratch, CollisionWorld, PairScope};
 use crate::error::{Error, Result};
 use crate::model::{JointValueSource, RobotModel};
@@ -68,6 +68,7 @@ pub struct MovingView {
     /// Shape poses and boxes (not loosened) at `rest`.
     shape_poses: Vec<Pose>,
     shape_aabbs: Vec<Aabb>,
+    shape_frames: Vec<BoxFrame>,
     /// The static pairs touching at `rest`, sorted.
     static_contacts: Vec<(BodyId, BodyId)>,
     /// What the world had when the view was made: robot shapes, self pairs, environment
@@ -181,6 +182,7 @@ impl CollisionWorld {
             link_poses: Vec::new(),
             shape_poses: Vec::new(),
             shape_aabbs: Vec::new(),
+            shape_frames: Vec::new(),
             static_contacts: Vec::new(),
             fingerprint: self.fingerprint(),
             id: NEXT_VIEW_ID.fetch_add(1, Relaxed),
@@ -225,6 +227,7 @@ impl CollisionWorld {
         view.link_poses = scratch.link_poses;
         view.shape_poses = scratch.shape_poses;
         view.shape_aabbs = scratch.shape_aabbs;
+        view.shape_frames = scratch.shape_frames;
         Ok(view)
     }
 
@@ -267,7 +270,8 @@ impl CollisionWorld {
             }
             let (sa, sb) = (&self.robot_shapes[a], &self.robot_shapes[b]);
             let (pa, pb) = (scratch.shape_poses[a], scratch.shape_poses[b]);
-            if !boxes_overlap(&pa, sa, &pb, sb, options.margin) {
+            let (fa, fb) = (&scratch.shape_frames[a], &scratch.shape_frames[b]);
+            if !boxes_overlap(fa, sa, fb, sb, options.margin) {
                 continue;
             }
             let last = scratch.pair_directions.get_mut(p);
@@ -303,20 +307,7 @@ impl CollisionWorld {
         scratch: &mut CollisionScratch,
         margin: Real,
     ) -> Result<()> {
-        if q.len() != self.variable_count || model.links().len() != self.link_names.len() {
-            return Err(Error::WrongLength {
-                what: "joint values",
-                expected: self.variable_count,
-                found: q.len(),
-            });
-        }
-        if !(margin.is_finite() && margin >= 0.0) {
-            return Err(Error::InvalidParameter {
-                name: "margin",
-                value: margin,
-                reason: "must be finite and >= 0",
-            });
-        }
+        self.check_query(model, q, margin)?;
         if view.fingerprint != self.fingerprint() || view.rest.len() != q.len() {
             return Err(Error::InvalidParameter {
                 name: "moving view",
@@ -339,12 +330,15 @@ impl CollisionWorld {
         let key = Some((view.id, margin.to_bits()));
         let fresh = scratch.view_key != key
             || scratch.link_poses.len() != view.link_poses.len()
-            || scratch.shape_aabbs.len() != view.shape_aabbs.len();
+            || scratch.shape_aabbs.len() != view.shape_aabbs.len()
+            || scratch.shape_frames.len() != view.shape_frames.len();
         if fresh {
             scratch.link_poses.clear();
             scratch.link_poses.extend_from_slice(&view.link_poses);
             scratch.shape_poses.clear();
             scratch.shape_poses.extend_from_slice(&view.shape_poses);
+            scratch.shape_frames.clear();
+            scratch.shape_frames.extend_from_slice(&view.shape_frames);
             scratch.shape_aabbs.clear();
             scratch
                 .shape_aabbs
@@ -370,7 +364,9 @@ impl CollisionWorld {
             let i = i as usize;
             let s = &self.robot_shapes[i];
             let pose = parry::pose(&(scratch.link_poses[s.link] * s.link_from_shape));
-            scratch.shape_aabbs[i] = s.local_aabb.transform_by(&pose).loosened(margin);
+            let frame = BoxFrame::of(&pose, s.box_centre);
+            scratch.shape_aabbs[i] = frame.aabb(s.box_half_extents).loosened(margin);
+            scratch.shape_frames[i] = frame;
             scratch.shape_poses[i] = pose;
         }
         scratch.attached_poses.clear();
