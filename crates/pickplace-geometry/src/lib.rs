@@ -33,7 +33,7 @@ pub mod export;
 pub mod hash;
 pub mod io;
 pub mod json;
-pub mod math;
+pub use pickplace_base::math;
 pub mod mesh;
 pub mod obb;
 pub mod parry;

@@ -565,32 +565,8 @@ pub fn shipped_meshes() -> Vec<ShippedMesh> {
 // everyday objects; these builders make the kinds of objects and supports it meets on a real
 // table. Every builder is deterministic (the seeded ones through [`SplitMix64`]).
 
-/// SplitMix64 (Steele, Lea and Flood, 2014): the tiny deterministic generator of the seeded
-/// builders ([`jittered`]). The geometry crate depends on nothing of the workspace, so it
-/// carries its own; same seed, same sequence on every platform.
-#[derive(Debug, Clone)]
-pub struct SplitMix64(u64);
-
-impl SplitMix64 {
-    /// A generator started at `seed`.
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// A uniform number in `[-1, 1)`.
-    pub fn symmetric(&mut self) -> Real {
-        (self.next_u64() >> 11) as Real / (1u64 << 53) as Real * 2.0 - 1.0
-    }
-}
+/// The generator of the seeded builders ([`jittered`]): the workspace's SplitMix64.
+pub use pickplace_base::rng::SplitMix64;
 
 /// A box of full size `size`, centred on the z axis, base at `z = 0`.
 pub fn box_on_base_builder(size: [Real; 3]) -> MeshBuilder {

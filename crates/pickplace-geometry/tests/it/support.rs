@@ -2,23 +2,19 @@
 
 use pickplace_geometry::math::{Point3, Real};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::shapes::MeshBuilder;
+use pickplace_geometry::shapes::{MeshBuilder, SplitMix64};
 
-/// SplitMix64: a tiny seeded generator (same seed, same sequence).
+/// The workspace's SplitMix64 with a uniform range (same seed, same sequence).
 #[derive(Debug, Clone)]
-pub struct Rng(u64);
+pub struct Rng(SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(SplitMix64::new(seed))
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in [lo, hi).
