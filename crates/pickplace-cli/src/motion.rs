@@ -2,11 +2,9 @@
 //! among the scene's obstacles ([`pickplace::motion`], issue 35).
 
 use crate::output::note;
-use crate::plan::CacheChoice;
+use crate::plan::{CacheChoice, setup_options};
 use anyhow::Context;
-use pickplace::SetupOptions;
 use pickplace::motion::{MotionOptions, MotionOutcome, MotionRequest, MotionWorld, StateSpec};
-use pickplace_geometry::export::write_atomic;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -118,11 +116,8 @@ pub fn run(args: &MotionArgs) -> anyhow::Result<ExitCode> {
         crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
     }
     let t = Instant::now();
-    let options = SetupOptions {
-        cache_dir: CacheChoice::from_args(args.cache.as_deref(), args.no_cache).folder(),
-        package_dirs: args.package_dirs.clone(),
-        progress: crate::progress::receiver(),
-    };
+    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
+    let options = setup_options(cache, &args.package_dirs);
     let world = MotionWorld::from_scene(&scene, &args.scene, &options)?;
     for w in world.warnings() {
         note!("warning: {w}");
@@ -173,15 +168,7 @@ pub fn run(args: &MotionArgs) -> anyhow::Result<ExitCode> {
             } else {
                 motion
             };
-            let json = motion.to_json();
-            match &args.out {
-                Some(out) => {
-                    write_atomic(out, json.as_bytes())
-                        .with_context(|| format!("{}: cannot write the motion", out.display()))?;
-                    note!("  wrote {}", out.display());
-                }
-                None => crate::output::print(&json)?,
-            }
+            crate::output::write_or_print(args.out.as_deref(), &motion.to_json(), "the motion")?;
             Ok(ExitCode::SUCCESS)
         }
         MotionOutcome::NoMotion(why) => {

@@ -11,6 +11,8 @@
 //! standard error in the same way.
 
 use anyhow::Context as _;
+use pickplace_geometry::export::write_atomic;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Set once a write found standard output closed: later prints are skipped.
@@ -54,6 +56,24 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> anyhow::Result<()> {
     let mut text = serde_json::to_string_pretty(value)?;
     text.push('\n');
     print(&text)
+}
+
+/// A command's document (JSON text): written to `out` atomically, and said so on standard
+/// error, or printed on standard output when there is no `out`; `what` names it in the error
+/// (`"the plan"`).
+///
+/// # Errors
+/// A file that cannot be written, naming it and `what`; or as [`print`].
+pub fn write_or_print(out: Option<&Path>, text: &str, what: &str) -> anyhow::Result<()> {
+    match out {
+        Some(out) => {
+            write_atomic(out, text.as_bytes())
+                .with_context(|| format!("{}: cannot write {what}", out.display()))?;
+            note!("  wrote {}", out.display());
+        }
+        None => print(text)?,
+    }
+    Ok(())
 }
 
 /// [`print`] on any writer (the tests give it one that fails).

@@ -1,11 +1,9 @@
 //! `pickplace plan SCENE` and `pickplace validate SCENE PLAN`.
 
 use crate::output::note;
-use anyhow::Context;
 use pickplace::planner::{Outcome, PlanOptions};
 use pickplace::scene::StrategyChoice;
 use pickplace::{Plan, Setup, SetupOptions};
-use pickplace_geometry::export::write_atomic;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -130,6 +128,16 @@ impl CacheChoice {
     }
 }
 
+/// The setup options of a command's `--cache`/`--no-cache` choice and `--package-dir`
+/// folders, with progress on stderr.
+pub fn setup_options(cache: CacheChoice, package_dirs: &[PathBuf]) -> SetupOptions {
+    SetupOptions {
+        cache_dir: cache.folder(),
+        package_dirs: package_dirs.to_vec(),
+        progress: crate::progress::receiver(),
+    }
+}
+
 /// Loads a scene with its log, the cache's warning (if any) and progress on stderr.
 pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyhow::Result<Setup> {
     setup_with(scene, cache, package_dirs, Setup::load)
@@ -143,11 +151,7 @@ fn setup_with(
     load: fn(&Path, &SetupOptions) -> Result<Setup, pickplace::Error>,
 ) -> anyhow::Result<Setup> {
     let t = Instant::now();
-    let options = SetupOptions {
-        cache_dir: cache.folder(),
-        package_dirs: package_dirs.to_vec(),
-        progress: crate::progress::receiver(),
-    };
+    let options = setup_options(cache, package_dirs);
     let setup = load(scene, &options)?;
     for warning in &setup.warnings {
         note!("warning: {warning}");
@@ -232,15 +236,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let setup = setup(&args.scene, cache, &args.package_dirs)?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {
-            let json = plan.to_json();
-            match &args.out {
-                Some(out) => {
-                    write_atomic(out, json.as_bytes())
-                        .with_context(|| format!("{}: cannot write the plan", out.display()))?;
-                    note!("  wrote {}", out.display());
-                }
-                None => crate::output::print(&json)?,
-            }
+            crate::output::write_or_print(args.out.as_deref(), &plan.to_json(), "the plan")?;
             Ok(ExitCode::SUCCESS)
         }
         Outcome::NoPlan(_) => Ok(ExitCode::from(1)),

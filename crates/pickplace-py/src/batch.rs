@@ -4,19 +4,33 @@
 //! Summaries cross the boundary as the JSON lines of `summary.jsonl`.
 
 use crate::errors::{input, input_msg};
-use crate::plan::strategy;
+use crate::scene::cache_folder;
 use pickplace::batch::{self, BatchEvent, BatchOptions, SceneSummary};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
-/// The batch's options from the keyword arguments; `cache_dir` `None` is the default cache
-/// folder (as the CLI's), unless `use_cache` is false.
+/// The options of a batch but its folder and threads, as [`_batch_options`] makes them: what
+/// the batch functions take.
+#[pyclass(frozen, module = "pickplace", name = "_BatchOptions")]
+#[derive(Debug)]
+pub struct Options {
+    /// The options, with a placeholder folder and thread count (see [`Options::batch`]).
+    inner: BatchOptions,
+}
+
+/// A batch's options from the keywords `pickplace.batch.plan_many` and `pickplace.ray.plan_many`
+/// share, spelled once here for the batch functions below; `cache_dir` `None` is the default
+/// cache folder (as the CLI's), unless `use_cache` is false. The strategy is checked and the
+/// cache folder chosen here: a Ray task makes its own options, so that the default cache
+/// folder is its node's.
+///
+/// Raises InputError for a strategy that is not one of the CLI's names.
+#[pyfunction]
+#[pyo3(signature = (*, seed=None, strategy=None, time_budget=None, velocity_scaling=None, acceleration_scaling=None, sample_period=None, timings=false, resume=false, cache_dir=None, use_cache=true, package_dirs=Vec::new()))]
 #[allow(clippy::too_many_arguments)]
-fn options(
-    out_dir: PathBuf,
-    workers: Option<usize>,
+pub fn _batch_options(
     seed: Option<u64>,
-    strategy_name: Option<&str>,
+    strategy: Option<&str>,
     time_budget: Option<f64>,
     velocity_scaling: Option<f64>,
     acceleration_scaling: Option<f64>,
@@ -26,26 +40,32 @@ fn options(
     cache_dir: Option<PathBuf>,
     use_cache: bool,
     package_dirs: Vec<PathBuf>,
-) -> PyResult<BatchOptions> {
-    let cache_dir = match (use_cache, cache_dir) {
-        (false, _) => None,
-        (true, Some(dir)) => Some(dir),
-        (true, None) => pickplace::cache::default_dir().ok(),
-    };
-    Ok(BatchOptions {
-        jobs: workers.unwrap_or_else(batch::default_jobs),
+) -> PyResult<Options> {
+    let inner = BatchOptions {
         seed,
-        strategy: strategy_name.map(strategy).transpose()?,
+        strategy: strategy.map(crate::plan::strategy).transpose()?,
         time_budget,
         velocity_scaling,
         acceleration_scaling,
         sample_period,
         timings,
         resume,
-        cache_dir,
+        cache_dir: cache_folder(cache_dir, use_cache).0,
         package_dirs,
-        ..BatchOptions::new(out_dir)
-    })
+        ..BatchOptions::new(PathBuf::new())
+    };
+    Ok(Options { inner })
+}
+
+impl Options {
+    /// These options writing into `out_dir` on `jobs` threads.
+    fn batch(&self, out_dir: PathBuf, jobs: usize) -> BatchOptions {
+        BatchOptions {
+            out_dir,
+            jobs,
+            ..self.inner.clone()
+        }
+    }
 }
 
 /// A batch-level error as the package's InputError (what stops the whole batch is the
@@ -59,46 +79,23 @@ fn batch_error(e: &batch::BatchError) -> PyErr {
     }
 }
 
-/// Plans `scenes` into `out_dir` on `workers` threads (`pickplace batch`); returns the
-/// summary's lines (JSON), one per scene in the order given. `progress(line)` is called as
-/// each scene ends, from the worker threads (with the GIL); an exception it raises is
-/// printed and ignored.
+/// Plans `scenes` into `out_dir` on `workers` threads (`pickplace batch`) with `options`;
+/// returns the summary's lines (JSON), one per scene in the order given. `progress(line)` is
+/// called as each scene ends, from the worker threads (with the GIL); an exception it raises
+/// is printed and ignored.
 #[pyfunction]
-#[pyo3(signature = (scenes, out_dir, *, workers=None, seed=None, strategy=None, time_budget=None, velocity_scaling=None, acceleration_scaling=None, sample_period=None, timings=false, resume=false, cache_dir=None, use_cache=true, package_dirs=Vec::new(), progress=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (scenes, out_dir, options, *, workers=None, progress=None))]
 pub fn _batch_plan_many(
     py: Python<'_>,
     scenes: Vec<PathBuf>,
     out_dir: PathBuf,
+    options: &Bound<'_, Options>,
     workers: Option<usize>,
-    seed: Option<u64>,
-    strategy: Option<&str>,
-    time_budget: Option<f64>,
-    velocity_scaling: Option<f64>,
-    acceleration_scaling: Option<f64>,
-    sample_period: Option<f64>,
-    timings: bool,
-    resume: bool,
-    cache_dir: Option<PathBuf>,
-    use_cache: bool,
-    package_dirs: Vec<PathBuf>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<String>> {
-    let options = options(
-        out_dir,
-        workers,
-        seed,
-        strategy,
-        time_budget,
-        velocity_scaling,
-        acceleration_scaling,
-        sample_period,
-        timings,
-        resume,
-        cache_dir,
-        use_cache,
-        package_dirs,
-    )?;
+    let options = options
+        .get()
+        .batch(out_dir, workers.unwrap_or_else(batch::default_jobs));
     let report = py
         .detach(|| {
             batch::plan_many(&scenes, &options, &|event| {
@@ -120,81 +117,37 @@ pub fn _batch_plan_many(
         .collect())
 }
 
-/// What a batch does before planning (`pickplace::batch::prepare`): checks the options and
+/// What a batch does before planning (`pickplace::batch::prepare`): checks `options` and
 /// the scenes' names, creates `out_dir`; returns each scene's plan file.
 #[pyfunction]
-#[pyo3(signature = (scenes, out_dir, *, seed=None, strategy=None, time_budget=None, velocity_scaling=None, acceleration_scaling=None, sample_period=None))]
-#[allow(clippy::too_many_arguments)]
 pub fn _batch_prepare(
     scenes: Vec<PathBuf>,
     out_dir: PathBuf,
-    seed: Option<u64>,
-    strategy: Option<&str>,
-    time_budget: Option<f64>,
-    velocity_scaling: Option<f64>,
-    acceleration_scaling: Option<f64>,
-    sample_period: Option<f64>,
+    options: &Bound<'_, Options>,
 ) -> PyResult<Vec<PathBuf>> {
-    let options = options(
-        out_dir,
-        Some(1),
-        seed,
-        strategy,
-        time_budget,
-        velocity_scaling,
-        acceleration_scaling,
-        sample_period,
-        false,
-        false,
-        None,
-        false,
-        Vec::new(),
-    )?;
+    let options = options.get().batch(out_dir, 1);
     batch::prepare(&scenes, &options).map_err(|e| batch_error(&e))
 }
 
-/// One scene of a batch planned into `plan_path` (`pickplace::batch::plan_scene`), on a
-/// pool of `threads` threads (default: rayon's global pool, `RAYON_NUM_THREADS`); its
-/// summary line, with `scene` shown as `display` when given.
+/// One scene of a batch planned into `plan_path` (`pickplace::batch::plan_scene`) with
+/// `options`, on a pool of `threads` threads (default: rayon's global pool,
+/// `RAYON_NUM_THREADS`); its summary line, with `scene` shown as `display` when given.
 #[pyfunction]
-#[pyo3(signature = (scene, plan_path, *, display=None, threads=None, seed=None, strategy=None, time_budget=None, velocity_scaling=None, acceleration_scaling=None, sample_period=None, timings=false, resume=false, cache_dir=None, use_cache=true, package_dirs=Vec::new()))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (scene, plan_path, options, *, display=None, threads=None))]
 pub fn _batch_plan_one(
     py: Python<'_>,
     scene: PathBuf,
     plan_path: PathBuf,
+    options: &Bound<'_, Options>,
     display: Option<String>,
     threads: Option<usize>,
-    seed: Option<u64>,
-    strategy: Option<&str>,
-    time_budget: Option<f64>,
-    velocity_scaling: Option<f64>,
-    acceleration_scaling: Option<f64>,
-    sample_period: Option<f64>,
-    timings: bool,
-    resume: bool,
-    cache_dir: Option<PathBuf>,
-    use_cache: bool,
-    package_dirs: Vec<PathBuf>,
 ) -> PyResult<String> {
     let out_dir = plan_path
         .parent()
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    let options = options(
-        out_dir,
-        threads,
-        seed,
-        strategy,
-        time_budget,
-        velocity_scaling,
-        acceleration_scaling,
-        sample_period,
-        timings,
-        resume,
-        cache_dir,
-        use_cache,
-        package_dirs,
-    )?;
+    let options = options
+        .get()
+        .batch(out_dir, threads.unwrap_or_else(batch::default_jobs));
     if threads == Some(0) {
         return Err(input_msg("threads: 0 threads: give at least 1"));
     }

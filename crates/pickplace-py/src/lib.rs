@@ -40,6 +40,8 @@ fn _pickplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::clusters, m)?)?;
     m.add_function(wrap_pyfunction!(tools::placements, m)?)?;
     m.add_function(wrap_pyfunction!(tools::grasps, m)?)?;
+    m.add_class::<batch::Options>()?;
+    m.add_function(wrap_pyfunction!(batch::_batch_options, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_plan_many, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_prepare, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_plan_one, m)?)?;

@@ -3,8 +3,8 @@
 
 use crate::convert::{isometry, rows, samples, times, to_python, vector};
 use crate::errors::{facade, input_msg, no_plan};
+use crate::scene::setup_options;
 use numpy::{PyArray1, PyArray2, ToPyArray};
-use pickplace::SetupOptions;
 use pickplace::motion::{MotionOptions, MotionOutcome, MotionRequest, StateSpec};
 use pickplace::scene::{EnvironmentSpec, PoseSpec};
 use pyo3::prelude::*;
@@ -26,24 +26,6 @@ use std::time::Duration;
 #[derive(Debug, Clone)]
 pub struct MotionWorld {
     inner: Arc<pickplace::motion::MotionWorld>,
-}
-
-/// Setup options of the keyword arguments (the sampled collision matrix's cache).
-fn options(
-    cache_dir: Option<PathBuf>,
-    use_cache: bool,
-    package_dirs: Vec<PathBuf>,
-) -> SetupOptions {
-    let cache_dir = if !use_cache {
-        None
-    } else {
-        cache_dir.or_else(|| pickplace::cache::default_dir().ok())
-    };
-    SetupOptions {
-        cache_dir,
-        package_dirs,
-        progress: None,
-    }
 }
 
 /// Adds `obstacles` (a sequence of dicts) to `world`.
@@ -103,7 +85,8 @@ impl MotionWorld {
         use_cache: bool,
         package_dirs: Vec<PathBuf>,
     ) -> PyResult<Self> {
-        let options = options(cache_dir, use_cache, package_dirs);
+        // The sampled collision matrix's cache; no warning when there is no cache folder.
+        let (options, _) = setup_options(cache_dir, use_cache, package_dirs);
         let mut world = py
             .detach(|| pickplace::motion::MotionWorld::load(&path, &options))
             .map_err(|e| facade(py, &e))?;
@@ -128,7 +111,8 @@ impl MotionWorld {
         use_cache: bool,
         package_dirs: Vec<PathBuf>,
     ) -> PyResult<Self> {
-        let options = options(cache_dir, use_cache, package_dirs);
+        // The sampled collision matrix's cache; no warning when there is no cache folder.
+        let (options, _) = setup_options(cache_dir, use_cache, package_dirs);
         let mut world = py
             .detach(|| pickplace::motion::MotionWorld::for_robot(&urdf, srdf.as_deref(), &options))
             .map_err(|e| facade(py, &e))?;

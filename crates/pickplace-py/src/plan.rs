@@ -1,6 +1,6 @@
 //! `pickplace.plan`, `pickplace.validate`, and the `Plan` and `ValidationReport` classes.
 
-use crate::convert::{rows, samples, times, to_python};
+use crate::convert::{samples, times, to_python};
 use crate::errors::{facade, input_msg, no_plan};
 use crate::scene::Scene;
 use numpy::{PyArray1, PyArray2};
@@ -214,8 +214,7 @@ impl Plan {
         if t.is_empty() || t.iter().any(|p| field(p).len() != j) {
             return Ok(None);
         }
-        let r: Vec<&[f64]> = t.iter().map(|p| field(p).as_slice()).collect();
-        rows(py, &r, j).map(Some)
+        samples(py, t, j, field).map(Some)
     }
 }
 

@@ -4,6 +4,7 @@
 use crate::convert::{matrix4, rows, to_python};
 use crate::errors::{facade, input, input_msg};
 use numpy::{IntoPyArray, PyArray1, PyArray2, ToPyArray};
+use pickplace::cache::CacheWarning;
 use pickplace::{Setup, SetupOptions};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -27,23 +28,33 @@ pub struct Scene {
     warnings: Vec<String>,
 }
 
-/// The setup options of the keyword arguments, and the warning when there is no cache
-/// folder at all.
-fn options(
+/// The cache folder of the keyword arguments `cache_dir` and `use_cache` that every loading
+/// function takes (`Scene`, `MotionWorld`, the batch functions), as the CLI's `--cache` and
+/// `--no-cache`: none when `use_cache` is false, else `cache_dir`, else the default folder
+/// ([`pickplace::cache::default_dir`]); with the warning when that folder cannot be found
+/// (no cache then).
+pub(crate) fn cache_folder(
+    cache_dir: Option<PathBuf>,
+    use_cache: bool,
+) -> (Option<PathBuf>, Option<CacheWarning>) {
+    match (use_cache, cache_dir) {
+        (false, _) => (None, None),
+        (true, Some(dir)) => (Some(dir), None),
+        (true, None) => match pickplace::cache::default_dir() {
+            Ok(dir) => (Some(dir), None),
+            Err(warning) => (None, Some(warning)),
+        },
+    }
+}
+
+/// The setup options of the keyword arguments `cache_dir`, `use_cache` and `package_dirs`
+/// ([`cache_folder`]), and the warning when there is no cache folder at all.
+pub(crate) fn setup_options(
     cache_dir: Option<PathBuf>,
     use_cache: bool,
     package_dirs: Vec<PathBuf>,
-) -> (SetupOptions, Option<String>) {
-    let (cache_dir, warning) = if !use_cache {
-        (None, None)
-    } else if let Some(dir) = cache_dir {
-        (Some(dir), None)
-    } else {
-        match pickplace::cache::default_dir() {
-            Ok(dir) => (Some(dir), None),
-            Err(warning) => (None, Some(warning.to_string())),
-        }
-    };
+) -> (SetupOptions, Option<CacheWarning>) {
+    let (cache_dir, warning) = cache_folder(cache_dir, use_cache);
     let options = SetupOptions {
         cache_dir,
         package_dirs,
@@ -61,9 +72,9 @@ impl Scene {
         use_cache: bool,
         package_dirs: Vec<PathBuf>,
     ) -> PyResult<Self> {
-        let (options, warning) = options(cache_dir, use_cache, package_dirs);
+        let (options, warning) = setup_options(cache_dir, use_cache, package_dirs);
         let setup = py.detach(|| load(&options)).map_err(|e| facade(py, &e))?;
-        let mut warnings: Vec<String> = warning.into_iter().collect();
+        let mut warnings: Vec<String> = warning.iter().map(ToString::to_string).collect();
         warnings.extend(setup.warnings.iter().map(ToString::to_string));
         warnings.extend(setup.mesh_warnings.iter().map(ToString::to_string));
         Ok(Self {

@@ -453,11 +453,12 @@ def grasps(
     """Parallel-gripper grasps (`pickplace grasps --json`)."""
 
 # The batch functions behind `pickplace.batch` and `pickplace.ray` (use those).
-def _batch_plan_many(
-    scenes: Sequence[_Path],
-    out_dir: _Path,
+@final
+class _BatchOptions:
+    """A batch's options but its folder and threads (`_batch_options`)."""
+
+def _batch_options(
     *,
-    workers: int | None = None,
     seed: int | None = None,
     strategy: _Strategy | None = None,
     time_budget: float | None = None,
@@ -469,40 +470,31 @@ def _batch_plan_many(
     cache_dir: _Path | None = None,
     use_cache: bool = True,
     package_dirs: Sequence[_Path] = ...,
+) -> _BatchOptions:
+    """A batch's options: the strategy checked, the cache folder chosen."""
+
+def _batch_plan_many(
+    scenes: Sequence[_Path],
+    out_dir: _Path,
+    options: _BatchOptions,
+    *,
+    workers: int | None = None,
     progress: Any | None = None,
 ) -> list[str]:
     """Plans scenes in parallel; the summary lines (JSON)."""
 
 def _batch_prepare(
-    scenes: Sequence[_Path],
-    out_dir: _Path,
-    *,
-    seed: int | None = None,
-    strategy: _Strategy | None = None,
-    time_budget: float | None = None,
-    velocity_scaling: float | None = None,
-    acceleration_scaling: float | None = None,
-    sample_period: float | None = None,
+    scenes: Sequence[_Path], out_dir: _Path, options: _BatchOptions
 ) -> list[pathlib.Path]:
     """Checks a batch's names and options, creates the folder; the plan files."""
 
 def _batch_plan_one(
     scene: _Path,
     plan_path: _Path,
+    options: _BatchOptions,
     *,
     display: str | None = None,
     threads: int | None = None,
-    seed: int | None = None,
-    strategy: _Strategy | None = None,
-    time_budget: float | None = None,
-    velocity_scaling: float | None = None,
-    acceleration_scaling: float | None = None,
-    sample_period: float | None = None,
-    timings: bool = False,
-    resume: bool = False,
-    cache_dir: _Path | None = None,
-    use_cache: bool = True,
-    package_dirs: Sequence[_Path] = ...,
 ) -> str:
     """One scene of a batch; its summary line (JSON)."""
 

@@ -65,10 +65,9 @@ def plan_many(
         def callback(line: str) -> None:
             user(json.loads(line))
 
-    lines = _pickplace._batch_plan_many(
-        [os.fspath(s) for s in scenes],
-        os.fspath(out_dir),
-        workers=workers,
+    paths = [os.fspath(s) for s in scenes]
+    folder = os.fspath(out_dir)
+    options = _pickplace._batch_options(
         seed=seed,
         strategy=strategy,
         time_budget=time_budget,
@@ -80,6 +79,6 @@ def plan_many(
         cache_dir=None if cache_dir is None else os.fspath(cache_dir),
         use_cache=use_cache,
         package_dirs=[os.fspath(p) for p in package_dirs],
-        progress=callback,
     )
+    lines = _pickplace._batch_plan_many(paths, folder, options, workers=workers, progress=callback)
     return [json.loads(line) for line in lines]

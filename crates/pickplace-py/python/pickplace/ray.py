@@ -27,10 +27,14 @@ from .batch import SUMMARY_FILE, _Path
 __all__ = ["plan_many"]
 
 
-def _plan_one(scene: str, plan_path: str, display: str, options: dict[str, Any]) -> str:
-    """The task: one scene planned into `plan_path` on the CPUs Ray gave it; its summary
-    line (JSON), the scene shown as `display`."""
-    return _pickplace._batch_plan_one(scene, plan_path, display=display, **options)
+def _plan_one(
+    scene: str, plan_path: str, display: str, threads: int, options: dict[str, Any]
+) -> str:
+    """The task: one scene planned into `plan_path` on `threads` threads (the CPUs Ray gave
+    it); its summary line (JSON), the scene shown as `display`. `options` are the keywords of
+    the batch's options, made here so that the default cache folder is this node's."""
+    made = _pickplace._batch_options(**options)
+    return _pickplace._batch_plan_one(scene, plan_path, made, display=display, threads=threads)
 
 
 def plan_many(
@@ -88,10 +92,10 @@ def plan_many(
         "sample_period": sample_period,
     }
     # Names, options and the folder checked on the driver, before any task runs.
-    plan_paths = [os.fspath(p) for p in _pickplace._batch_prepare(absolute, out, **overrides)]
+    checked = _pickplace._batch_options(**overrides)
+    plan_paths = [os.fspath(p) for p in _pickplace._batch_prepare(absolute, out, checked)]
     options = dict(
         overrides,
-        threads=cpus_per_task,
         timings=timings,
         resume=resume,
         cache_dir=None if cache_dir is None else os.path.abspath(os.fspath(cache_dir)),
@@ -102,7 +106,7 @@ def plan_many(
         ray.init()
     task = ray.remote(_plan_one).options(num_cpus=cpus_per_task, max_retries=1)
     pending = {
-        task.remote(scene, plan_path, shown, options): k
+        task.remote(scene, plan_path, shown, cpus_per_task, options): k
         for k, (scene, plan_path, shown) in enumerate(zip(absolute, plan_paths, given))
     }
     lines: list[str] = [""] * len(given)
