@@ -1,5 +1,6 @@
 //! Unit tests of `toppra`.
 
+use super::blend::{distance, norm};
 use super::*;
 
 #[test]
