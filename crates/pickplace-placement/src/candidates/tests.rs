@@ -1,5 +1,6 @@
 //! Unit tests of `candidates`.
 
+use super::search::spread_order;
 use super::*;
 use proptest::prelude::*;
 
