@@ -3,8 +3,8 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
-use pickplace_geometry::shapes;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
+use pickplace_objects as objects;
 use std::hint::black_box;
 use std::path::Path;
 
@@ -19,8 +19,8 @@ fn grasps(c: &mut Criterion) {
     let options = GraspOptions::default();
     let mut group = c.benchmark_group("grasps");
     for (name, builder) in [
-        ("mug", shapes::mug_builder()),
-        ("can", shapes::can_builder()),
+        ("mug", objects::mug_builder()),
+        ("can", objects::can_builder()),
     ] {
         let mesh = builder.build().expect("valid mesh");
         let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid params");

@@ -3,7 +3,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use pickplace_geometry::mesh::{MeshOptions, encode_stl_binary, read_stl};
-use pickplace_geometry::shapes::mug_builder;
+use pickplace_objects::mug_builder;
 use std::hint::black_box;
 use std::path::Path;
 

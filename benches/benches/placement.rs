@@ -5,8 +5,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
-use pickplace_geometry::shapes;
 use pickplace_grasp::{GraspOptions, GraspPlanner, GripperParams};
+use pickplace_objects as objects;
 use pickplace_placement::{
     EnvironmentModel, ObjectModel, PlacementOptions, RestingOptions, candidates, default_target,
     resting_poses,
@@ -25,10 +25,10 @@ fn models(object: &TriMesh, env: &TriMesh) -> (ObjectModel, EnvironmentModel) {
 }
 
 fn placement(c: &mut Criterion) {
-    let can = shapes::can_builder().build().expect("can");
-    let mug = shapes::mug_builder().build().expect("mug");
-    let pallet = shapes::pallet_builder().build().expect("pallet");
-    let table = shapes::table_builder().build().expect("table");
+    let can = objects::can_builder().build().expect("can");
+    let mug = objects::mug_builder().build().expect("mug");
+    let pallet = objects::pallet_builder().build().expect("pallet");
+    let table = objects::table_builder().build().expect("table");
     let options = PlacementOptions::default();
 
     // Fig. 9: the can into the large dent (face-face), cluster databases precomputed.
@@ -63,15 +63,15 @@ fn placement(c: &mut Criterion) {
 /// 0.5 mm) on the table: its first setup (environment and finger clusters, grasp set, placement
 /// model), its resting poses and its placements.
 fn scanned(c: &mut Criterion) {
-    let scan = shapes::jittered(
-        shapes::subdivided_box_builder([0.1, 0.06, 0.05], 37),
+    let scan = objects::jittered(
+        objects::subdivided_box_builder([0.1, 0.06, 0.05], 37),
         0.0005,
         31,
     )
     .build()
     .expect("scanned box");
     assert_eq!(scan.triangle_count(), 16_428);
-    let table = shapes::table_builder().build().expect("table");
+    let table = objects::table_builder().build().expect("table");
     let gripper = GripperParams::load(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/nx-hiro/gripper.toml"),
     )

@@ -1,9 +1,9 @@
 //! `cargo xtask gen-meshes`: writes the shipped meshes (`meshes/*.stl`) from the deterministic
-//! builders of `pickplace_geometry::shapes`.
+//! builders of `pickplace_objects` (`shipped_meshes`).
 
 use anyhow::Context;
 use pickplace_geometry::mesh::write_stl_binary;
-use pickplace_geometry::shapes::shipped_meshes;
+use pickplace_objects::shipped_meshes;
 use std::path::Path;
 
 /// Writes every shipped mesh into `dir` (created if missing) and prints one line per file.

@@ -51,7 +51,7 @@ fn main() -> anyhow::Result<()> {
 
 /// `cargo xtask --help`: every task and its arguments.
 const USAGE: &str = "usage: cargo xtask <task>\n\ntasks:\n  gen-meshes   write the shipped meshes \
-     (meshes/*.stl) from pickplace_geometry::shapes\n  \
+     (meshes/*.stl) from pickplace_objects\n  \
      acm          regenerate disable_collisions of robots/nx-hiro/nx-hiro.srdf\n  \
      precompute   [--force]: cluster every mesh in meshes/ (env and finger) into the \
      cache and a PRM roadmap per arm group of NX-HIRO into the cache \

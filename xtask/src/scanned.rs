@@ -8,9 +8,8 @@
 use anyhow::Context;
 use pickplace_geometry::math::{Point3, Real, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::write_stl_binary;
-use pickplace_geometry::shapes::{
-    MeshBuilder, SplitMix64, ellipsoid_builder, jittered, revolve_builder, subdivided_box_builder,
-};
+use pickplace_geometry::shapes::{MeshBuilder, ellipsoid_builder, revolve_builder};
+use pickplace_objects::{SplitMix64, jittered, subdivided_box_builder};
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! `cargo xtask suite gen | run`: the scene suite of issue 17.
 //!
 //! `gen` writes the suite's meshes (`meshes/suite/*.stl`, from the builders of
-//! `pickplace_geometry::shapes`), its scenes (`scenes/suite/*.toml`, NX-HIRO on a table as in
+//! `pickplace_objects`), its scenes (`scenes/suite/*.toml`, NX-HIRO on a table as in
 //! the paper's §IV experiments) and its manifest `scenes/suite/suite.toml` (per scene: file,
 //! expectation, for infeasible ones the stage and reason the CLI must print, and tags). The
 //! output is a pure function of this file: byte-identical on every run, and a test checks that
@@ -10,7 +10,8 @@
 use anyhow::{Context, bail};
 use pickplace_geometry::math::{Point3, Real, UnitQuaternion, Vector3};
 use pickplace_geometry::mesh::encode_stl_binary;
-use pickplace_geometry::shapes::{self, MeshBuilder};
+use pickplace_geometry::shapes::MeshBuilder;
+use pickplace_objects as objects;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -85,92 +86,92 @@ fn suite_meshes() -> Vec<SuiteMesh> {
     };
     vec![
         // Objects.
-        shipped("can", "meshes/can.stl", shapes::can_builder()),
-        shipped("mug", "meshes/mug.stl", shapes::mug_builder()),
-        shipped("box", "meshes/box.stl", shapes::object_box_builder()),
+        shipped("can", "meshes/can.stl", objects::can_builder()),
+        shipped("mug", "meshes/mug.stl", objects::mug_builder()),
+        shipped("box", "meshes/box.stl", objects::object_box_builder()),
         suite(
             "cereal",
             "meshes/suite/cereal-box.stl",
-            shapes::cereal_box_builder(),
+            objects::cereal_box_builder(),
         ),
         suite(
             "domino",
             "meshes/suite/domino.stl",
-            shapes::domino_builder(),
+            objects::domino_builder(),
         ),
         suite(
             "block",
             "meshes/suite/toy-block.stl",
-            shapes::toy_block_builder(),
+            objects::toy_block_builder(),
         ),
         suite(
             "carton",
             "meshes/suite/milk-carton.stl",
-            shapes::milk_carton_builder(),
+            objects::milk_carton_builder(),
         ),
         suite(
             "dense-can",
             "meshes/suite/dense-can.stl",
-            shapes::dense_can_builder(),
+            objects::dense_can_builder(),
         ),
         suite(
             "bottle",
             "meshes/suite/bottle.stl",
-            shapes::punted_bottle_builder(),
+            objects::punted_bottle_builder(),
         ),
         suite(
             "l-shape",
             "meshes/suite/l-shape.stl",
-            shapes::l_shape_builder(),
+            objects::l_shape_builder(),
         ),
         suite(
             "brick",
             "meshes/suite/hollow-brick.stl",
-            shapes::hollow_brick_builder(),
+            objects::hollow_brick_builder(),
         ),
-        suite("fruit", "meshes/suite/fruit.stl", shapes::fruit_builder()),
-        suite("duck", "meshes/suite/duck.stl", shapes::duck_builder()),
+        suite("fruit", "meshes/suite/fruit.stl", objects::fruit_builder()),
+        suite("duck", "meshes/suite/duck.stl", objects::duck_builder()),
         suite(
             "scanned-box",
             "meshes/suite/scanned-box.stl",
-            shapes::scanned_box_builder(),
+            objects::scanned_box_builder(),
         ),
         suite(
             "big-cube",
             "meshes/suite/big-cube.stl",
-            shapes::box_on_base_builder([0.10, 0.10, 0.10]),
+            objects::box_on_base_builder([0.10, 0.10, 0.10]),
         ),
         // Environment.
         suite(
             "table",
             "meshes/suite/table.stl",
-            shapes::plain_table_builder([0.6, 0.9], 0.70),
+            objects::plain_table_builder([0.6, 0.9], 0.70),
         ),
-        shipped("pallet", "meshes/pallet.stl", shapes::pallet_builder()),
+        shipped("pallet", "meshes/pallet.stl", objects::pallet_builder()),
         suite(
             "shelf",
             "meshes/suite/shelf.stl",
-            shapes::shelf_builder([0.20, 0.30], 0.15),
+            objects::shelf_builder([0.20, 0.30], 0.15),
         ),
         suite(
             "wall",
             "meshes/suite/wall.stl",
-            shapes::box_on_base_builder([0.02, 0.40, 0.25]),
+            objects::box_on_base_builder([0.02, 0.40, 0.25]),
         ),
         suite(
             "block-tall",
             "meshes/suite/gap-block.stl",
-            shapes::box_on_base_builder([0.10, 0.05, 0.06]),
+            objects::box_on_base_builder([0.10, 0.05, 0.06]),
         ),
         suite(
             "obstacle",
             "meshes/suite/obstacle.stl",
-            shapes::box_on_base_builder([0.06, 0.06, 0.12]),
+            objects::box_on_base_builder([0.06, 0.06, 0.12]),
         ),
         suite(
             "low-box",
             "meshes/suite/low-box.stl",
-            shapes::box_on_base_builder([0.10, 0.06, 0.05]),
+            objects::box_on_base_builder([0.10, 0.06, 0.05]),
         ),
         suite("ramp", "meshes/suite/ramp.stl", ramp_builder()),
     ]
@@ -180,7 +181,7 @@ fn suite_meshes() -> Vec<SuiteMesh> {
 /// No object stays on it without friction the planner does not model (a target on it is
 /// infeasible).
 fn ramp_builder() -> MeshBuilder {
-    shapes::extruded_builder(&[[-0.06, 0.0], [0.06, 0.0], [-0.06, 0.12]], 0, 0.15)
+    objects::extruded_builder(&[[-0.06, 0.0], [0.06, 0.0], [-0.06, 0.12]], 0, 0.15)
 }
 
 /// How the object starts: on its base, on its side, upside down (a rotation applied before
@@ -267,8 +268,8 @@ fn part(name: &'static str, mesh: &'static str, x: Real, y: Real) -> Part {
 /// floors of its dents: large (0.09 square, 15 mm), small (0.05 square, 10 mm), pocket
 /// (0.075 × 0.12, 20 mm), groove (0.16 × 0.04, 12 mm).
 fn pallet(x: Real, y: Real) -> (Part, [[Real; 3]; 4]) {
-    let top = TABLE_TOP + shapes::PALLET_SIZE[2];
-    let d = shapes::PALLET_DENTS;
+    let top = TABLE_TOP + objects::PALLET_SIZE[2];
+    let d = objects::PALLET_DENTS;
     let floor = |i: usize| [x + d[i].center[0], y + d[i].center[1], top - d[i].depth];
     (
         part("pallet", "pallet", x, y),

@@ -6,7 +6,7 @@
 //! same seed gives the same plan on every machine and for any number of threads.
 //!
 //! - [`Rng::new`] seeds from one `u64` by SplitMix64, as [`SeedableRng::seed_from_u64`] does.
-//! - [`SplitMix64`] itself, for the seeded mesh builders (`pickplace_geometry::shapes`).
+//! - [`SplitMix64`] itself, for the seeded mesh builders (the test objects of `pickplace_objects`).
 //! - [`Rng::derive`] gives the generator of item `index` of a named `stream` under `seed`, so
 //!   that parallel work draws the same numbers whatever the order it runs in.
 //!

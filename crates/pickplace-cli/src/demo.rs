@@ -14,7 +14,7 @@ use pickplace::planner::Outcome;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::export::{write_atomic, write_clusters_ply};
 use pickplace_geometry::mesh::write_stl_binary;
-use pickplace_geometry::shapes;
+use pickplace_objects as objects;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -69,8 +69,8 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
     let mut written: Vec<PathBuf> = Vec::new();
 
     // The offline phase's pictures: clusters of the can and the pallet (§III-A, Figs. 3–5).
-    let can = shapes::can_builder().build()?;
-    let pallet = shapes::pallet_builder().build()?;
+    let can = objects::can_builder().build()?;
+    let pallet = objects::pallet_builder().build()?;
     for (name, mesh, params) in [
         ("can.env-clusters.ply", &can, ClusterParams::environment()),
         ("can.finger-clusters.ply", &can, ClusterParams::finger()),
@@ -177,7 +177,7 @@ fn write_scene(dir: &Path) -> anyhow::Result<()> {
     let meshes = dir.join("meshes");
     std::fs::create_dir_all(&meshes)
         .with_context(|| format!("{}: cannot create the folder", meshes.display()))?;
-    for shipped in shapes::shipped_meshes() {
+    for shipped in objects::shipped_meshes() {
         write_stl_binary(&shipped.builder, &meshes.join(shipped.file_name))?;
     }
     Ok(())

@@ -140,11 +140,11 @@ mod tests {
     use crate::planner::tests::gripper;
     use pickplace_geometry::cluster::cluster_surface;
     use pickplace_geometry::hash::mesh_hash;
-    use pickplace_geometry::shapes;
+    use pickplace_objects as objects;
 
     #[test]
     fn an_entry_gives_back_its_set_and_refuses_other_keys_and_damage() {
-        let mesh = shapes::mug_builder().build().expect("valid");
+        let mesh = objects::mug_builder().build().expect("valid");
         let params = ClusterParams::finger();
         let clustering = cluster_surface(&mesh, &params).expect("valid");
         let options = GraspOptions::default();
@@ -161,7 +161,7 @@ mod tests {
             grid_step: 0.005,
             ..options
         };
-        let other = shapes::can_builder().build().expect("valid");
+        let other = objects::can_builder().build().expect("valid");
         for k2 in [
             key(mesh_hash(&mesh), &params, &wide, &options),
             key(mesh_hash(&mesh), &params, &gripper(), &finer),

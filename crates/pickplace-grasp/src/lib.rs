@@ -19,7 +19,8 @@
 //!     include_str!("../tests/data/gripper.toml"),
 //!     std::path::Path::new("gripper.toml"),
 //! )?;
-//! let can = shapes::can_builder().build()?;
+//! // A drink can: radius 3.3 cm, height 12 cm, 64 facets around.
+//! let can = shapes::cylinder(0.033, 0.12, 64);
 //! let clustering = cluster_surface(&can, &ClusterParams::finger())?;
 //! let set = GraspPlanner::new(&can)?.plan(&clustering, &gripper, &GraspOptions::default())?;
 //! assert!(!set.grasps.is_empty());

@@ -363,6 +363,7 @@ mod tests {
     use super::*;
     use pickplace_geometry::math::Translation3;
     use pickplace_geometry::shapes;
+    use pickplace_objects as objects;
 
     #[test]
     fn resting_box_touches_but_lifted_box_is_free() {
@@ -378,12 +379,12 @@ mod tests {
 
     #[test]
     fn a_dented_or_hollow_mesh_is_not_convex() {
-        let can = CollisionMesh::new(&shapes::can_builder().build().expect("can")).expect("can");
+        let can = CollisionMesh::new(&objects::can_builder().build().expect("can")).expect("can");
         assert!(can.is_convex());
-        let mug = CollisionMesh::new(&shapes::mug_builder().build().expect("mug")).expect("mug");
+        let mug = CollisionMesh::new(&objects::mug_builder().build().expect("mug")).expect("mug");
         assert!(!mug.is_convex());
-        let pallet =
-            CollisionMesh::new(&shapes::pallet_builder().build().expect("pallet")).expect("pallet");
+        let pallet = CollisionMesh::new(&objects::pallet_builder().build().expect("pallet"))
+            .expect("pallet");
         assert!(!pallet.is_convex());
     }
 }

@@ -510,6 +510,7 @@ mod tests {
     use pickplace_geometry::math::{Translation3, UnitQuaternion};
     use pickplace_geometry::mesh::{MassProperties, TriMesh};
     use pickplace_geometry::shapes;
+    use pickplace_objects as objects;
 
     fn object(mesh: &TriMesh) -> ObjectModel {
         let clusters = cluster_surface(mesh, &ClusterParams::environment()).expect("clusters");
@@ -636,10 +637,10 @@ mod tests {
 
     #[test]
     fn a_can_on_its_side_rests_as_a_start_but_is_no_placement() {
-        let can = object(&shapes::can_builder().build().expect("can"));
+        let can = object(&objects::can_builder().build().expect("can"));
         // Axis along y, a line of vertices at the bottom, the neighbouring ones 0.16 mm up.
         let pose = Isometry3::from_parts(
-            Translation3::new(0.0, 0.06, shapes::CAN_RADIUS),
+            Translation3::new(0.0, 0.06, objects::CAN_RADIUS),
             UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI_2),
         );
         let state = rest_state(&can, &table(), &pose, &RestOptions::default());
@@ -752,12 +753,12 @@ mod tests {
 
     #[test]
     fn target_in_the_small_dent_is_too_small_for_the_can() {
-        let can = object(&shapes::can_builder().build().expect("can"));
-        let pallet = shapes::pallet_builder().build().expect("pallet");
+        let can = object(&objects::can_builder().build().expect("can"));
+        let pallet = objects::pallet_builder().build().expect("pallet");
         let clusters = cluster_surface(&pallet, &ClusterParams::environment()).expect("clusters");
         let env = EnvironmentModel::new(&pallet, &clusters, &Isometry3::identity()).expect("env");
-        let d = &shapes::PALLET_DENTS[1];
-        let floor = Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth);
+        let d = &objects::PALLET_DENTS[1];
+        let floor = Point3::new(d.center[0], d.center[1], objects::PALLET_SIZE[2] - d.depth);
         let err = target_surface(&can, &env, &floor, &PlacementOptions::default())
             .expect_err("the 5 cm dent");
         let TargetSurfaceError::TooSmall { smallest_face, .. } = err else {
@@ -765,12 +766,12 @@ mod tests {
         };
         // The can's caps (66 mm across) are its only faces that can stand.
         assert!(
-            (smallest_face[0] - 2.0 * shapes::CAN_RADIUS).abs() < 1e-3,
+            (smallest_face[0] - 2.0 * objects::CAN_RADIUS).abs() < 1e-3,
             "{err}"
         );
         // The large dent (9 x 9 cm) takes the can face-face.
-        let d = &shapes::PALLET_DENTS[0];
-        let floor = Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth);
+        let d = &objects::PALLET_DENTS[0];
+        let floor = Point3::new(d.center[0], d.center[1], objects::PALLET_SIZE[2] - d.depth);
         let surface =
             target_surface(&can, &env, &floor, &PlacementOptions::default()).expect("fits");
         assert!(

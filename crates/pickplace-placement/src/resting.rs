@@ -563,6 +563,7 @@ fn union(parent: &mut [usize], a: usize, b: usize) {
 mod tests {
     use super::*;
     use pickplace_geometry::shapes;
+    use pickplace_objects as objects;
 
     fn centroid(mesh: &TriMesh) -> Point3 {
         let (lo, hi) = mesh.aabb();
@@ -628,8 +629,8 @@ mod tests {
     /// hull facet carries it) finds a sliver under most faces.
     #[test]
     fn a_box_flat_only_to_a_millimetre_rests_on_its_six_faces() {
-        let mesh = shapes::jittered(
-            shapes::subdivided_box_builder([0.08, 0.06, 0.05], 24),
+        let mesh = objects::jittered(
+            objects::subdivided_box_builder([0.08, 0.06, 0.05], 24),
             0.0005,
             7,
         )

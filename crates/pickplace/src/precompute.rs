@@ -16,7 +16,8 @@
 //!
 //! let cache = std::env::temp_dir().join(format!("pickplace-precompute-doc-{}", std::process::id()));
 //! std::fs::create_dir_all(&cache)?;
-//! let can = shapes::can_builder().build()?;
+//! // A drink can: radius 3.3 cm, height 12 cm, 64 facets around.
+//! let can = shapes::cylinder(0.033, 0.12, 64);
 //! let params = [ClusterParams::environment(), ClusterParams::finger()];
 //! let jobs = Job::each_mode(Path::new("can.stl"), &can, &params);
 //! let reports = precompute(&jobs, &cache, &PrecomputeOptions::default(), &())?;
@@ -225,7 +226,7 @@ fn run_job(
 mod tests {
     use super::*;
     use pickplace_geometry::cluster::ContactMode;
-    use pickplace_geometry::shapes;
+    use pickplace_objects as objects;
     use std::sync::Mutex;
 
     /// An empty cache folder for one test (removed by the test when it passes).
@@ -266,7 +267,7 @@ mod tests {
     #[test]
     fn builds_then_loads_then_forced_rebuild() {
         let dir = empty_cache("cycle");
-        let can = shapes::can_builder().build().expect("can");
+        let can = objects::can_builder().build().expect("can");
         let jobs = Job::each_mode(Path::new("meshes/can.stl"), &can, &modes());
         let log = Log::default();
         let first = precompute(&jobs, &dir, &PrecomputeOptions::default(), &log).expect("first");
@@ -315,7 +316,7 @@ mod tests {
     #[test]
     fn parallel_keeps_the_job_order_and_goes_on_after_an_error() {
         let dir = empty_cache("parallel");
-        let can = shapes::can_builder().build().expect("can");
+        let can = objects::can_builder().build().expect("can");
         let bad = ClusterParams {
             h_max: -1.0,
             ..ClusterParams::environment()

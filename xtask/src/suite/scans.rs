@@ -13,7 +13,8 @@ use super::{
 };
 use crate::scanned::{blob, boxed, can_profile, noisy, revolved, rounded_box};
 use pickplace_geometry::math::Real;
-use pickplace_geometry::shapes::{self, MeshBuilder};
+use pickplace_geometry::shapes::MeshBuilder;
+use pickplace_objects as objects;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6};
 
 /// The objects and the environment parts of the scanned scenes.
@@ -109,7 +110,7 @@ pub(super) fn meshes() -> Vec<SuiteMesh> {
         SuiteMesh {
             key: "scan-die",
             path: "meshes/suite/scan-die.stl",
-            builder: shapes::jittered(rounded_box([0.02, 0.02, 0.02], 0.002, 4_000), 0.0003, 40),
+            builder: objects::jittered(rounded_box([0.02, 0.02, 0.02], 0.002, 4_000), 0.0003, 40),
             written: true,
             scale: 1.0,
         },
@@ -117,12 +118,12 @@ pub(super) fn meshes() -> Vec<SuiteMesh> {
         part(
             "crate",
             "meshes/suite/crate.stl",
-            shapes::box_on_base_builder([0.14, 0.14, 0.06]),
+            objects::box_on_base_builder([0.14, 0.14, 0.06]),
         ),
         part(
             "low-shelf",
             "meshes/suite/low-shelf.stl",
-            shapes::shelf_builder([0.20, 0.30], 0.07),
+            objects::shelf_builder([0.20, 0.30], 0.07),
         ),
     ]
 }

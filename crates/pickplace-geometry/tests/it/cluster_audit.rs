@@ -6,7 +6,8 @@ use pickplace_geometry::cluster::{
 };
 use pickplace_geometry::math::{Real, Vector3};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::shapes::{cylinder_builder, jittered, subdivided_box_builder};
+use pickplace_geometry::shapes::cylinder_builder;
+use pickplace_objects::{jittered, subdivided_box_builder};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 

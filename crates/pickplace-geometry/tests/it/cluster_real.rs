@@ -7,7 +7,7 @@ use pickplace_geometry::cluster::{
 };
 use pickplace_geometry::math::{Real, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
-use pickplace_geometry::shapes;
+use pickplace_objects as objects;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use std::collections::BTreeSet;
@@ -149,7 +149,7 @@ proptest! {
 /// The shipped meshes, in both modes.
 #[test]
 fn shipped_meshes_leave_no_mergeable_pair() {
-    for mesh in shapes::shipped_meshes() {
+    for mesh in objects::shipped_meshes() {
         let m = mesh.builder.build().expect("valid");
         for params in [ClusterParams::environment(), ClusterParams::finger()] {
             let c = cluster_surface(&m, &params).expect("valid");

@@ -8,7 +8,8 @@ use pickplace_geometry::mesh::{
     self, MassMethod, MeshOptions, TriMesh, encode_stl_binary, read_obj, read_ply, read_stl,
     write_stl_binary,
 };
-use pickplace_geometry::shapes::{self, shipped_meshes};
+use pickplace_geometry::shapes;
+use pickplace_objects::{self as objects, shipped_meshes};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -332,7 +333,7 @@ fn shipped_meshes_are_up_to_date() {
 fn can_and_box_match_their_analytic_mass_properties() {
     let can = mesh::load(&meshes_dir().join("can.stl"), &MeshOptions::default()).expect("can");
     let m = can.mass_properties();
-    let (r, h, n) = (shapes::CAN_RADIUS, shapes::CAN_HEIGHT, 64.0);
+    let (r, h, n) = (objects::CAN_RADIUS, objects::CAN_HEIGHT, 64.0);
     // A regular 64-gon prism: base area n r² sin(2π/n) / 2.
     let volume = n * r * r * (std::f64::consts::TAU / n).sin() / 2.0 * h;
     // Coordinates went through f32: relative error ~1e-7.
@@ -348,7 +349,7 @@ fn can_and_box_match_their_analytic_mass_properties() {
 
     let b = mesh::load(&meshes_dir().join("box.stl"), &MeshOptions::default()).expect("box");
     let m = b.mass_properties();
-    let [hx, hy, hz] = shapes::OBJECT_BOX_HALF_EXTENTS;
+    let [hx, hy, hz] = objects::OBJECT_BOX_HALF_EXTENTS;
     let volume = 8.0 * hx * hy * hz;
     assert!((m.volume - volume).abs() < 1e-6 * volume, "{}", m.volume);
     assert!((m.center_of_mass - Point3::new(0.0, 0.0, hz)).norm() < 1e-8);
@@ -366,7 +367,7 @@ fn can_and_box_match_their_analytic_mass_properties() {
 fn the_writer_round_trips_and_replaces_atomically() {
     let dir = scratch("writer");
     let path = dir.join("mug.stl");
-    let mug = shapes::mug_builder().build().expect("valid");
+    let mug = objects::mug_builder().build().expect("valid");
     std::fs::write(&path, b"old content").expect("write");
     write_stl_binary(&mug, &path).expect("writable");
     let back = mesh::load(&path, &MeshOptions::default()).expect("reads back");

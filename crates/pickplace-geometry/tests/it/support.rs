@@ -2,7 +2,8 @@
 
 use pickplace_geometry::math::{Point3, Real};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::shapes::{MeshBuilder, SplitMix64};
+use pickplace_geometry::shapes::MeshBuilder;
+use pickplace_objects::SplitMix64;
 
 /// The workspace's SplitMix64 with a uniform range (same seed, same sequence).
 #[derive(Debug, Clone)]

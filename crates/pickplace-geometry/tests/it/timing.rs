@@ -21,8 +21,8 @@ fn clustering_time_is_reported() {
     // The benches' scanned box (issue 31): 16 428 triangles moved by up to 0.5 mm.
     meshes.push((
         "scanned box".into(),
-        pickplace_geometry::shapes::jittered(
-            pickplace_geometry::shapes::subdivided_box_builder([0.1, 0.06, 0.05], 37),
+        pickplace_objects::jittered(
+            pickplace_objects::subdivided_box_builder([0.1, 0.06, 0.05], 37),
             0.0005,
             31,
         )

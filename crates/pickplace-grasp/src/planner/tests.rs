@@ -3,6 +3,7 @@
 use super::*;
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::shapes;
+use pickplace_objects as objects;
 
 /// NX-HIRO's gripper, from the crate's test fixture.
 pub(crate) fn gripper() -> GripperParams {
@@ -38,7 +39,7 @@ fn grid_covers_a_square_and_falls_back_to_the_centroid() {
 #[test]
 fn a_box_gets_ranked_grasps_with_the_pads_on_its_faces() {
     // 4 cm across y: fits the 8 cm gripper; 6 cm across x fits too; 10 cm across z does not.
-    let mesh = shapes::object_box_builder().build().expect("valid");
+    let mesh = objects::object_box_builder().build().expect("valid");
     let clustering = cluster_surface(&mesh, &ClusterParams::finger()).expect("valid");
     let planner = GraspPlanner::new(&mesh).expect("valid");
     let set = planner

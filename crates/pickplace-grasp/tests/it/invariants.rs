@@ -6,6 +6,7 @@ use pickplace_geometry::math::Point3;
 use pickplace_geometry::polygon;
 use pickplace_geometry::shapes;
 use pickplace_grasp::{GraspOptions, GripperParams};
+use pickplace_objects as objects;
 use proptest::prelude::*;
 
 fn inside_region(c: &Cluster, p: &Point3) -> bool {
@@ -111,9 +112,9 @@ fn can_mug_and_box_grasps_satisfy_the_invariants() {
     let gripper = support::gripper();
     let options = GraspOptions::default();
     for builder in [
-        shapes::can_builder(),
-        shapes::mug_builder(),
-        shapes::object_box_builder(),
+        objects::can_builder(),
+        objects::mug_builder(),
+        objects::object_box_builder(),
     ] {
         let planned = support::plan(builder.build().expect("valid"), &gripper, &options);
         assert!(!planned.set.grasps.is_empty());
@@ -124,7 +125,7 @@ fn can_mug_and_box_grasps_satisfy_the_invariants() {
 #[test]
 fn output_does_not_depend_on_the_thread_count() {
     let gripper = support::gripper();
-    let mesh = shapes::mug_builder().build().expect("valid");
+    let mesh = objects::mug_builder().build().expect("valid");
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -150,7 +151,7 @@ fn the_collider_sees_what_the_independent_check_sees() {
         ..Default::default()
     };
     let planned = support::plan(
-        shapes::object_box_builder().build().expect("valid"),
+        objects::object_box_builder().build().expect("valid"),
         &gripper,
         &options,
     );

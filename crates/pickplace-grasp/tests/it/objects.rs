@@ -2,8 +2,9 @@
 
 use super::support::{self, Planned};
 use pickplace_geometry::math::Real;
-use pickplace_geometry::shapes::{self, CAN_HEIGHT, MUG_HEIGHT};
+use pickplace_geometry::shapes;
 use pickplace_grasp::{Grasp, GraspOptions, GripperParams};
+use pickplace_objects::{self as objects, CAN_HEIGHT, MUG_HEIGHT};
 
 fn tcp_z(g: &Grasp) -> Real {
     g.object_from_tcp.translation.vector.z
@@ -13,7 +14,7 @@ fn tcp_z(g: &Grasp) -> Real {
 fn can_gets_side_grasps_and_grasps_across_its_caps() {
     let gripper = support::gripper();
     let Planned { set, .. } = support::plan(
-        shapes::can_builder().build().expect("valid"),
+        objects::can_builder().build().expect("valid"),
         &gripper,
         &GraspOptions::default(),
     );
@@ -68,7 +69,7 @@ fn can_with_a_wide_gripper_is_also_held_cap_to_cap() {
         ..support::gripper()
     };
     let Planned { set, .. } = support::plan(
-        shapes::can_builder().build().expect("valid"),
+        objects::can_builder().build().expect("valid"),
         &wide,
         &GraspOptions::default(),
     );
@@ -86,7 +87,7 @@ fn can_with_a_wide_gripper_is_also_held_cap_to_cap() {
 fn mug_gets_body_and_rim_grasps_and_none_through_the_handle() {
     let gripper = support::gripper();
     let Planned { set, .. } = support::plan(
-        shapes::mug_builder().build().expect("valid"),
+        objects::mug_builder().build().expect("valid"),
         &gripper,
         &GraspOptions::default(),
     );
@@ -124,7 +125,7 @@ fn mug_gets_body_and_rim_grasps_and_none_through_the_handle() {
     for g in &set.grasps {
         let p = g.object_from_tcp.translation.vector;
         assert!(
-            !(p.x > 0.03 && p.y.abs() < 0.015 && p.x.hypot(p.y) < shapes::MUG_RADIUS + 0.002),
+            !(p.x > 0.03 && p.y.abs() < 0.015 && p.x.hypot(p.y) < objects::MUG_RADIUS + 0.002),
             "grasp through the handle: {g:?}"
         );
     }

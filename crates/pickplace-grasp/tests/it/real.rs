@@ -7,6 +7,7 @@ use pickplace_geometry::math::{Point3, Real, Vector3};
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
 use pickplace_geometry::shapes::{self, MeshBuilder};
 use pickplace_grasp::{Grasp, GraspOptions};
+use pickplace_objects as objects;
 use std::f64::consts::{PI, TAU};
 
 fn tcp(g: &Grasp) -> Point3 {
@@ -336,7 +337,7 @@ fn the_grasp_set_does_not_depend_on_the_triangle_order() {
     let options = GraspOptions::default();
     for (name, mesh) in [
         ("bottle", bottle()),
-        ("mug", shapes::mug_builder().build().expect("valid")),
+        ("mug", objects::mug_builder().build().expect("valid")),
         (
             "duck",
             ellipsoid([0.029, 0.024, 0.022], Vector3::new(0.0, 0.0, 0.03), 24, 36)
@@ -408,9 +409,9 @@ fn a_pad_on_a_sphere_touches_the_cap_its_sheet_wraps() {
 fn no_finger_reaches_the_object_before_its_pad() {
     let gripper = support::gripper();
     for (name, mesh) in [
-        ("bottle", shapes::punted_bottle_builder()),
-        ("duck", shapes::duck_builder()),
-        ("mug", shapes::mug_builder()),
+        ("bottle", objects::punted_bottle_builder()),
+        ("duck", objects::duck_builder()),
+        ("mug", objects::mug_builder()),
     ] {
         let mesh = mesh.build().expect("valid");
         let Planned { set, .. } = support::plan(mesh.clone(), &gripper, &GraspOptions::default());
@@ -438,7 +439,7 @@ fn no_finger_reaches_the_object_before_its_pad() {
 #[test]
 fn the_duck_gets_grasps_on_its_body_and_head() {
     let gripper = support::gripper();
-    let mesh = shapes::duck_builder().build().expect("valid");
+    let mesh = objects::duck_builder().build().expect("valid");
     let Planned { set, .. } = support::plan(mesh, &gripper, &GraspOptions::default());
     assert!(set.grasps.len() >= 60, "{} grasps", set.grasps.len());
     let head = set.grasps.iter().filter(|g| tcp(g).z > 0.05).count();

@@ -6,7 +6,7 @@ use crate::simulate::{Drift, Obstacle, drop_test, pallet_cuboids};
 use pickplace_geometry::cluster::{ClusterParams, cluster_surface};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::{MassProperties, TriMesh};
-use pickplace_geometry::shapes;
+use pickplace_objects as objects;
 use pickplace_placement::{
     ContactKind, EnvironmentModel, ObjectModel, Placement, PlacementOptions, PlacementSet,
     candidates, default_target,
@@ -37,14 +37,14 @@ pub fn scene(object_mesh: TriMesh, env_mesh: TriMesh) -> Scene {
 
 fn can_on_pallet() -> Scene {
     scene(
-        shapes::can_builder().build().expect("can"),
-        shapes::pallet_builder().build().expect("pallet"),
+        objects::can_builder().build().expect("can"),
+        objects::pallet_builder().build().expect("pallet"),
     )
 }
 
 fn dent_floor(i: usize) -> Point3 {
-    let d = &shapes::PALLET_DENTS[i];
-    Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth)
+    let d = &objects::PALLET_DENTS[i];
+    Point3::new(d.center[0], d.center[1], objects::PALLET_SIZE[2] - d.depth)
 }
 
 /// The drop test (issue 3) on every placement, on the environment `env`: each pose's drift
@@ -221,7 +221,7 @@ fn can_tilts_on_the_narrow_groove_edge_face() {
 #[test]
 fn every_pallet_pose_passes_the_drop_test() {
     let s = can_on_pallet();
-    let top = shapes::PALLET_SIZE[2];
+    let top = objects::PALLET_SIZE[2];
     let mut targets: Vec<Point3> = (0..4).map(dent_floor).collect();
     targets.extend([
         Point3::new(0.0, -0.03, top),
@@ -285,12 +285,12 @@ fn small_square_dent_has_no_placement_and_says_why() {
 #[test]
 fn mug_on_the_table_among_obstacles() {
     let s = scene(
-        shapes::mug_builder().build().expect("mug"),
-        shapes::table_builder().build().expect("table"),
+        objects::mug_builder().build().expect("mug"),
+        objects::table_builder().build().expect("table"),
     );
     // Near the cylinder obstacle at (-0.33, 0.19), radius 0.04: the mug (radius 0.04, handle
     // to 0.078) cannot stand on the target itself.
-    let target = Point3::new(-0.25, 0.19, shapes::TABLE_HEIGHT);
+    let target = Point3::new(-0.25, 0.19, objects::TABLE_HEIGHT);
     let set = candidates(&s.object, &s.env, &target, &PlacementOptions::default()).expect("target");
     assert_sorted(&set);
     let best = set.placements.first().expect("the mug finds room");
@@ -303,7 +303,7 @@ fn mug_on_the_table_among_obstacles() {
     );
     assert_all_settle(&s, &set);
     // In the open, in the middle of the table: every pose settles too.
-    let open = Point3::new(0.0, 0.0, shapes::TABLE_HEIGHT);
+    let open = Point3::new(0.0, 0.0, objects::TABLE_HEIGHT);
     let set = candidates(&s.object, &s.env, &open, &PlacementOptions::default()).expect("target");
     assert!(!set.placements.is_empty());
     assert_all_settle(&s, &set);
@@ -330,7 +330,10 @@ fn default_target_is_the_centre_of_the_largest_upward_region() {
     let target = default_target(&s.env, &options).expect("the pallet's top faces up");
     // The pallet's top is its largest upward region: the target lies on it, inside the
     // pallet's outline, and the placement search accepts it.
-    assert!((target.z - shapes::PALLET_SIZE[2]).abs() < 1e-9, "{target}");
+    assert!(
+        (target.z - objects::PALLET_SIZE[2]).abs() < 1e-9,
+        "{target}"
+    );
     let top = s
         .env
         .regions
@@ -356,7 +359,7 @@ fn default_target_is_the_centre_of_the_largest_upward_region() {
 fn a_distance_bound_keeps_the_near_candidates_and_drops_the_far_ones() {
     // The can on the pallet's top, around a point away from its dents.
     let s = can_on_pallet();
-    let target = Point3::new(0.0, -0.12, shapes::PALLET_SIZE[2]);
+    let target = Point3::new(0.0, -0.12, objects::PALLET_SIZE[2]);
     let all =
         candidates(&s.object, &s.env, &target, &PlacementOptions::default()).expect("candidates");
     let bound = 0.02;

@@ -9,7 +9,7 @@ pub use pickplace_placement::simulate::{Drift, Obstacle, drop_test};
 /// A second, independent model of the environment for the drop test: flat box faces and box
 /// edges instead of a triangle soup.
 pub fn pallet_cuboids() -> Vec<Obstacle> {
-    use pickplace_geometry::shapes::{PALLET_DENTS, PALLET_SIZE};
+    use pickplace_objects::{PALLET_DENTS, PALLET_SIZE};
     let [sx, sy, sz] = PALLET_SIZE;
     let mut xs = vec![-sx / 2.0, sx / 2.0];
     let mut ys = vec![-sy / 2.0, sy / 2.0];

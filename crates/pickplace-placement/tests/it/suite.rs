@@ -9,6 +9,7 @@ use crate::simulate::{Obstacle, drop_test};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_geometry::mesh::{self, MassProperties, MeshOptions, TriMesh};
 use pickplace_geometry::shapes::{self, MeshBuilder};
+use pickplace_objects as objects;
 use pickplace_placement::{
     ContactKind, Placement, PlacementOptions, candidates, default_target, intermediate_placements,
 };
@@ -199,12 +200,12 @@ fn l_shape() -> TriMesh {
 /// The objects of the suite, by name.
 pub fn objects() -> Vec<(&'static str, TriMesh)> {
     vec![
-        ("box", shapes::object_box_builder().build().expect("box")),
+        ("box", objects::object_box_builder().build().expect("box")),
         ("cereal box", shapes::box_mesh([0.095, 0.015, 0.135])),
         ("domino", shapes::box_mesh([0.024, 0.012, 0.004])),
-        ("can", shapes::can_builder().build().expect("can")),
+        ("can", objects::can_builder().build().expect("can")),
         ("bottle", bottle()),
-        ("mug", shapes::mug_builder().build().expect("mug")),
+        ("mug", objects::mug_builder().build().expect("mug")),
         ("L-shape", l_shape()),
         ("milk carton", milk_carton()),
         ("hollow box", hollow_box()),
@@ -273,8 +274,8 @@ fn drop_all(s: &Scene, target: &Point3, options: &PlacementOptions) -> (usize, u
 }
 
 fn pallet_dent_floor() -> Point3 {
-    let d = &shapes::PALLET_DENTS[0];
-    Point3::new(d.center[0], d.center[1], shapes::PALLET_SIZE[2] - d.depth)
+    let d = &objects::PALLET_DENTS[0];
+    Point3::new(d.center[0], d.center[1], objects::PALLET_SIZE[2] - d.depth)
 }
 
 /// Drops every placement of `mesh` on the flat table (at its centre), on the pallet's top (the
@@ -283,7 +284,7 @@ fn pallet_dent_floor() -> Point3 {
 fn drop_object(name: &str, mesh: TriMesh) -> (usize, usize, Vec<String>) {
     let options = suite_options();
     let table = scene(mesh.clone(), flat_table());
-    let pallet = scene(mesh, shapes::pallet_builder().build().expect("pallet"));
+    let pallet = scene(mesh, objects::pallet_builder().build().expect("pallet"));
     let top = default_target(&pallet.env, &options).expect("pallet top");
     let (mut total, mut held, mut failures) = (0, 0, Vec::new());
     for (env_name, s, target) in [
@@ -495,9 +496,9 @@ fn release_error_calibrates_the_minimum_tipping_angle() {
 #[test]
 fn intermediate_placements_cover_every_resting_face() {
     let options = PlacementOptions::default();
-    let around = Point3::new(0.0, 0.0, shapes::TABLE_HEIGHT);
-    let table = || shapes::table_builder().build().expect("table");
-    let s = scene(shapes::object_box_builder().build().expect("box"), table());
+    let around = Point3::new(0.0, 0.0, objects::TABLE_HEIGHT);
+    let table = || objects::table_builder().build().expect("table");
+    let s = scene(objects::object_box_builder().build().expect("box"), table());
     let set = intermediate_placements(&s.object, &s.env, &around, 0.1, &options).expect("table");
     let faces: BTreeSet<usize> = set.placements.iter().map(|p| p.object_cluster).collect();
     assert_eq!(faces.len(), 6, "{faces:?}");
@@ -517,7 +518,7 @@ fn intermediate_placements_cover_every_resting_face() {
     let faces: BTreeSet<usize> = set.placements.iter().map(|p| p.object_cluster).collect();
     assert_eq!(faces.len(), 6, "a cap never hides a face");
 
-    let s = scene(shapes::mug_builder().build().expect("mug"), table());
+    let s = scene(objects::mug_builder().build().expect("mug"), table());
     let set = intermediate_placements(&s.object, &s.env, &around, 0.1, &options).expect("table");
     let up: Vec<bool> = set
         .placements

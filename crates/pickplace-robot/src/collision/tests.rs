@@ -382,9 +382,7 @@ fn a_mask_of_the_wrong_length_is_an_error() {
 fn a_held_mesh_tested_through_its_hull_first_gives_the_mesh_answer() {
     // The paper's mug (a handle: far from convex), attached, against a box at poses that
     // sweep through contact, with and without a margin.
-    let mug = pickplace_geometry::shapes::mug_builder()
-        .build()
-        .expect("mug");
+    let mug = pickplace_objects::mug_builder().build().expect("mug");
     let shape = CollisionShape::mesh(&mug).expect("mesh").with_hull();
     assert!(shape.hull.is_some());
     let object = AttachedObject {
