@@ -25,14 +25,11 @@
 
 use crate::collide::CollisionMesh;
 use crate::region::Region;
-use crate::stability::{self, SupportHull};
+use crate::stability;
 use pickplace_geometry::cluster::Clustering;
-use pickplace_geometry::math::{
-    Isometry3, Point2, Point3, Real, Translation3, UnitQuaternion, Vector2, Vector3,
-};
+use pickplace_geometry::math::{Isometry3, Point2, Point3, Real};
 use pickplace_geometry::mesh::TriMesh;
-use pickplace_geometry::polygon::{Polygon, signed_margin};
-use std::f64::consts::PI;
+use pickplace_geometry::polygon::signed_margin;
 
 mod search;
 
