@@ -17,8 +17,14 @@ pub const MAX_JOINT_STEP: Real = std::f64::consts::PI / 180.0;
 /// Largest tool-frame displacement between checked states (m).
 pub const MAX_CARTESIAN_STEP: Real = 0.01;
 /// Within this distance (m) of a resting pose (the start, an intermediate rest, the final
-/// pose) the object may touch the support it rests on there.
-pub const CONTACT_ZONE: Real = 0.006;
+/// pose) the object may touch the support it rests on there: the planner's default
+/// ([`crate::planner::PlanOptions::contact_zone`]).
+pub const CONTACT_ZONE: Real = 0.005;
+/// What the validator allows beyond [`CONTACT_ZONE`] (m): the object near a resting pose
+/// between two samples of the timed trajectory is up to this much farther from it than at
+/// the samples the planner checked. The validator accepts contact within
+/// `CONTACT_ZONE + CONTACT_ZONE_SLACK`.
+pub const CONTACT_ZONE_SLACK: Real = 0.001;
 /// Least distance (m) between the two hands' links (each arm's gripper links and the link
 /// carrying them), measured on their collision geometry at every checked state. The planner
 /// keeps the same clearance at a handover.

@@ -287,21 +287,21 @@ impl Ctx<'_> {
         t_all: Instant,
     ) -> Result<Plan> {
         let t = Instant::now();
-        let model = &self.setup.model;
+        let model = &self.run.setup.model;
         let n = model.variable_count();
         let limits = self.timing_limits();
         let mut trajectory: Vec<TrajectoryPoint> = vec![TrajectoryPoint {
             time_from_start: 0.0,
-            positions: self.setup.start.clone(),
+            positions: self.run.setup.start.clone(),
             velocities: vec![0.0; n],
             accelerations: vec![0.0; n],
         }];
         let mut events = Vec::new();
         let mut key_poses = Vec::new();
-        let mut object_pose = self.setup.object_start;
+        let mut object_pose = self.run.setup.object_start;
         // The hands holding the object, in the order they took it: it moves with the first.
         let mut holders: Vec<(Arm, Isometry3)> = Vec::new();
-        let placed = self.placements[found.placement].world_from_object;
+        let placed = self.run.placements[found.placement].world_from_object;
         let path = Path::of(&found.segments);
         let timed = self.time_path(&found.segments, &path, &limits)?;
         // Each sample once, times rounded; a sample within half a microsecond of the one
@@ -337,7 +337,7 @@ impl Ctx<'_> {
                 .clone();
             let time = trajectory[at].time_from_start;
             if let Some((kind, arm, link_from_object)) = seg.event {
-                let a = self.setup.arm(arm);
+                let a = self.run.setup.arm(arm);
                 events.push(Event {
                     time,
                     kind,
@@ -370,7 +370,7 @@ impl Ctx<'_> {
             .grasps
             .iter()
             .map(|&(arm, gi)| {
-                let g = &self.grasps[gi];
+                let g = &self.run.grasps[gi];
                 GraspInfo {
                     arm,
                     object_from_tcp: PoseSpec::from_isometry(&g.object_from_tcp),
@@ -380,7 +380,7 @@ impl Ctx<'_> {
                 }
             })
             .collect();
-        let placement = self.placement_info(&self.placements[found.placement], found.placement);
+        let placement = self.placement_info(&self.run.placements[found.placement], found.placement);
         let rests = found
             .rests
             .iter()
@@ -392,21 +392,23 @@ impl Ctx<'_> {
                 }
             })
             .collect();
-        self.timings
+        self.budget
+            .timings
             .insert("trajectory".to_owned(), t.elapsed().as_secs_f64());
         stats.trajectory_points = trajectory.len();
         stats.duration = trajectory.last().map_or(0.0, |p| p.time_from_start);
         self.finish_stats(&mut stats, t_all);
         Ok(Plan {
             format: PLAN_FORMAT.to_owned(),
-            seed: self.options.seed,
+            seed: self.run.options.seed,
             strategy,
             joint_names: model.variable_names().map(str::to_owned).collect(),
             base: Some(crate::tool_frame::BaseFrame::of_model(
                 model,
-                &self.setup.world_from_root,
+                &self.run.setup.world_from_root,
             )),
             arms: self
+                .run
                 .setup
                 .arms
                 .iter()
@@ -428,13 +430,13 @@ impl Ctx<'_> {
             limits: Some(Limits {
                 velocities: limits.max_velocities.clone(),
                 accelerations: limits.max_accelerations.clone(),
-                velocity_scaling: self.options.velocity_scaling,
-                acceleration_scaling: self.options.acceleration_scaling,
+                velocity_scaling: self.run.options.velocity_scaling,
+                acceleration_scaling: self.run.options.acceleration_scaling,
             }),
             trajectory,
             events,
             object: ObjectMotion {
-                start_pose: PoseSpec::from_isometry(&self.setup.object_start),
+                start_pose: PoseSpec::from_isometry(&self.run.setup.object_start),
                 placed_pose: PoseSpec::from_isometry(&placed),
             },
             placement,
@@ -443,11 +445,12 @@ impl Ctx<'_> {
             key_poses,
             stats,
             warnings: self
+                .run
                 .setup
                 .robot_warnings
                 .iter()
                 .cloned()
-                .chain(self.setup.mesh_warnings.iter().map(ToString::to_string))
+                .chain(self.run.setup.mesh_warnings.iter().map(ToString::to_string))
                 .collect(),
         })
     }
@@ -459,18 +462,25 @@ impl Ctx<'_> {
     /// [`Setup::timing`]: crate::Setup::timing
     fn timing_limits(&self) -> ToppraOptions {
         let (vs, acs) = (
-            self.options.velocity_scaling,
-            self.options.acceleration_scaling,
+            self.run.options.velocity_scaling,
+            self.run.options.acceleration_scaling,
         );
         ToppraOptions {
-            max_velocities: self.setup.timing.iter().map(|l| l.velocity * vs).collect(),
+            max_velocities: self
+                .run
+                .setup
+                .timing
+                .iter()
+                .map(|l| l.velocity * vs)
+                .collect(),
             max_accelerations: self
+                .run
                 .setup
                 .timing
                 .iter()
                 .map(|l| l.acceleration * acs)
                 .collect(),
-            sample_period: self.options.sample_period,
+            sample_period: self.run.options.sample_period,
             ..ToppraOptions::default()
         }
     }
@@ -493,7 +503,7 @@ impl Ctx<'_> {
         path: &Path,
         limits: &ToppraOptions,
     ) -> Result<TimedPlan> {
-        let mut tolerances = path.tolerances(segments, self.options.blend_tolerance);
+        let mut tolerances = path.tolerances(segments, self.run.options.blend_tolerance);
         let mut tightened = vec![0usize; tolerances.len()];
         loop {
             let parts =
@@ -502,7 +512,7 @@ impl Ctx<'_> {
                 &parts,
                 limits,
                 path.waypoints.first(),
-                self.setup.model.variable_count(),
+                self.run.setup.model.variable_count(),
             )?;
             let failed = self.blend_failures(segments, path, &parts, &timed)?;
             if failed.is_empty() {
@@ -598,7 +608,7 @@ impl Ctx<'_> {
         let (Some(first), Some(last)) = (seg.path.first(), seg.path.last()) else {
             return true;
         };
-        self.setup.arms.iter().all(|a| {
+        self.run.setup.arms.iter().all(|a| {
             let p0 = self.tcp(a.arm, first).translation.vector;
             let p1 = self.tcp(a.arm, last).translation.vector;
             let line = p1 - p0;
@@ -623,6 +633,7 @@ impl Ctx<'_> {
             .map(|(x, y)| (y - x).abs())
             .fold(0.0, Real::max);
         let tool = self
+            .run
             .setup
             .arms
             .iter()
@@ -651,6 +662,7 @@ impl Ctx<'_> {
     /// What the plan says of placement `p`, the `rank`-th of its list.
     fn placement_info(&self, p: &Placement, rank: usize) -> PlacementInfo {
         let (env_index, env_cluster) = self
+            .run
             .setup
             .environment_of_cluster(p.env_cluster)
             .unwrap_or((0, p.env_cluster));
@@ -662,6 +674,7 @@ impl Ctx<'_> {
             .to_owned(),
             object_cluster: p.object_cluster,
             environment: self
+                .run
                 .setup
                 .environment
                 .get(env_index)
@@ -688,7 +701,7 @@ mod tests {
     #[test]
     fn segments_are_timed_back_to_back_with_events_at_their_ends() {
         let mut ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         let start = setup.start.clone();
         let arm = Arm::Right;
         let raised = {
@@ -697,7 +710,7 @@ mod tests {
             q[v] += 0.2;
             q
         };
-        let g = ctx.grasps[0].object_from_tcp.inverse();
+        let g = ctx.run.grasps[0].object_from_tcp.inverse();
         let found = Found {
             segments: vec![
                 Segment::reach("pre-grasp", arm, vec![start.clone(), raised.clone()]),

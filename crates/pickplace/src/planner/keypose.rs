@@ -39,7 +39,7 @@ impl Ctx<'_> {
     fn ik_options(&self, salt: u64) -> IkOptions {
         IkOptions {
             max_restarts: 6,
-            seed: self.options.seed ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15),
+            seed: self.run.options.seed ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15),
             ..IkOptions::default()
         }
     }
@@ -52,8 +52,8 @@ impl Ctx<'_> {
         seed: &[Real],
         salt: u64,
     ) -> Option<Vec<Real>> {
-        let a = self.setup.arm(arm);
-        let root_from_tcp = self.setup.world_from_root.inverse() * world_from_tcp;
+        let a = self.run.setup.arm(arm);
+        let root_from_tcp = self.run.setup.world_from_root.inverse() * world_from_tcp;
         let sol =
             a.ik.solve(&root_from_tcp, seed, &self.ik_options(salt))
                 .ok()?;
@@ -99,9 +99,9 @@ impl Ctx<'_> {
             Some(c) => Rejection::Collision(c),
         };
         let mut reason = reason;
-        let a = self.setup.arm(arm);
+        let a = self.run.setup.arm(arm);
         let mut rng = pickplace_prm::rng::Rng::new(
-            self.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
+            self.run.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
         );
         let mut seed = seed.to_vec();
         for k in 1..IK_SOLUTIONS {
@@ -121,7 +121,7 @@ impl Ctx<'_> {
 
     /// `world_from_tcp` of the arm at `q`.
     pub(super) fn tcp(&self, arm: Arm, q: &[Real]) -> Isometry3 {
-        self.setup.world_from_root * self.setup.arm(arm).ik.chain().pose(q)
+        self.run.setup.world_from_root * self.run.setup.arm(arm).ik.chain().pose(q)
     }
 
     /// `q` with the arm's pads `opening` apart (clamped into the gripper's range): the joint
@@ -130,7 +130,7 @@ impl Ctx<'_> {
     #[cfg(test)]
     pub(super) fn with_fingers(&self, arm: Arm, q: &[Real], opening: Real) -> Vec<Real> {
         let mut q = q.to_vec();
-        self.setup.arm(arm).gripper.set_opening(&mut q, opening);
+        self.run.setup.arm(arm).gripper.set_opening(&mut q, opening);
         q
     }
 
@@ -138,26 +138,26 @@ impl Ctx<'_> {
     /// the gripper's squeeze).
     pub(super) fn gripping(&self, arm: Arm, q: &[Real], width: Real) -> Vec<Real> {
         let mut q = q.to_vec();
-        self.setup.arm(arm).gripper.set_grasp(&mut q, width);
+        self.run.setup.arm(arm).gripper.set_grasp(&mut q, width);
         q
     }
 
     /// `q` with the arm's hand open.
     pub(super) fn opened(&self, arm: Arm, q: &[Real]) -> Vec<Real> {
         let mut q = q.to_vec();
-        self.setup.arm(arm).gripper.set_open(&mut q);
+        self.run.setup.arm(arm).gripper.set_open(&mut q);
         q
     }
 
     /// The gripper's approach direction in its tool frame.
     pub(super) fn approach_axis(&self) -> Vector3 {
-        self.setup.gripper.approach()
+        self.run.setup.gripper.approach()
     }
 
     /// `q` with arm `other`'s joints and fingers taken from `from`.
     pub(super) fn other_from(&self, other: Arm, q: &[Real], from: &[Real]) -> Vec<Real> {
         let mut out = q.to_vec();
-        let o = self.setup.arm(other);
+        let o = self.run.setup.arm(other);
         for &v in o.variables.iter().chain(&o.finger_variables) {
             out[v] = from[v];
         }
@@ -167,7 +167,7 @@ impl Ctx<'_> {
     /// `base` with `arm`'s joints (not its fingers) taken from `q`.
     pub(super) fn arm_from(&self, arm: Arm, base: &[Real], q: &[Real]) -> Vec<Real> {
         let mut out = base.to_vec();
-        for &v in &self.setup.arm(arm).variables {
+        for &v in &self.run.setup.arm(arm).variables {
             out[v] = q[v];
         }
         out
@@ -187,12 +187,12 @@ impl Ctx<'_> {
         let from_pose = self.tcp(arm, from);
         let distance = (to_pose.translation.vector - from_pose.translation.vector).norm();
         let angle = from_pose.rotation.angle_to(&to_pose.rotation);
-        let n = ((distance / self.options.cartesian_step)
+        let n = ((distance / self.run.options.cartesian_step)
             .max(angle / 0.05)
             .ceil() as usize)
             .max(1);
         let mut path = vec![from.to_vec()];
-        let variables = &self.setup.arm(arm).variables;
+        let variables = &self.run.setup.arm(arm).variables;
         for i in 1..=n {
             let s = i as Real / n as Real;
             let pose = Isometry3::from_parts(
@@ -213,7 +213,7 @@ impl Ctx<'_> {
                 .iter()
                 .map(|&v| (q[v] - prev[v]).abs())
                 .fold(0.0, Real::max);
-            if jump > self.options.max_joint_step {
+            if jump > self.run.options.max_joint_step {
                 return Err(Rejection::BranchJump.into());
             }
             if let Some(c) = self.collision(world_at(i, n), &q, 0.0)? {
@@ -231,10 +231,11 @@ impl Ctx<'_> {
         world_from_tcp: &Isometry3,
         opening: Real,
     ) -> Option<Rejection> {
-        let g = &self.setup.gripper;
+        let g = &self.run.setup.gripper;
         let [f1, f2] = g.fingers(opening);
         let bodies = [g.palm_box(), f1, f2];
-        self.setup
+        self.run
+            .setup
             .environment
             .iter()
             .find(|e| {
@@ -267,18 +268,18 @@ impl Ctx<'_> {
     /// (fingers closed, object attached). Computed once per arm and grasp for every strategy
     /// of the plan (the result does not depend on the strategy).
     pub(super) fn pick(&self, arm: Arm, gi: usize) -> Attempt<Pick> {
-        if let Some(r) = self.memo_lock(&self.pick_memo).get(&(arm, gi)) {
+        if let Some(r) = self.memo_lock(&self.memo.pick).get(&(arm, gi)) {
             return r.clone().map_err(Into::into);
         }
         let result = split(self.pick_at(
             arm,
             gi,
-            &self.setup.object_start,
-            &self.start_supports,
-            &self.setup.start,
+            &self.run.setup.object_start,
+            &self.run.start_supports,
+            &self.run.setup.start,
             0,
         ))?;
-        self.memo_lock(&self.pick_memo)
+        self.memo_lock(&self.memo.pick)
             .insert((arm, gi), result.clone());
         result.map_err(Into::into)
     }
@@ -296,13 +297,14 @@ impl Ctx<'_> {
         start: &[Real],
         rest: u64,
     ) -> Attempt<Pick> {
-        let a = self.setup.arm(arm);
-        let g = &self.grasps[gi];
+        let a = self.run.setup.arm(arm);
+        let g = &self.run.grasps[gi];
         let grasp_pose = world_from_object * g.object_from_tcp;
         if (grasp_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
             return Err(Rejection::OutOfReach.into());
         }
-        if let Some(r) = self.hand_hits_environment(&grasp_pose, self.setup.gripper.opening_max) {
+        if let Some(r) = self.hand_hits_environment(&grasp_pose, self.run.setup.gripper.opening_max)
+        {
             return Err(r.into());
         }
         let salt = ((gi as u64) << 8 | arm.index() as u64) ^ rest.wrapping_mul(0x9e37_79b9);
@@ -315,15 +317,15 @@ impl Ctx<'_> {
         let q_grasp = self
             .free_ik_after(arm, first, &grasp_pose, &open, salt, &free)
             .map_err(|f| f.at(Step::Grasp))?;
-        let pre_pose =
-            grasp_pose * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let pre_pose = grasp_pose
+            * Translation3::from(-self.approach_axis() * self.run.options.approach_distance);
         let mut approach = self
             .cartesian(arm, &q_grasp, &pre_pose, &|_, _| &free, salt ^ 0x11)
             .map_err(|f| f.at(Step::Approach))?;
         approach.reverse();
         let closed = self.gripping(arm, &q_grasp, g.width);
         let [holding, holding_contact] = self.contact_worlds(arm, &g.object_from_tcp, supports)?;
-        let lift_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * grasp_pose;
+        let lift_pose = Translation3::new(0.0, 0.0, self.run.options.lift_height) * grasp_pose;
         let world_at = self.near_support(&holding, &holding_contact);
         let lift = self
             .cartesian(arm, &closed, &lift_pose, &world_at, salt ^ 0x22)
@@ -340,28 +342,29 @@ impl Ctx<'_> {
     /// and grasp for every strategy of the plan; the motions take the other arm's joints
     /// from where that arm is.
     pub(super) fn place(&self, arm: Arm, pi: usize, gi: usize) -> Attempt<Place> {
-        if let Some(r) = self.memo_lock(&self.place_memo).get(&(arm, pi, gi)) {
+        if let Some(r) = self.memo_lock(&self.memo.place).get(&(arm, pi, gi)) {
             return r.clone().map_err(Into::into);
         }
-        let p = &self.placements[pi];
+        let p = &self.run.placements[pi];
         let supports = self.placement_supports(pi);
         let result = split(self.place_at(
             arm,
             gi,
             &p.world_from_object,
             supports,
-            &self.open_start,
+            &self.run.open_start,
             (pi as u64) << 20,
         ))?;
-        self.memo_lock(&self.place_memo)
+        self.memo_lock(&self.memo.place)
             .insert((arm, pi, gi), result.clone());
         result.map_err(Into::into)
     }
 
     /// The environment bodies the object touches at placement `pi`, found once.
     pub(super) fn placement_supports(&self, pi: usize) -> &[String] {
-        let p = &self.placements[pi];
-        self.placement_supports[pi].get_or_init(|| supports(self.setup, &p.world_from_object))
+        let p = &self.run.placements[pi];
+        self.memo.placement_supports[pi]
+            .get_or_init(|| supports(self.run.setup, &p.world_from_object))
     }
 
     /// The memo behind `mutex` (a poisoned lock still holds valid entries: each is inserted
@@ -385,8 +388,8 @@ impl Ctx<'_> {
         seed: &[Real],
         salt: u64,
     ) -> Attempt<Place> {
-        let a = self.setup.arm(arm);
-        let g = &self.grasps[gi];
+        let a = self.run.setup.arm(arm);
+        let g = &self.run.grasps[gi];
         let place_pose = world_from_object * g.object_from_tcp;
         if (place_pose.translation.vector - a.shoulder.coords).norm() > a.reach {
             return Err(Rejection::OutOfReach.into());
@@ -411,7 +414,7 @@ impl Ctx<'_> {
                 &holding_contact,
             )
             .map_err(|f| f.at(Step::Place))?;
-        let pre_pose = Translation3::new(0.0, 0.0, self.options.lift_height) * place_pose;
+        let pre_pose = Translation3::new(0.0, 0.0, self.run.options.lift_height) * place_pose;
         let world_at = self.near_support(&holding, &holding_contact);
         let mut lower = self
             .cartesian(arm, &q_place, &pre_pose, &world_at, salt ^ 0x33)
@@ -422,8 +425,8 @@ impl Ctx<'_> {
         if let Some(c) = self.collision(&left, &opened, 0.0)? {
             return Err(Rejection::Collision(c).at(Step::Release).into());
         }
-        let retreat_pose =
-            place_pose * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+        let retreat_pose = place_pose
+            * Translation3::from(-self.approach_axis() * self.run.options.approach_distance);
         let retreat = self
             .cartesian(arm, &opened, &retreat_pose, &|_, _| &left, salt ^ 0x44)
             .map_err(|f| f.at(Step::Retreat))?;
@@ -441,14 +444,14 @@ impl Ctx<'_> {
         world_from_object: &Isometry3,
         open: bool,
     ) -> std::result::Result<(), Rejection> {
-        let a = self.setup.arm(arm);
-        let g = &self.grasps[gi];
+        let a = self.run.setup.arm(arm);
+        let g = &self.run.grasps[gi];
         let pose = world_from_object * g.object_from_tcp;
         if (pose.translation.vector - a.shoulder.coords).norm() > a.reach {
             return Err(Rejection::OutOfReach);
         }
         let opening = if open {
-            self.setup.gripper.opening_max
+            self.run.setup.gripper.opening_max
         } else {
             g.width
         };
@@ -479,7 +482,7 @@ impl Ctx<'_> {
         let key_tcp = key.map(|q| self.tcp(arm, q).translation.vector);
         let collides = |_: usize, q: &[Real]| {
             let near = key_tcp.is_some_and(|k| {
-                (self.tcp(arm, q).translation.vector - k).norm() <= self.options.contact_zone
+                (self.tcp(arm, q).translation.vector - k).norm() <= self.run.options.contact_zone
             });
             self.collision(world_at(if near { 0 } else { n }, n), q, 0.0)
         };
@@ -504,7 +507,7 @@ impl Ctx<'_> {
         self.check_straight(arm, approach, &|_, _| &free, true)
             .map_err(|f| f.at(Step::Approach))?;
         let [holding, contact] =
-            self.contact_worlds(arm, &self.grasps[gi].object_from_tcp, supports)?;
+            self.contact_worlds(arm, &self.run.grasps[gi].object_from_tcp, supports)?;
         self.check_straight(arm, lift, &self.near_support(&holding, &contact), false)
             .map_err(|f| f.at(Step::Lift))
     }
@@ -521,7 +524,7 @@ impl Ctx<'_> {
         retreat: &[Vec<Real>],
     ) -> Attempt<()> {
         let [holding, contact] =
-            self.contact_worlds(arm, &self.grasps[gi].object_from_tcp, supports)?;
+            self.contact_worlds(arm, &self.run.grasps[gi].object_from_tcp, supports)?;
         self.check_straight(arm, lower, &self.near_support(&holding, &contact), true)
             .map_err(|f| f.at(Step::Lower))?;
         let left = self.world_with_object_at(at);
@@ -536,8 +539,8 @@ impl Ctx<'_> {
         holding: &'w CollisionWorld,
         contact: &'w CollisionWorld,
     ) -> impl Fn(usize, usize) -> &'w CollisionWorld + use<'w> {
-        let zone = self.options.contact_zone;
-        let height = self.options.lift_height;
+        let zone = self.run.options.contact_zone;
+        let height = self.run.options.lift_height;
         move |i, n| {
             if (i as Real / n as Real) * height <= zone {
                 contact
@@ -570,7 +573,7 @@ mod tests {
     #[test]
     fn fingers_are_clamped_to_their_limits_and_grip_below_the_width() {
         let ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         let wide = ctx.with_fingers(Arm::Right, &setup.start, 10.0);
         for &v in &setup.arm(Arm::Right).finger_variables {
             assert_eq!(wide[v], setup.model.variable_joint(v).limits.upper);
@@ -597,7 +600,7 @@ mod tests {
     #[test]
     fn ik_reaches_the_tool_pose_it_was_given() {
         let ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         let target = ctx.tcp(Arm::Right, &setup.start) * Translation3::new(0.02, 0.01, -0.03);
         let q = ctx
             .ik(Arm::Right, &target, &setup.start, 7)
@@ -610,18 +613,18 @@ mod tests {
     fn the_best_reachable_pick_approaches_and_lifts_in_straight_lines() {
         let ctx = ctx("fig9-near.toml");
 
-        let (gi, pick) = (0..ctx.grasps.len())
+        let (gi, pick) = (0..ctx.run.grasps.len())
             .find_map(|gi| ctx.pick(Arm::Right, gi).ok().map(|p| (gi, p)))
             .expect("the right hand picks the near can");
         assert!(off_line(&ctx, Arm::Right, &pick.approach) < 1e-3);
         assert!(off_line(&ctx, Arm::Right, &pick.lift) < 1e-3);
         // The approach ends where the lift starts (fingers aside), at the grasp pose.
-        let grasp = ctx.setup.object_start * ctx.grasps[gi].object_from_tcp;
+        let grasp = ctx.run.setup.object_start * ctx.run.grasps[gi].object_from_tcp;
         let at = ctx.tcp(Arm::Right, pick.approach.last().unwrap());
         assert!((at.translation.vector - grasp.translation.vector).norm() < 1e-3);
         let lifted = ctx.tcp(Arm::Right, pick.lift.last().unwrap());
         let rise = lifted.translation.vector.z - at.translation.vector.z;
-        assert!((rise - ctx.options.lift_height).abs() < 1e-3, "{rise}");
+        assert!((rise - ctx.run.options.lift_height).abs() < 1e-3, "{rise}");
     }
 
     #[test]
@@ -629,7 +632,7 @@ mod tests {
         // In the far-left scene the can is beyond the right arm's reach.
         let ctx = ctx("fig9-far-left.toml");
 
-        for gi in 0..ctx.grasps.len().min(8) {
+        for gi in 0..ctx.run.grasps.len().min(8) {
             match ctx.pick(Arm::Right, gi) {
                 Err(Fail::Rejected(r)) => assert_eq!(r, Rejection::OutOfReach),
                 other => panic!("grasp {gi}: {other:?}"),
@@ -642,12 +645,12 @@ mod tests {
         let ctx = ctx("fig9-near.toml");
         // The tool frame 5 cm above the table top, approaching upwards: the palm (behind the tool frame along the approach axis)
         // goes through the table top.
-        let pose = Translation3::new(0.0, 0.0, 0.05) * ctx.setup.object_start;
+        let pose = Translation3::new(0.0, 0.0, 0.05) * ctx.run.setup.object_start;
         assert_eq!(
-            ctx.hand_hits_environment(&pose, ctx.setup.gripper.opening_max),
+            ctx.hand_hits_environment(&pose, ctx.run.setup.gripper.opening_max),
             Some(Rejection::GripperHits("table".into()))
         );
-        let above = Translation3::new(0.0, 0.0, 0.5) * ctx.setup.object_start;
+        let above = Translation3::new(0.0, 0.0, 0.5) * ctx.run.setup.object_start;
         assert_eq!(ctx.hand_hits_environment(&above, 0.0), None);
     }
 
@@ -657,7 +660,7 @@ mod tests {
 
         // Every rejection of the left hand's picks is a known one, with a step where the
         // pick got past the reach and gripper tests.
-        for gi in 0..ctx.grasps.len().min(24) {
+        for gi in 0..ctx.run.grasps.len().min(24) {
             if let Err(Fail::Rejected(r)) = ctx.pick(Arm::Left, gi) {
                 match &r {
                     Rejection::OutOfReach | Rejection::GripperHits(_) => {}

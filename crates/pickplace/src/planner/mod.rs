@@ -8,194 +8,52 @@
 //! |---|---|
 //! | placement candidates on the clicked cluster (Algorithm 2), ranked | [`plan`] (calls `pickplace_placement::candidates`) |
 //! | grasp candidates on parallel cluster pairs, ranked; those below [`PlanOptions::min_grasp_quality`] of the best dropped ("if it has good quality we check the collision of the key postures") | [`plan`] (calls `pickplace_grasp`) |
-//! | strategies in the paper's order, switching on failure | [`plan`], `search`, `turns` (the time budget's shares) |
+//! | strategies in the paper's order, switching on failure | [`plan`], `turns` (the time budget's shares) |
+//! | the cheap tests that order every search: grasps fitting a hand at the start and at each placement, the placements' order | `fits` |
+//! | the direct strategies (RIGHT-RIGHT, LEFT-LEFT) | `direct` |
 //! | key poses: reach, gripper against the environment, IK, collision with the object attached; straight approach, lift, lowering and retreat | `keypose`, `world` |
-//! | the handover pose and second grasp (RIGHT-LEFT, LEFT-RIGHT) | `handover` |
+//! | the handover pose and second grasp (RIGHT-LEFT, LEFT-RIGHT) and their search | `handover` |
+//! | regrasp by placing (one or two intermediate rests) | `regrasp` |
 //! | PRM motions between the key poses, shortcut | `motion` |
 //! | time parameterisation, events and key poses of the plan | `assemble` |
+//!
+//! One run's state is split by owner (`state`): what is fixed once the candidates are known,
+//! the time budget, the key poses' memo every strategy shares, and each strategy family's
+//! own memo (handover, regrasp); [`PlanOptions`] are in `options`.
 //!
 //! Every rejection is counted per strategy and [`Stage`] with its typed [`Rejection`], so a
 //! failure says why; a defect of a lower layer is an [`crate::Error`], never a rejection.
 
 mod assemble;
+mod direct;
+mod fits;
 mod handover;
 mod keypose;
 mod motion;
+mod options;
 mod reason;
 mod regrasp;
-mod search;
+mod state;
 mod turns;
 mod world;
 
 pub use handover::handover_candidates;
+pub use options::PlanOptions;
 pub use reason::{Attempt, Collision, End, Fail, Rejection, Role, Stage, Step};
 pub use regrasp::REST_RADIUS;
 
-use crate::contact::supports;
 use crate::error::{Error, Result};
 use crate::plan::{StageCount, Stats, StrategyReport};
-use crate::scene::StrategyChoice;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
 use assemble::Found;
 use pickplace_geometry::math::Real;
-use pickplace_grasp::{Grasp, GraspSet};
-use pickplace_placement::{Placement, PlacementOptions, PlacementSet};
+use pickplace_grasp::GraspSet;
+use pickplace_placement::{PlacementOptions, PlacementSet};
+use state::Ctx;
 use std::collections::BTreeMap;
-use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 use turns::{Turns, take_turns};
-
-/// Options of [`plan`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct PlanOptions {
-    /// Seed of every random choice (default: the scene's `planner.seed`, else 1).
-    pub seed: u64,
-    /// Strategy (default: the scene's, else auto).
-    pub strategy: StrategyChoice,
-    /// Distance of the pre-grasp and retreat poses from the grasp, along the approach (m)
-    /// (default: 0.08).
-    pub approach_distance: Real,
-    /// Height the object is lifted after the grasp and lowered before the place (m)
-    /// (default: 0.10).
-    pub lift_height: Real,
-    /// Largest step of straight Cartesian motions (m) (default: 0.01).
-    pub cartesian_step: Real,
-    /// Largest joint change between two steps of a Cartesian motion (rad); more means the IK
-    /// jumped to another branch (default: 0.2).
-    pub max_joint_step: Real,
-    /// Grasps scoring below this fraction of the best are not used (default: 0.2).
-    pub min_grasp_quality: Real,
-    /// Clearance kept by PRM motions (m) (default: 0.01).
-    pub motion_margin: Real,
-    /// Picking-hand poses tried for a handover (default: 96); see [`handover_candidates`].
-    pub handover_poses: usize,
-    /// Feasible handover poses compared before the best is kept (default: 3).
-    pub handover_feasible: usize,
-    /// Distance from the start or placed pose within which the object may touch the surface
-    /// it rests on (m) (default: 0.005).
-    pub contact_zone: Real,
-    /// Record stage timings in the plan's stats (default: true).
-    pub timings: bool,
-    /// Wall-clock budget of the whole plan (s): once spent, no further placement or strategy
-    /// is started and the failure says so (default: the scene's `planner.time_budget`, else 10).
-    /// No count caps the search of placements and grasps: each strategy searches, best first,
-    /// until it finds a plan, runs out of candidates, or has spent its share of what is left
-    /// of the budget (what is left divided by the strategies still to try), so that a
-    /// strategy that cannot succeed does not starve the next. A budget makes the outcome
-    /// depend on the machine's speed only when it runs out.
-    pub time_budget: Real,
-    /// Trajectory sampling period (s) (default: 0.04).
-    pub sample_period: Real,
-    /// How far (rad, joint space) a motion through free space may cut a corner of its path
-    /// (a roadmap vertex, a shortcut's waypoint) on a circular blend, so that the robot does
-    /// not stop there; what the blends change is checked again for collisions, and a blend
-    /// that collides is tightened (default: 0.1). Straight tool motions blend at most
-    /// 0.005 rad and stay within 1 mm of their line.
-    pub blend_tolerance: Real,
-    /// Fraction of every joint's velocity limit the trajectory uses, in (0, 1] (MoveIt's
-    /// velocity scaling factor; default: the scene's `trajectory.velocity_scaling`, else 1).
-    pub velocity_scaling: Real,
-    /// Fraction of every joint's acceleration limit the trajectory uses, in (0, 1] (default:
-    /// the scene's `trajectory.acceleration_scaling`, else 1).
-    pub acceleration_scaling: Real,
-    /// Fewest and most intermediate resting poses of a regrasp by placing, searched in that
-    /// order, fewest first: the shortest sequence of the regrasp graph (default: 1 and 2).
-    pub regrasp_rests: (usize, usize),
-}
-
-impl PlanOptions {
-    /// Refuses options out of range ([`crate::ranges`]): every number, before any work, so
-    /// that a library caller gets the CLI's message rather than an overflow.
-    ///
-    /// # Errors
-    /// [`crate::Error::Invalid`] naming the option (and the scene).
-    pub fn check(&self, setup: &Setup) -> Result<()> {
-        use crate::ranges::{
-            PLANNER_ANGLE, PLANNER_DISTANCE, Range, SAMPLE_PERIOD, SCALING, TIME_BUDGET,
-        };
-        let fraction = Range::closed(0.0, 1.0, "");
-        let counts = Range::closed(1.0, 100_000.0, "");
-        let checks: [(&str, Real, Range); 13] = [
-            ("time_budget", self.time_budget, TIME_BUDGET),
-            ("velocity_scaling", self.velocity_scaling, SCALING),
-            ("acceleration_scaling", self.acceleration_scaling, SCALING),
-            ("sample_period", self.sample_period, SAMPLE_PERIOD),
-            ("blend_tolerance", self.blend_tolerance, PLANNER_ANGLE),
-            ("max_joint_step", self.max_joint_step, PLANNER_ANGLE),
-            (
-                "approach_distance",
-                self.approach_distance,
-                PLANNER_DISTANCE,
-            ),
-            ("lift_height", self.lift_height, PLANNER_DISTANCE),
-            ("motion_margin", self.motion_margin, PLANNER_DISTANCE),
-            ("contact_zone", self.contact_zone, PLANNER_DISTANCE),
-            ("min_grasp_quality", self.min_grasp_quality, fraction),
-            ("handover_poses", self.handover_poses as Real, counts),
-            ("handover_feasible", self.handover_feasible as Real, counts),
-        ];
-        for (field, value, range) in checks {
-            range.check(value).map_err(|e| crate::Error::Invalid {
-                path: setup.scene_path.clone(),
-                field: format!("plan option {field}"),
-                reason: e.to_string(),
-            })?;
-        }
-        let bad = |field: &str, reason: &str| crate::Error::Invalid {
-            path: setup.scene_path.clone(),
-            field: format!("plan option {field}"),
-            reason: reason.to_owned(),
-        };
-        if !(self.cartesian_step > 0.0 && PLANNER_DISTANCE.contains(self.cartesian_step)) {
-            return Err(bad("cartesian_step", "must be in (0, 10] m"));
-        }
-        if self.regrasp_rests.0 > self.regrasp_rests.1 || self.regrasp_rests.1 > 8 {
-            return Err(bad(
-                "regrasp_rests",
-                "must be (fewest, most) with fewest <= most <= 8",
-            ));
-        }
-        Ok(())
-    }
-
-    /// The defaults with the scene's seed, strategy and time budget.
-    pub fn for_setup(setup: &Setup) -> Self {
-        Self {
-            seed: setup.scene.planner.seed,
-            strategy: setup.scene.planner.strategy,
-            time_budget: setup.scene.planner.time_budget,
-            velocity_scaling: setup.scaling.0,
-            acceleration_scaling: setup.scaling.1,
-            ..Self::default()
-        }
-    }
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        Self {
-            seed: 1,
-            strategy: StrategyChoice::Auto,
-            approach_distance: 0.08,
-            lift_height: 0.10,
-            cartesian_step: 0.01,
-            max_joint_step: 0.2,
-            min_grasp_quality: 0.2,
-            motion_margin: 0.01,
-            handover_poses: 96,
-            handover_feasible: 3,
-            contact_zone: 0.005,
-            timings: true,
-            time_budget: 10.0,
-            sample_period: 0.04,
-            blend_tolerance: 0.1,
-            velocity_scaling: 1.0,
-            acceleration_scaling: 1.0,
-            regrasp_rests: (1, 2),
-        }
-    }
-}
 
 /// What [`plan`] found.
 #[derive(Debug, Clone, PartialEq)]
@@ -215,69 +73,13 @@ pub struct Failure {
     pub stats: Stats,
 }
 
-/// The grasps fitting a hand at a placement (best first) and the most frequent reason of
-/// the others.
-type Fits = (Vec<usize>, String);
-
 /// A memoized key pose: the result, or why it was rejected.
 type Memo<T> = std::result::Result<T, Rejection>;
 
-/// One planning run: the scene, the options and the candidates every stage shares.
-struct Ctx<'a> {
-    /// When planning started (for the time budget).
-    started: Instant,
-    /// When the strategy being searched must stop (its share of the time budget).
-    deadline: Instant,
-    setup: &'a Setup,
-    options: &'a PlanOptions,
-    /// Grasps above the quality threshold, best first.
-    grasps: Vec<Grasp>,
-    /// Placement candidates, best first.
-    placements: Vec<Placement>,
-    /// Environment bodies the object touches at the start.
-    start_supports: Vec<String>,
-    /// Environment bodies the object touches at each placement, found once per placement
-    /// (every grasp placing there asks; places run in parallel).
-    placement_supports: Vec<OnceLock<Vec<String>>>,
-    /// Per arm (right, left) and placement: the grasps whose closed gripper fits there
-    /// (`Ctx::grasp_fits`), found once.
-    placement_fits: [Vec<OnceLock<Fits>>; 2],
-    /// The start configuration with both hands open: the seed of every place.
-    open_start: Vec<Real>,
-    /// Picks at the start per (arm, grasp), shared by the strategies.
-    pick_memo: Mutex<BTreeMap<(Arm, usize), Memo<keypose::Pick>>>,
-    /// Places per (arm, placement, grasp), shared by the strategies.
-    place_memo: Mutex<BTreeMap<(Arm, usize, usize), Memo<keypose::Place>>>,
-    /// The picking arm at each handover candidate per first grasp, shared by the placements.
-    handover_arm_memo: Mutex<handover::HandoverArmMemo>,
-    /// Each second grasp at each handover candidate per first grasp, shared by the placements.
-    second_grasp_memo: Mutex<handover::SecondGraspMemo>,
-    /// The hands' clearance check, built once (`Ctx::hands_too_close`).
-    hand_clearance: OnceLock<Result<Option<crate::rules::HandClearance>>>,
-    /// Intermediate resting poses for a regrasp by placing, found once (`Ctx::rests`).
-    rests: OnceLock<Vec<Placement>>,
-    /// Environment bodies the object touches at each rest, found once.
-    rest_supports: OnceLock<Vec<OnceLock<Vec<String>>>>,
-    timings: BTreeMap<String, Real>,
-}
-
 impl Ctx<'_> {
-    fn out_of_time(&self) -> bool {
-        self.started.elapsed().as_secs_f64() > self.options.time_budget
-            || Instant::now() > self.deadline
-    }
-
-    /// Gives the next strategy its share of the time left: what is left of the budget
-    /// divided by the `remaining` strategies still to try (this one included).
-    fn share_time(&mut self, remaining: usize) {
-        let left = (self.options.time_budget - self.started.elapsed().as_secs_f64()).max(0.0);
-        let share = left / remaining.max(1) as Real;
-        self.deadline = Instant::now() + std::time::Duration::from_secs_f64(share);
-    }
-
     fn finish_stats(&self, stats: &mut Stats, t_all: Instant) {
-        if self.options.timings {
-            stats.timings = self.timings.clone();
+        if self.run.options.timings {
+            stats.timings = self.budget.timings.clone();
             stats
                 .timings
                 .insert("total".to_owned(), t_all.elapsed().as_secs_f64());
@@ -347,9 +149,6 @@ fn candidate_counts(
 /// Beyond the target's tolerance, how far (m) placement positions are still searched.
 const PLACEMENT_SEARCH_MARGIN: Real = 0.01;
 
-/// A deadline that is never reached (a century), for budgets no [`Instant`] can hold.
-const FAR_FUTURE: std::time::Duration = std::time::Duration::from_secs(100 * 365 * 86_400);
-
 /// Fig. 8's first two steps: the placement candidates on the cluster the target selects
 /// (Algorithm 2) and the grasp candidates on the object's parallel cluster pairs (§III-B.1),
 /// each timed into `timings`.
@@ -392,66 +191,6 @@ fn candidates(
     Ok((placement_set, grasp_set, far))
 }
 
-impl<'a> Ctx<'a> {
-    /// The context of a run started at `started`: the grasps scoring at least
-    /// [`PlanOptions::min_grasp_quality`] of the best, every placement candidate, and the
-    /// environment parts the object rests on at its start.
-    fn new(
-        setup: &'a Setup,
-        options: &'a PlanOptions,
-        started: Instant,
-        placement_set: &PlacementSet,
-        grasp_set: &GraspSet,
-        timings: BTreeMap<String, Real>,
-    ) -> Self {
-        let best = grasp_set.grasps.first().map_or(0.0, |g| g.score);
-        let n = placement_set.placements.len();
-        // The budget is checked against ranges::TIME_BUDGET; a library caller who skipped
-        // the check still gets no panic: a budget no Duration holds has no deadline.
-        let budget = std::time::Duration::try_from_secs_f64(options.time_budget.max(0.0))
-            .unwrap_or(std::time::Duration::MAX);
-        let deadline = started.checked_add(budget).unwrap_or(started + FAR_FUTURE);
-        Ctx {
-            started,
-            deadline,
-            placement_fits: [
-                (0..n).map(|_| OnceLock::new()).collect(),
-                (0..n).map(|_| OnceLock::new()).collect(),
-            ],
-            rests: OnceLock::new(),
-            rest_supports: OnceLock::new(),
-            hand_clearance: OnceLock::new(),
-            open_start: {
-                let mut q = setup.start.clone();
-                for a in &setup.arms {
-                    a.gripper.set_open(&mut q);
-                }
-                q
-            },
-            pick_memo: Mutex::new(BTreeMap::new()),
-            place_memo: Mutex::new(BTreeMap::new()),
-            handover_arm_memo: Mutex::new(BTreeMap::new()),
-            second_grasp_memo: Mutex::new(BTreeMap::new()),
-            setup,
-            options,
-            grasps: grasp_set
-                .grasps
-                .iter()
-                .filter(|g| g.score >= options.min_grasp_quality * best)
-                .cloned()
-                .collect(),
-            placements: placement_set.placements.clone(),
-            placement_supports: placement_set
-                .placements
-                .iter()
-                .map(|_| OnceLock::new())
-                .collect(),
-            start_supports: supports(setup, &setup.object_start),
-            timings,
-        }
-    }
-}
-
 /// Plans the scene (paper Fig. 8): placements on the target's cluster, grasps, then the
 /// strategies in the paper's order until one yields a plan.
 ///
@@ -483,7 +222,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
     };
     let mut ctx = Ctx::new(setup, options, t_all, &placement_set, &grasp_set, timings);
     let mut reasons = Vec::new();
-    if ctx.placements.is_empty() {
+    if ctx.run.placements.is_empty() {
         for (cluster, r) in &placement_set.rejections {
             reasons.push(format!(
                 "no stable placement on environment cluster {cluster}: {} did not fit, {} unstable, {} penetrate",
@@ -500,7 +239,7 @@ pub fn plan(setup: &Setup, options: &PlanOptions) -> Result<Outcome> {
             reasons.push("no stable placement near the target".to_owned());
         }
     }
-    if ctx.grasps.is_empty() {
+    if ctx.run.grasps.is_empty() {
         reasons.push(if grasp_set.pairs == 0 {
             "no grasp: the object has no two opposite surfaces the fingers can hold (no finger-contact cluster pair; planner.h_max_finger, docs/grasp.md)".to_owned()
         } else {
@@ -583,7 +322,7 @@ impl Ctx<'_> {
             self.single_arm_strategy(strategy.pick_arm(), &mut report)?
         };
         let what = if probe { "probe" } else { "strategy" };
-        self.timings.insert(
+        self.budget.timings.insert(
             format!("{what} {}", strategy.name()),
             t.elapsed().as_secs_f64(),
         );
@@ -639,8 +378,17 @@ fn summarize(report: &StrategyReport) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+
+    /// An empty report of `strategy`.
+    pub(in crate::planner) fn report(strategy: Strategy) -> StrategyReport {
+        StrategyReport {
+            strategy,
+            success: false,
+            stages: BTreeMap::new(),
+        }
+    }
 
     /// A planning context on a shipped scene, as [`plan`] builds it (default options).
     pub(super) fn ctx(scene: &str) -> Ctx<'static> {

@@ -52,15 +52,15 @@ impl Ctx<'_> {
         to: &[Real],
         salt: u64,
     ) -> Attempt<Vec<Vec<Real>>> {
-        let a = self.setup.arm(arm);
+        let a = self.run.setup.arm(arm);
         let project = |q: &[Real]| -> Vec<Real> { a.variables.iter().map(|&v| q[v]).collect() };
         let (qa, qb) = (project(from), project(to));
         let checker = ArmChecker::new(
-            &self.setup.model,
+            &self.run.setup.model,
             world,
             &a.variables,
             from.to_vec(),
-            self.options.motion_margin,
+            self.run.options.motion_margin,
         )
         .exempt(vec![qa.clone(), qb.clone()], END_EXEMPT_RADIUS);
         for (end, q) in [(End::Start, from), (End::Goal, to)] {
@@ -69,7 +69,7 @@ impl Ctx<'_> {
             }
         }
         let internal = crate::error::internal("motion planning");
-        let seed = self.options.seed ^ salt.wrapping_mul(0xd1b5_4a32_d192_ed03);
+        let seed = self.run.options.seed ^ salt.wrapping_mul(0xd1b5_4a32_d192_ed03);
         let mut planner = PrmPlanner::new(
             &a.roadmap,
             &checker,
@@ -126,8 +126,14 @@ impl Ctx<'_> {
             .collect();
         // The dense re-check: only the pairs the arm moves (the others are as at the ends,
         // which are checked), for contact.
-        let contact = ArmChecker::new(&self.setup.model, world, &a.variables, from.to_vec(), 0.0)
-            .moving_pairs_only();
+        let contact = ArmChecker::new(
+            &self.run.setup.model,
+            world,
+            &a.variables,
+            from.to_vec(),
+            0.0,
+        )
+        .moving_pairs_only();
         let collides = |_: usize, q: &[Real]| -> crate::Result<Option<super::reason::Collision>> {
             let arm_q: Vec<Real> = a.variables.iter().map(|&v| q[v]).collect();
             let hit = contact.first_collision(&arm_q);
@@ -218,7 +224,7 @@ impl Ctx<'_> {
         t: Transfer<'_>,
         current: &[Real],
     ) -> Attempt<Vec<Real>> {
-        let (arm, g) = (t.arm, &self.grasps[t.gi]);
+        let (arm, g) = (t.arm, &self.run.grasps[t.gi]);
         let [pre_grasp, grasp, lift, pre_place, place, release, retreat] = t.keys.names;
         let graft = |q: &Vec<Real>, base: &[Real]| self.other_from(arm, base, q);
         let here = |seg: &[Vec<Real>]| super::end_of(seg).cloned();
@@ -274,7 +280,7 @@ impl Ctx<'_> {
         h: &Handover,
     ) -> Attempt<Vec<Segment>> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
-        let (g1, g2) = (&self.grasps[h.g1], &self.grasps[h.g2]);
+        let (g1, g2) = (&self.run.grasps[h.g1], &self.run.grasps[h.g2]);
         let salt = (pi as u64) << 20 | (h.g1 as u64) << 8 | (h.g2 as u64) << 32;
         let mut segments = Vec::new();
         // Both hands open at the start.
@@ -282,7 +288,7 @@ impl Ctx<'_> {
         if open_start != start {
             segments.push(Segment::plain(vec![start.to_vec(), open_start.clone()]));
         }
-        let free = Arc::new(self.world_with_object_at(&self.setup.object_start));
+        let free = Arc::new(self.world_with_object_at(&self.run.setup.object_start));
         let to_pre = self
             .motion(
                 a,
@@ -313,7 +319,10 @@ impl Ctx<'_> {
             .map(|q| self.other_from(b, q, &open_start))
             .collect();
         segments.push(Segment::reach("lift", a, lift.clone()));
-        let start_rest = (&self.setup.object_start, self.start_supports.as_slice());
+        let start_rest = (
+            &self.run.setup.object_start,
+            self.run.start_supports.as_slice(),
+        );
         self.check_pick(a, h.g1, start_rest, &approach, &lift)?;
         // A carries the object to the handover pose.
         let holding_a = Arc::new(self.world_holding(a, &g1.object_from_tcp, &[])?);
@@ -389,7 +398,7 @@ impl Ctx<'_> {
             .collect();
         self.check_place(b, h.g2, self.at_placement(pi), &lower, &retreat)?;
         segments.push(Segment::reach("retreat", b, retreat.clone()));
-        let left = Arc::new(self.world_with_object_at(&self.placements[pi].world_from_object));
+        let left = Arc::new(self.world_with_object_at(&self.run.placements[pi].world_from_object));
         if let Some(back) = self.back_to_start(b, &left, &here(&retreat)?, start, salt ^ 6)? {
             segments.push(back);
         }
@@ -443,7 +452,7 @@ impl Ctx<'_> {
 
     /// The object at its start, and the bodies it rests on there.
     fn at_start(&self) -> Rest<'_> {
-        (&self.setup.object_start, &self.start_supports)
+        (&self.run.setup.object_start, &self.run.start_supports)
     }
 
     /// The object at intermediate rest `k`, and the bodies it rests on there.
@@ -454,7 +463,7 @@ impl Ctx<'_> {
     /// The object at placement `pi`, and the bodies it rests on there.
     fn at_placement(&self, pi: usize) -> Rest<'_> {
         (
-            &self.placements[pi].world_from_object,
+            &self.run.placements[pi].world_from_object,
             self.placement_supports(pi),
         )
     }
@@ -666,7 +675,7 @@ mod tests {
     #[test]
     fn a_motion_joins_its_ends_and_every_waypoint_is_free() {
         let ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         let world = ctx.world_with_object_at(&setup.object_start);
         let arm = setup.arm(Arm::Right);
         // A goal away from the start: the arm's first node of the roadmap that is free here.
@@ -704,7 +713,7 @@ mod tests {
     #[test]
     fn a_start_in_collision_is_rejected_with_the_bodies() {
         let ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         // The object lying on the right wrist at the start configuration.
         let wrist = ctx.tcp(Arm::Right, &setup.start)
             * pickplace_geometry::math::Translation3::new(0.0, 0.0, -0.12);

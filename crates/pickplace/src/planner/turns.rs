@@ -13,7 +13,7 @@ use pickplace_geometry::math::Real;
 pub(super) trait TakeTurns {
     /// A strategy's plan.
     type Found;
-    /// Gives the next strategy its share of what is left (see [`Ctx::share_time`]).
+    /// Gives the next strategy its share of what is left (see [`super::state::Budget::share_time`]).
     fn share_time(&mut self, remaining: usize);
     /// Whether the budget or the current share is spent.
     fn out_of_time(&self) -> bool;
@@ -94,11 +94,11 @@ impl<'a> TakeTurns for Ctx<'a> {
     type Found = (Strategy, Found, StrategyReport);
 
     fn share_time(&mut self, remaining: usize) {
-        Ctx::share_time(self, remaining);
+        self.budget.share_time(remaining);
     }
 
     fn out_of_time(&self) -> bool {
-        Ctx::out_of_time(self)
+        self.budget.out_of_time()
     }
 
     fn run(

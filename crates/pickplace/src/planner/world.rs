@@ -31,10 +31,10 @@ pub(super) fn with_scratch<T>(f: impl FnOnce(&mut CollisionScratch) -> T) -> T {
 impl Ctx<'_> {
     /// The world with the object lying at `world_from_object` as an obstacle.
     pub(super) fn world_with_object_at(&self, world_from_object: &Isometry3) -> CollisionWorld {
-        let mut w = self.setup.world.clone();
+        let mut w = self.run.setup.world.clone();
         w.add_environment(
             OBJECT_NAME,
-            self.setup.object_shape.clone(),
+            self.run.setup.object_shape.clone(),
             world_from_object,
         );
         w
@@ -52,7 +52,7 @@ impl Ctx<'_> {
         object_from_tcp: &Isometry3,
         supports: &[String],
     ) -> Result<CollisionWorld> {
-        let mut w = self.setup.world.clone();
+        let mut w = self.run.setup.world.clone();
         if !supports.is_empty() {
             let mut acm = w.acm().clone();
             for s in supports {
@@ -64,12 +64,12 @@ impl Ctx<'_> {
             }
             w.set_acm(acm);
         }
-        let a = self.setup.arm(arm);
+        let a = self.run.setup.arm(arm);
         let touch: Vec<&str> = a.finger_links.iter().map(String::as_str).collect();
         w.attach(
             OBJECT_NAME,
             &a.tcp_name,
-            self.setup.object_shape.clone(),
+            self.run.setup.object_shape.clone(),
             &object_from_tcp.inverse(),
             &touch,
         )
@@ -91,7 +91,7 @@ impl Ctx<'_> {
     ) -> Result<Option<Collision>> {
         with_scratch(|scratch| {
             let opts = CheckOptions { margin };
-            let model = &self.setup.model;
+            let model = &self.run.setup.model;
             // One pass, stopping at the first colliding pair in the query's (deterministic)
             // order: listing every pair to report the smallest cost as much again on a dense
             // object (issue 31: a third of a scanned object's planning time).
@@ -176,7 +176,7 @@ mod tests {
     #[test]
     fn the_start_state_is_free_and_a_hand_inside_the_object_is_not() {
         let ctx = ctx("fig9-near.toml");
-        let setup = ctx.setup;
+        let setup = ctx.run.setup;
         let free = ctx.world_with_object_at(&setup.object_start);
         assert_eq!(
             ctx.collision(&free, &setup.start, 0.0).expect("checks"),
@@ -196,14 +196,14 @@ mod tests {
     #[test]
     fn a_configuration_of_the_wrong_length_is_an_error_not_a_rejection() {
         let ctx = ctx("fig9-near.toml");
-        let free = ctx.world_with_object_at(&ctx.setup.object_start);
+        let free = ctx.world_with_object_at(&ctx.run.setup.object_start);
         assert!(ctx.collision(&free, &[0.0; 3], 0.0).is_err());
     }
 
     #[test]
     fn the_held_object_is_named_as_such() {
         let ctx = ctx("fig9-near.toml");
-        let g = &ctx.grasps[0];
+        let g = &ctx.run.grasps[0];
         let holding = ctx
             .world_holding(Arm::Right, &g.object_from_tcp, &[])
             .expect("attaches");

@@ -238,11 +238,12 @@ impl<'a> Validator<'a> {
         self.setup.world_from_root * self.setup.arm(arm).ik.chain().pose(q)
     }
 
-    /// The resting pose the object is near (within [`CONTACT_ZONE`] and 3°), if any: the
+    /// The resting pose the object is near (within [`CONTACT_ZONE`] and its [`CONTACT_ZONE_SLACK`], and 3°), if any: the
     /// latest in time order when several are.
     pub(super) fn near(&self, object: &Isometry3) -> Option<usize> {
         self.rests.iter().rposition(|r| {
-            (object.translation.vector - r.pose.translation.vector).norm() <= CONTACT_ZONE
+            (object.translation.vector - r.pose.translation.vector).norm()
+                <= CONTACT_ZONE + CONTACT_ZONE_SLACK
                 && object.rotation.angle_to(&r.pose.rotation) <= 3f64.to_radians()
         })
     }

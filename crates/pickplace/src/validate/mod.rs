@@ -10,7 +10,7 @@
 //! the holding hands included: only the finger pads of a hand holding it, closing on it or
 //! opening from it may touch it, and they may press into it by the gripper's squeeze and no
 //! more, at every state it is held (issue 32). Near a resting pose (the start, every intermediate rest of a regrasp, the final pose:
-//! within [`CONTACT_ZONE`]) the object may touch the support it rests on there.
+//! within [`CONTACT_ZONE`] and its [`CONTACT_ZONE_SLACK`]) the object may touch the support it rests on there.
 //!
 //! The object follows the events, whatever their sequence (a direct plan, a handover, a
 //! regrasp by placing, after Wan and Harada): it stays where it is until a grasp, moves with
@@ -40,8 +40,8 @@ mod parts;
 mod tests;
 
 pub use crate::rules::{
-    CONTACT_ZONE, HAND_CLEARANCE, HAND_CLEARANCE_SLACK, HandClearance, HandGap, MAX_CARTESIAN_STEP,
-    MAX_JOINT_STEP,
+    CONTACT_ZONE, CONTACT_ZONE_SLACK, HAND_CLEARANCE, HAND_CLEARANCE_SLACK, HandClearance, HandGap,
+    MAX_CARTESIAN_STEP, MAX_JOINT_STEP,
 };
 pub use dynamics::LIMIT_SLACK;
 pub use frames::FRAME_TOLERANCE;

@@ -4,9 +4,9 @@
 use super::{REST_SALT, tally};
 use crate::error::Result;
 use crate::plan::StrategyReport;
+use crate::planner::fits::PARALLEL_CHUNK;
 use crate::planner::keypose::{Pick, Place};
 use crate::planner::reason::{Rejection, Stage, split};
-use crate::planner::search::PARALLEL_CHUNK;
 use crate::planner::{Ctx, end_of};
 use crate::strategy::Arm;
 use pickplace_geometry::math::Real;

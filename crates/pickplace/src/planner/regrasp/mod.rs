@@ -37,6 +37,17 @@ pub(super) use two_rests::TwoRestLegs;
 
 use super::reason::{Rejection, Stage, count};
 use crate::plan::StrategyReport;
+use pickplace_placement::Placement;
+use std::sync::OnceLock;
+
+/// What the regrasp searches find once per run.
+#[derive(Default)]
+pub(super) struct Memo {
+    /// The intermediate resting poses ([`super::Ctx::rests`]).
+    pub rests: OnceLock<Vec<Placement>>,
+    /// The environment bodies the object touches at each rest, found once.
+    pub rest_supports: OnceLock<Vec<OnceLock<Vec<String>>>>,
+}
 
 /// Salt of the random choices at intermediate resting poses (distinct from the placements').
 const REST_SALT: u64 = 1 << 62;

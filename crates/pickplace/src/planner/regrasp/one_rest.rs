@@ -7,9 +7,9 @@ use crate::error::Result;
 use crate::plan::StrategyReport;
 use crate::planner::Ctx;
 use crate::planner::assemble::Found;
+use crate::planner::fits::{FITTING_ENOUGH, PARALLEL_CHUNK};
 use crate::planner::keypose::{Pick, Place};
 use crate::planner::reason::{Rejection, Stage, count, split};
-use crate::planner::search::{FITTING_ENOUGH, PARALLEL_CHUNK};
 use crate::strategy::{Arm, Strategy};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -27,20 +27,21 @@ impl Ctx<'_> {
         report: &mut StrategyReport,
     ) -> Result<Option<Found>> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
-        let start = self.setup.start.clone();
+        let start = self.run.setup.start.clone();
         let pickable = self.fitting_at_start(a, report);
         if pickable.is_empty() {
             return Ok(None);
         }
-        let all: Vec<usize> = (0..self.grasps.len()).collect();
+        let all: Vec<usize> = (0..self.run.grasps.len()).collect();
         let finals = self.placement_order(b, &all, false, report);
         if finals.is_empty() {
             return Ok(None);
         }
         let t = std::time::Instant::now();
         let n_rests = self.rests().len();
-        if self.options.timings && !self.timings.contains_key("rests") {
-            self.timings
+        if self.run.options.timings && !self.budget.timings.contains_key("rests") {
+            self.budget
+                .timings
                 .insert("rests".to_owned(), t.elapsed().as_secs_f64());
         }
         if n_rests == 0 {
@@ -108,7 +109,7 @@ impl Ctx<'_> {
             BTreeMap::new();
         // Per rest: whether A can put the object down there with some grasp.
         let mut alive: BTreeMap<usize, bool> = BTreeMap::new();
-        let (fewest, most) = self.options.regrasp_rests;
+        let (fewest, most) = self.run.options.regrasp_rests;
         let one_rest = if fewest <= 1 && most >= 1 {
             finals.as_slice()
         } else {

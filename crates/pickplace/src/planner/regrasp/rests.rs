@@ -26,8 +26,8 @@ impl Ctx<'_> {
     /// both reach down when start and target lie far out on either side); the start pose
     /// itself and duplicates left out.
     pub(in crate::planner) fn rests(&self) -> &[Placement] {
-        self.rests.get_or_init(|| {
-            let setup = self.setup;
+        self.regrasp.rests.get_or_init(|| {
+            let setup = self.run.setup;
             let start = setup.object_start;
             // Where the object stands: below its centre of mass, at its lowest point.
             let lowest = setup
@@ -96,11 +96,12 @@ impl Ctx<'_> {
     /// The bodies the object touches at rest `k`, found once.
     pub(in crate::planner) fn rest_supports(&self, k: usize) -> &[String] {
         let all = self
+            .regrasp
             .rest_supports
             .get_or_init(|| self.rests().iter().map(|_| OnceLock::new()).collect());
         match all.get(k) {
             Some(cell) => {
-                cell.get_or_init(|| supports(self.setup, &self.rests()[k].world_from_object))
+                cell.get_or_init(|| supports(self.run.setup, &self.rests()[k].world_from_object))
             }
             None => &[],
         }

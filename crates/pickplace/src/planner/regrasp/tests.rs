@@ -1,14 +1,14 @@
 //! Unit tests of the regrasp by placing.
 
-use super::super::search::tests::report;
 use super::super::tests::ctx;
 use super::*;
+use crate::planner::tests::report;
 use crate::strategy::{Arm, Strategy};
 
 #[test]
 fn rests_lie_near_the_start_on_its_table_and_leave_the_start_pose_out() {
     let ctx = ctx("fig9-near.toml");
-    let start = ctx.setup.object_start;
+    let start = ctx.run.setup.object_start;
     let rests = ctx.rests();
     assert!(!rests.is_empty());
     for r in rests {

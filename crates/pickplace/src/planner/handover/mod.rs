@@ -5,10 +5,12 @@
 //! ([`handover_candidates`]) and each feasible one is scored by both arms' reach margin and
 //! the robot's clearance, so that the handover works for any object and grasp pair.
 
+mod search;
+
 use super::keypose::{Pick, Place};
 use super::reason::{Attempt, Rejection, Role, Step, split};
 use super::world::with_scratch;
-use super::{Ctx, Memo};
+use super::{Ctx, Memo as KeyMemo};
 use crate::plan::StageCount;
 use crate::setup::Setup;
 use crate::strategy::{Arm, Strategy};
@@ -18,6 +20,7 @@ use pickplace_geometry::math::{
 use pickplace_geometry::obb::Obb;
 use pickplace_grasp::{Grasp, GripperParams};
 use std::collections::BTreeMap;
+use std::sync::{Mutex, OnceLock};
 
 /// Clearance kept between the two hands' gripper boxes in the cheap pre-test
 /// ([`hands_overlap`]) (m); the real link geometry is then held to
@@ -41,12 +44,23 @@ pub(super) struct Handover {
 
 /// Memo of the picking arm at a handover: per (picking arm, handover candidate, first
 /// grasp), its configuration there or why it has none.
-pub(super) type HandoverArmMemo = BTreeMap<(Arm, usize, usize), Memo<Vec<Real>>>;
+type ArmMemo = BTreeMap<(Arm, usize, usize), KeyMemo<Vec<Real>>>;
 
 /// Memo of a second grasp at a handover: per (picking arm, handover candidate, first grasp,
 /// second grasp), the scored handover or the reason the second grasp fails there.
-pub(super) type SecondGraspMemo =
+type SecondGraspMemo =
     BTreeMap<(Arm, usize, usize, usize), std::result::Result<(Real, Handover), Rejection>>;
+
+/// What the handover searches compute once per run and share between the placements.
+#[derive(Default)]
+pub(super) struct Memo {
+    /// The picking arm at each handover candidate per first grasp.
+    pub arm: Mutex<ArmMemo>,
+    /// Each second grasp at each handover candidate per first grasp.
+    pub second_grasp: Mutex<SecondGraspMemo>,
+    /// The hands' clearance check, built once ([`Ctx::hands_too_close`]).
+    pub hand_clearance: OnceLock<crate::Result<Option<crate::rules::HandClearance>>>,
+}
 
 impl Ctx<'_> {
     /// Tests a handover at object pose `world_from_object` (the `hi`-th candidate) with pick
@@ -69,9 +83,9 @@ impl Ctx<'_> {
         regrasp: &mut StageCount,
     ) -> Attempt<(Real, Handover)> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
-        let grasp1 = &self.grasps[g1];
+        let grasp1 = &self.run.grasps[g1];
         let pose_a = world_from_object * grasp1.object_from_tcp;
-        let arm_a = self.setup.arm(a);
+        let arm_a = self.run.setup.arm(a);
         if (pose_a.translation.vector - arm_a.shoulder.coords).norm() > arm_a.reach {
             return Err(Rejection::ArmOutOfReach(Role::Picking).into());
         }
@@ -79,7 +93,7 @@ impl Ctx<'_> {
         let salt = (hi as u64) << 24 | (g1 as u64) << 8 | 0x40;
         let holding_a = self.world_holding(a, &grasp1.object_from_tcp, &[])?;
         let memo = self
-            .memo_lock(&self.handover_arm_memo)
+            .memo_lock(&self.handover.arm)
             .get(&(a, hi, g1))
             .cloned();
         let q_a = match memo {
@@ -89,7 +103,7 @@ impl Ctx<'_> {
                     self.free_ik(a, &pose_a, lifted, salt, &holding_a)
                         .map_err(|f| f.at(Step::PickingArm)),
                 )?;
-                self.memo_lock(&self.handover_arm_memo)
+                self.memo_lock(&self.handover.arm)
                     .insert((a, hi, g1), r.clone());
                 r?
             }
@@ -100,7 +114,10 @@ impl Ctx<'_> {
         places.sort_by_key(|(g2, _)| !self.reachable(b, *g2, world_from_object));
         for &&(g2, _) in &places {
             let key = (a, hi, g1, g2);
-            let memo = self.memo_lock(&self.second_grasp_memo).get(&key).cloned();
+            let memo = self
+                .memo_lock(&self.handover.second_grasp)
+                .get(&key)
+                .cloned();
             let outcome = match memo {
                 Some(r) => r,
                 None => {
@@ -111,7 +128,7 @@ impl Ctx<'_> {
                         (&q_a, salt),
                         &holding_a,
                     )?;
-                    self.memo_lock(&self.second_grasp_memo)
+                    self.memo_lock(&self.handover.second_grasp)
                         .insert(key, r.clone());
                     r
                 }
@@ -142,16 +159,16 @@ impl Ctx<'_> {
         holding_a: &pickplace_robot::collision::CollisionWorld,
     ) -> crate::Result<std::result::Result<(Real, Handover), Rejection>> {
         let (a, b) = (strategy.pick_arm(), strategy.place_arm());
-        let grasp1 = &self.grasps[g1];
+        let grasp1 = &self.run.grasps[g1];
         let pose_a = world_from_object * grasp1.object_from_tcp;
-        let (arm_a, arm_b) = (self.setup.arm(a), self.setup.arm(b));
-        let grasp2 = &self.grasps[g2];
+        let (arm_a, arm_b) = (self.run.setup.arm(a), self.run.setup.arm(b));
+        let grasp2 = &self.run.grasps[g2];
         let pose_b = world_from_object * grasp2.object_from_tcp;
         if (pose_b.translation.vector - arm_b.shoulder.coords).norm() > arm_b.reach {
             return Ok(Err(Rejection::ArmOutOfReach(Role::Placing)));
         }
         // The two hands must not overlap: the second grasp's gripper against the first.
-        if hands_overlap(&self.setup.gripper, grasp1, grasp2) {
+        if hands_overlap(&self.run.setup.gripper, grasp1, grasp2) {
             return Ok(Err(Rejection::HandsOverlap));
         }
         let seed = self.opened(b, q_a);
@@ -161,7 +178,7 @@ impl Ctx<'_> {
             Err(r) => return Ok(Err(r.at(Step::Regrasp))),
         };
         let pre_pose =
-            pose_b * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+            pose_b * Translation3::from(-self.approach_axis() * self.run.options.approach_distance);
         let approach =
             match split(self.cartesian(b, &q_b, &pre_pose, &|_, _| holding_a, salt ^ 0x55))? {
                 Ok(mut p) => {
@@ -186,7 +203,7 @@ impl Ctx<'_> {
             return Ok(Err(Rejection::Collision(c).at(Step::FirstHandRelease)));
         }
         let retreat_pose =
-            pose_a * Translation3::from(-self.approach_axis() * self.options.approach_distance);
+            pose_a * Translation3::from(-self.approach_axis() * self.run.options.approach_distance);
         let retreat = match split(self.cartesian(
             a,
             &a_open,
@@ -199,7 +216,7 @@ impl Ctx<'_> {
         };
         // Score: clearance of the handover configuration (both arms at the object).
         let clearance = with_scratch(|scratch| {
-            holding_a.min_distance(&self.setup.model, &approach[0], scratch)
+            holding_a.min_distance(&self.run.setup.model, &approach[0], scratch)
         })
         .map_err(crate::error::internal("clearance"))?
         .map_or(1.0, |d| d.distance);
@@ -228,8 +245,9 @@ impl Ctx<'_> {
     /// [`crate::Error::Internal`] when the collision library cannot measure a pair.
     pub(super) fn hands_too_close(&self, q: &[Real]) -> crate::Result<bool> {
         let check = match self
+            .handover
             .hand_clearance
-            .get_or_init(|| crate::rules::HandClearance::new(self.setup))
+            .get_or_init(|| crate::rules::HandClearance::new(self.run.setup))
         {
             Ok(Some(check)) => check,
             Ok(None) => return Ok(false),
@@ -243,7 +261,7 @@ impl Ctx<'_> {
         };
         with_scratch(|scratch| {
             check
-                .closer_than(self.setup, q, crate::rules::HAND_CLEARANCE, scratch)
+                .closer_than(self.run.setup, q, crate::rules::HAND_CLEARANCE, scratch)
                 .map(|gap| gap.is_some())
         })
     }
@@ -354,8 +372,8 @@ mod tests {
     #[test]
     fn a_grasp_overlaps_itself_and_clears_its_opposite() {
         let ctx = ctx("fig9-near.toml");
-        let g = &ctx.setup.gripper;
-        let first = &ctx.grasps[0];
+        let g = &ctx.run.setup.gripper;
+        let first = &ctx.run.grasps[0];
         assert!(hands_overlap(g, first, first));
         // The same grasp 20 cm away along the closing axis leaves room for the first.
         let mut away = *first;
