@@ -400,3 +400,15 @@ pub struct TimingArgs {
     #[arg(long, value_name = "SECONDS", value_parser = crate::plan::sample_period)]
     pub sample_period: Option<f64>,
 }
+
+impl TimingArgs {
+    /// These options over a scene's planner values (the rest left unset).
+    pub fn overrides(&self) -> pickplace::planner::PlanOverrides {
+        pickplace::planner::PlanOverrides {
+            velocity_scaling: self.velocity_scaling,
+            acceleration_scaling: self.acceleration_scaling,
+            sample_period: self.sample_period,
+            ..pickplace::planner::PlanOverrides::default()
+        }
+    }
+}

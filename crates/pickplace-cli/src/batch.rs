@@ -7,8 +7,10 @@
 //! ended in an error. Each scene's outcome is in `DIR/summary.jsonl` (docs/batch.md).
 
 use crate::output::{note, outln};
-use crate::plan::{CacheChoice, StrategyArg};
+use crate::plan::{CacheChoice, strategy_parser};
+use pickplace::StrategyChoice;
 use pickplace::batch::{BatchEvent, BatchOptions, BatchReport, SceneStatus, plan_many};
+use pickplace::planner::PlanOverrides;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -32,8 +34,8 @@ pub struct BatchArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Manipulation strategy of every scene (default: each scene's planner.strategy).
-    #[arg(long, value_enum)]
-    pub strategy: Option<StrategyArg>,
+    #[arg(long, value_parser = strategy_parser())]
+    pub strategy: Option<StrategyChoice>,
     /// Wall-clock budget of each scene's plan, seconds, 0 or more (default: each scene's
     /// planner.time_budget).
     #[arg(long, value_name = "SECONDS", value_parser = time_budget)]
@@ -156,13 +158,13 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         jobs: args
             .jobs
             .map_or_else(pickplace::batch::default_jobs, |j| j as usize),
-        seed: args.seed,
-        strategy: args.strategy.map(Into::into),
-        time_budget: args.time_budget,
-        velocity_scaling: args.timing.velocity_scaling,
-        acceleration_scaling: args.timing.acceleration_scaling,
-        sample_period: args.timing.sample_period,
-        timings: !args.no_timings,
+        plan: PlanOverrides {
+            seed: args.seed,
+            strategy: args.strategy,
+            time_budget: args.time_budget,
+            timings: Some(!args.no_timings),
+            ..args.timing.overrides()
+        },
         resume: args.resume,
         cache_dir,
         package_dirs: args.package_dirs.clone(),

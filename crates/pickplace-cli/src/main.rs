@@ -128,23 +128,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// The error and its causes on one line, each cause once: library errors already quote their
-/// source in their message, so a cause whose text the previous message contains is skipped.
+/// The error and its causes on one line, each cause once ([`pickplace::error::message`]).
 fn message(e: &anyhow::Error) -> String {
-    let mut out = String::new();
-    let mut previous = String::new();
-    for cause in e.chain() {
-        let text = cause.to_string();
-        if previous.contains(&text) {
-            continue;
-        }
-        if !out.is_empty() {
-            out.push_str(": ");
-        }
-        out.push_str(&text);
-        previous = text;
-    }
-    out
+    pickplace::error::message(e.as_ref())
 }
 
 #[cfg(test)]

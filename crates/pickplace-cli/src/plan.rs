@@ -1,50 +1,21 @@
 //! `pickplace plan SCENE` and `pickplace validate SCENE PLAN`.
 
 use crate::output::note;
-use pickplace::planner::{Outcome, PlanOptions};
-use pickplace::scene::StrategyChoice;
+use pickplace::StrategyChoice;
+use pickplace::planner::{Outcome, PlanOptions, PlanOverrides};
 use pickplace::{Plan, Setup, SetupOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// Strategy on the command line.
-#[derive(Debug, Clone, Copy, clap::ValueEnum)]
-pub enum StrategyArg {
-    /// The paper's order: nearest hands first, switch on failure.
-    Auto,
-    /// Right hand picks and places.
-    RightRight,
-    /// Left hand picks and places.
-    LeftLeft,
-    /// Right picks, hands over, left places.
-    RightLeft,
-    /// Left picks, hands over, right places.
-    LeftRight,
-    /// Right picks, puts the object down, picks it again and places (regrasp by placing).
-    RightPlaceRight,
-    /// Left picks, puts the object down, picks it again and places.
-    LeftPlaceLeft,
-    /// Right picks and puts the object down, left picks it up and places.
-    RightPlaceLeft,
-    /// Left picks and puts the object down, right picks it up and places.
-    LeftPlaceRight,
-}
-
-impl From<StrategyArg> for StrategyChoice {
-    fn from(s: StrategyArg) -> Self {
-        match s {
-            StrategyArg::Auto => StrategyChoice::Auto,
-            StrategyArg::RightRight => StrategyChoice::RightRight,
-            StrategyArg::LeftLeft => StrategyChoice::LeftLeft,
-            StrategyArg::RightLeft => StrategyChoice::RightLeft,
-            StrategyArg::LeftRight => StrategyChoice::LeftRight,
-            StrategyArg::RightPlaceRight => StrategyChoice::RightPlaceRight,
-            StrategyArg::LeftPlaceLeft => StrategyChoice::LeftPlaceLeft,
-            StrategyArg::RightPlaceLeft => StrategyChoice::RightPlaceLeft,
-            StrategyArg::LeftPlaceRight => StrategyChoice::LeftPlaceRight,
-        }
-    }
+/// `--strategy`'s values: the façade's names ([`StrategyChoice`]), each with its summary in
+/// `--help`.
+pub fn strategy_parser() -> impl clap::builder::TypedValueParser<Value = StrategyChoice> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(
+        StrategyChoice::all().map(|c| PossibleValue::new(c.name()).help(c.summary())),
+    )
+    .try_map(|name| name.parse::<StrategyChoice>())
 }
 
 /// Arguments of `pickplace plan`.
@@ -59,8 +30,8 @@ pub struct PlanArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Manipulation strategy (default: the scene's planner.strategy).
-    #[arg(long, value_enum)]
-    pub strategy: Option<StrategyArg>,
+    #[arg(long, value_parser = strategy_parser())]
+    pub strategy: Option<StrategyChoice>,
     /// Leave the stage timings out of the plan, so that the same seed gives the same bytes.
     #[arg(long)]
     pub no_timings: bool,
@@ -140,19 +111,22 @@ pub fn setup_options(cache: CacheChoice, package_dirs: &[PathBuf]) -> SetupOptio
 
 /// Loads a scene with its log, the cache's warning (if any) and progress on stderr.
 pub fn setup(scene: &Path, cache: CacheChoice, package_dirs: &[PathBuf]) -> anyhow::Result<Setup> {
-    setup_with(scene, cache, package_dirs, Setup::load)
+    setup_with(scene, cache, package_dirs, |options| {
+        Setup::load(scene, options)
+    })
 }
 
-/// [`setup`] by another loader: `validate` sets up only what the validator reads (issue 33).
+/// [`setup`] by another loader: `plan` sets up the scene it has parsed, `validate` only what
+/// the validator reads (issue 33).
 fn setup_with(
     scene: &Path,
     cache: CacheChoice,
     package_dirs: &[PathBuf],
-    load: fn(&Path, &SetupOptions) -> Result<Setup, pickplace::Error>,
+    load: impl FnOnce(&SetupOptions) -> Result<Setup, pickplace::Error>,
 ) -> anyhow::Result<Setup> {
     let t = Instant::now();
     let options = setup_options(cache, package_dirs);
-    let setup = load(scene, &options)?;
+    let setup = load(&options)?;
     for warning in &setup.warnings {
         note!("warning: {warning}");
     }
@@ -172,23 +146,13 @@ fn setup_with(
 
 /// Plans a loaded scene and prints a summary on stderr; the outcome is returned.
 pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
-    let mut options = PlanOptions::for_setup(setup);
-    if let Some(seed) = args.seed {
-        options.seed = seed;
-    }
-    if let Some(s) = args.strategy {
-        options.strategy = s.into();
-    }
-    options.timings = !args.no_timings;
-    if let Some(f) = args.timing.velocity_scaling {
-        options.velocity_scaling = f;
-    }
-    if let Some(f) = args.timing.acceleration_scaling {
-        options.acceleration_scaling = f;
-    }
-    if let Some(p) = args.timing.sample_period {
-        options.sample_period = p;
-    }
+    let overrides = PlanOverrides {
+        seed: args.seed,
+        strategy: args.strategy,
+        timings: Some(!args.no_timings),
+        ..args.timing.overrides()
+    };
+    let options = PlanOptions::with_overrides(setup, &overrides);
     let t = Instant::now();
     let outcome = pickplace::plan(setup, &options)?;
     let elapsed = t.elapsed().as_secs_f64() * 1e3;
@@ -226,14 +190,17 @@ pub fn plan_setup(setup: &Setup, args: &PlanArgs) -> anyhow::Result<Outcome> {
 /// Runs `pickplace plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     note!("pickplace plan {}", args.scene.display());
+    // Parsed once: the output is checked against its inputs, then the scene is set up.
+    let scene = pickplace::Scene::load(&args.scene)?;
     if let Some(out) = &args.out {
         // Before any work: the plan must not replace a link, a device or an input.
-        let scene = pickplace::Scene::load(&args.scene)?;
         let inputs = crate::args::scene_inputs(&args.scene, &scene);
         crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
     }
     let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let setup = setup(&args.scene, cache, &args.package_dirs)?;
+    let setup = setup_with(&args.scene, cache, &args.package_dirs, |options| {
+        Setup::new(scene, &args.scene, options)
+    })?;
     match plan_setup(&setup, args)? {
         Outcome::Planned(plan) => {
             crate::output::write_or_print(args.out.as_deref(), &plan.to_json(), "the plan")?;
@@ -276,12 +243,9 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
     );
     let plan = Plan::load(&args.plan)?;
     let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let setup = setup_with(
-        &args.scene,
-        cache,
-        &args.package_dirs,
-        Setup::load_for_validation,
-    )?;
+    let setup = setup_with(&args.scene, cache, &args.package_dirs, |options| {
+        Setup::load_for_validation(&args.scene, options)
+    })?;
     let t = Instant::now();
     let report = pickplace::validate::validate(&setup, &plan, &args.plan)?;
     note!(

@@ -1,5 +1,6 @@
-//! The cluster database's binary format. Every bincode encode and decode call of this crate
-//! lives here (bincode is pinned at 2.0.1 and no longer maintained upstream).
+//! The cluster database's binary format, and the fixed-width encoding other crates' cache
+//! entries use ([`to_fixed_bytes`]). Every bincode encode and decode call of this crate and of
+//! the grasp crate lives here (bincode is pinned at 2.0.1 and no longer maintained upstream).
 //!
 //! Layout:
 //!
@@ -54,6 +55,33 @@ struct Payload {
 
 fn config() -> bincode::config::Configuration {
     bincode::config::standard()
+}
+
+/// Largest value [`to_fixed_bytes`] encodes and [`from_fixed_bytes`] decodes (bytes).
+pub const MAX_FIXED: usize = 256 << 20;
+
+fn fixed_config() -> impl bincode::config::Config {
+    bincode::config::standard()
+        .with_little_endian()
+        .with_fixed_int_encoding()
+        .with_limit::<MAX_FIXED>()
+}
+
+/// `value` in the fixed-width encoding other crates' cache entries store (bincode,
+/// little-endian, fixed-size integers; the grasp sets and their keys): the one place outside
+/// the roadmap codec where the workspace calls bincode. `None` when it cannot be encoded (over
+/// [`MAX_FIXED`] bytes).
+pub fn to_fixed_bytes<T: serde::Serialize>(value: &T) -> Option<Vec<u8>> {
+    bincode::serde::encode_to_vec(value, fixed_config()).ok()
+}
+
+/// The value [`to_fixed_bytes`] encoded in `bytes`; `None` when they are not exactly one
+/// such value.
+pub fn from_fixed_bytes<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Option<T> {
+    match bincode::serde::decode_from_slice(bytes, fixed_config()) {
+        Ok((value, used)) if used == bytes.len() => Some(value),
+        _ => None,
+    }
 }
 
 /// Encodes a database.

@@ -3,13 +3,15 @@
 //!
 //! An entry is `PPGS`, the format version ([`FORMAT_VERSION`]), the key ([`key`]: the mesh's
 //! content, the clustering parameters, the gripper, the options and [`ALGORITHM_VERSION`]),
-//! the payload's length and checksum, then the [`GraspSet`] (bincode). Anything else (another
+//! the payload's length and checksum, then the [`GraspSet`]
+//! ([`pickplace_geometry::codec::to_fixed_bytes`]). Anything else (another
 //! key, a short or corrupt file) is refused with the reason, and the caller plans the grasps
 //! again: a cache entry is never trusted over a fresh plan.
 
 use crate::gripper::GripperParams;
 use crate::planner::{GraspOptions, GraspSet};
 use pickplace_geometry::cluster::ClusterParams;
+use pickplace_geometry::codec::{from_fixed_bytes, to_fixed_bytes};
 use pickplace_geometry::hash::{ContentHasher, hash_bytes};
 
 /// File extension of grasp-set entries.
@@ -26,8 +28,6 @@ pub const ALGORITHM_VERSION: u32 = 6;
 
 const MAGIC: &[u8; 4] = b"PPGS";
 const HEADER: usize = 4 + 4 + 8 + 8 + 8;
-/// Largest payload decoded (bytes): far above any real grasp set (a grasp is ~150 bytes).
-const MAX_PAYLOAD: usize = 256 << 20;
 
 /// Why an entry was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -50,13 +50,6 @@ pub enum DbError {
     Corrupt,
 }
 
-fn bincode_config() -> impl bincode::config::Config {
-    bincode::config::standard()
-        .with_little_endian()
-        .with_fixed_int_encoding()
-        .with_limit::<MAX_PAYLOAD>()
-}
-
 /// The key of the grasp set planned on the mesh with content hash `mesh_hash`
 /// ([`pickplace_geometry::hash::mesh_hash`]), clustered with `finger`, for `gripper` and
 /// `options`, by this planner version.
@@ -70,15 +63,15 @@ pub fn key(
     h.word(mesh_hash);
     h.word(u64::from(ALGORITHM_VERSION));
     for part in [
-        bincode::serde::encode_to_vec(finger, bincode_config()),
-        bincode::serde::encode_to_vec(gripper, bincode_config()),
-        bincode::serde::encode_to_vec(options, bincode_config()),
+        to_fixed_bytes(finger),
+        to_fixed_bytes(gripper),
+        to_fixed_bytes(options),
     ] {
         // Plain structs of numbers always encode; an error would only weaken the key to the
         // other parts, never match another object's.
         match part {
-            Ok(bytes) => h.bytes(&bytes),
-            Err(_) => h.word(u64::MAX),
+            Some(bytes) => h.bytes(&bytes),
+            None => h.word(u64::MAX),
         }
     }
     h.finish()
@@ -86,7 +79,7 @@ pub fn key(
 
 /// The entry of `set` under `key`.
 pub fn encode(key: u64, set: &GraspSet) -> Vec<u8> {
-    let payload = bincode::serde::encode_to_vec(set, bincode_config()).unwrap_or_default();
+    let payload = to_fixed_bytes(set).unwrap_or_default();
     let mut out = Vec::with_capacity(HEADER + payload.len());
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
@@ -124,13 +117,7 @@ pub fn decode(bytes: &[u8], key: u64) -> Result<GraspSet, DbError> {
     if payload.len() as u64 != length || hash_bytes(payload) != word(24)? {
         return Err(DbError::Corrupt);
     }
-    let (set, used): (GraspSet, usize) =
-        bincode::serde::decode_from_slice(payload, bincode_config())
-            .map_err(|_| DbError::Corrupt)?;
-    if used != payload.len() {
-        return Err(DbError::Corrupt);
-    }
-    Ok(set)
+    from_fixed_bytes(payload).ok_or(DbError::Corrupt)
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@
 use crate::errors::{input, input_msg};
 use crate::scene::cache_folder;
 use pickplace::batch::{self, BatchEvent, BatchOptions, SceneSummary};
+use pickplace::planner::PlanOverrides;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -42,13 +43,15 @@ pub fn _batch_options(
     package_dirs: Vec<PathBuf>,
 ) -> PyResult<Options> {
     let inner = BatchOptions {
-        seed,
-        strategy: strategy.map(crate::plan::strategy).transpose()?,
-        time_budget,
-        velocity_scaling,
-        acceleration_scaling,
-        sample_period,
-        timings,
+        plan: PlanOverrides {
+            seed,
+            strategy: strategy.map(crate::plan::strategy).transpose()?,
+            time_budget,
+            velocity_scaling,
+            acceleration_scaling,
+            sample_period,
+            timings: Some(timings),
+        },
         resume,
         cache_dir: cache_folder(cache_dir, use_cache).0,
         package_dirs,

@@ -22,25 +22,8 @@ pyo3::create_exception!(
      stage (`stats[\"strategies\"][i][\"stages\"][stage][\"rejected\"]`)."
 );
 
-/// An error and its causes on one line, each cause once (a cause whose text the previous
-/// message already contains is skipped): the line the CLI prints after `error: `.
-pub fn message(error: &(dyn std::error::Error + 'static)) -> String {
-    let mut out = String::new();
-    let mut previous = String::new();
-    let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(error);
-    while let Some(e) = cause {
-        let text = e.to_string();
-        if !previous.contains(&text) {
-            if !out.is_empty() {
-                out.push_str(": ");
-            }
-            out.push_str(&text);
-            previous = text;
-        }
-        cause = e.source();
-    }
-    out
-}
+/// An error and its causes on one line: the line the CLI prints after `error: `.
+pub use pickplace::error::message;
 
 /// Bad input, with the CLI's message.
 pub fn input(error: &(dyn std::error::Error + 'static)) -> PyErr {

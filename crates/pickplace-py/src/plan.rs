@@ -4,18 +4,15 @@ use crate::convert::{samples, times, to_python};
 use crate::errors::{facade, input_msg, no_plan};
 use crate::scene::Scene;
 use numpy::{PyArray1, PyArray2};
-use pickplace::planner::{Outcome, PlanOptions};
-use pickplace::scene::StrategyChoice;
+use pickplace::StrategyChoice;
+use pickplace::planner::{Outcome, PlanOptions, PlanOverrides};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
-/// The strategy names `plan` accepts (the CLI's `--strategy` values).
-const STRATEGIES: &str = "auto, right-right, left-left, right-left, left-right, right-place-right, left-place-left, right-place-left, left-place-right";
-
-/// A strategy by its CLI name.
+/// A strategy by its name ([`StrategyChoice`]'s, the CLI's `--strategy` values).
 pub(crate) fn strategy(name: &str) -> PyResult<StrategyChoice> {
-    serde_json::from_value(serde_json::Value::String(name.to_owned()))
-        .map_err(|_| input_msg(format!("strategy {name:?} is not one of {STRATEGIES}")))
+    name.parse()
+        .map_err(|e: pickplace::strategy::UnknownStrategy| input_msg(e.to_string()))
 }
 
 /// A pick-and-place plan (docs/plan-format.md): the strategy, grasps, placement, key poses
@@ -242,27 +239,17 @@ pub fn plan(
     sample_period: Option<f64>,
 ) -> PyResult<Plan> {
     let setup = scene.get().setup.clone();
-    let mut options = PlanOptions::for_setup(&setup);
-    if let Some(seed) = seed {
-        options.seed = seed;
-    }
-    if let Some(name) = strategy {
-        options.strategy = self::strategy(name)?;
-    }
     // Ranges are checked by the façade (`PlanOptions::check`, the CLI's table).
-    if let Some(budget) = time_budget {
-        options.time_budget = budget;
-    }
-    options.timings = timings;
-    if let Some(f) = velocity_scaling {
-        options.velocity_scaling = f;
-    }
-    if let Some(f) = acceleration_scaling {
-        options.acceleration_scaling = f;
-    }
-    if let Some(p) = sample_period {
-        options.sample_period = p;
-    }
+    let overrides = PlanOverrides {
+        seed,
+        strategy: strategy.map(self::strategy).transpose()?,
+        time_budget,
+        velocity_scaling,
+        acceleration_scaling,
+        sample_period,
+        timings: Some(timings),
+    };
+    let options = PlanOptions::with_overrides(&setup, &overrides);
     let outcome = py
         .detach(|| pickplace::plan(&setup, &options))
         .map_err(|e| facade(py, &e))?;

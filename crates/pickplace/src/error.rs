@@ -159,10 +159,57 @@ impl From<SceneError> for Error {
     }
 }
 
+/// An error and its causes on one line, each cause once, as the `pickplace` command prints
+/// it after `error: `, a batch's summary and Python's exceptions carry it (the façade's errors already quote their source in their message, so a
+/// cause whose text the previous message contains is skipped).
+pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut out = String::new();
+    let mut previous = String::new();
+    let mut cause = Some(e);
+    while let Some(c) = cause {
+        let text = c.to_string();
+        if !previous.contains(&text) {
+            if !out.is_empty() {
+                out.push_str(": ");
+            }
+            out.push_str(&text);
+            previous = text;
+        }
+        cause = c.source();
+    }
+    out
+}
+
 /// `path: source`, or `source` alone when it starts with that file already.
 fn robot_message(path: &std::path::Path, source: &pickplace_robot::Error) -> String {
     match source.file() {
         Some(file) if file == path => source.to_string(),
         _ => format!("{}: {source}", path.display()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_each_cause_once() {
+        #[derive(Debug)]
+        struct E(&'static str, Option<Box<E>>);
+        impl std::fmt::Display for E {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.0)
+            }
+        }
+        impl std::error::Error for E {
+            fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+                self.1.as_deref().map(|e| e as _)
+            }
+        }
+        let e = E(
+            "a.toml: bad: x",
+            Some(Box::new(E("x", Some(Box::new(E("y", None)))))),
+        );
+        assert_eq!(message(&e), "a.toml: bad: x: y");
     }
 }

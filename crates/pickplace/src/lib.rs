@@ -84,4 +84,4 @@ pub use scene::{Scene, SceneError};
 pub use self_check::plan;
 pub use setup::{ProgressFn, Setup, SetupOptions, SetupProgress};
 pub use start::check_start;
-pub use strategy::{Arm, Strategy};
+pub use strategy::{Arm, Strategy, StrategyChoice};

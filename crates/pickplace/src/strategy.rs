@@ -1,6 +1,5 @@
 //! Arms and manipulation strategies (paper §III-B.3).
 
-use crate::scene::StrategyChoice;
 use pickplace_geometry::math::{Point3, Real};
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -228,20 +227,119 @@ impl Strategy {
     }
 }
 
+/// What a scene (`planner.strategy`), the command line (`--strategy`) or Python (`strategy=`)
+/// asks for: the paper's order (`auto`) or one strategy. Its names are the strategies' own
+/// ([`Strategy::name`]) and `auto`; every reader of a strategy's name parses it here
+/// ([`StrategyChoice::from_str`](std::str::FromStr::from_str)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum StrategyChoice {
+    /// Order the strategies as the paper does (nearest hands first) and switch on failure.
+    #[default]
+    Auto,
+    /// This strategy only.
+    Only(Strategy),
+}
+
 impl StrategyChoice {
     /// The one strategy a scene or the command line asks for; `None` for auto.
     pub fn strategy(self) -> Option<Strategy> {
         match self {
             StrategyChoice::Auto => None,
-            StrategyChoice::RightRight => Some(Strategy::RightRight),
-            StrategyChoice::LeftLeft => Some(Strategy::LeftLeft),
-            StrategyChoice::RightLeft => Some(Strategy::RightLeft),
-            StrategyChoice::LeftRight => Some(Strategy::LeftRight),
-            StrategyChoice::RightPlaceRight => Some(Strategy::RightPlaceRight),
-            StrategyChoice::LeftPlaceLeft => Some(Strategy::LeftPlaceLeft),
-            StrategyChoice::RightPlaceLeft => Some(Strategy::RightPlaceLeft),
-            StrategyChoice::LeftPlaceRight => Some(Strategy::LeftPlaceRight),
+            StrategyChoice::Only(s) => Some(s),
         }
+    }
+
+    /// `auto` or the strategy's name.
+    pub fn name(self) -> &'static str {
+        self.strategy().map_or("auto", Strategy::name)
+    }
+
+    /// Every choice, `auto` first, then [`Strategy::ALL`] in its order.
+    pub fn all() -> impl Iterator<Item = StrategyChoice> {
+        std::iter::once(StrategyChoice::Auto).chain(Strategy::ALL.map(StrategyChoice::Only))
+    }
+
+    /// What the choice does, in one line (the command line's help).
+    pub fn summary(self) -> &'static str {
+        match self.strategy() {
+            None => "the paper's order: nearest hands first, switch on failure",
+            Some(Strategy::RightRight) => "right hand picks and places",
+            Some(Strategy::LeftLeft) => "left hand picks and places",
+            Some(Strategy::RightLeft) => "right picks, hands over, left places",
+            Some(Strategy::LeftRight) => "left picks, hands over, right places",
+            Some(Strategy::RightPlaceRight) => {
+                "right picks, puts the object down, picks it again and places (regrasp by placing)"
+            }
+            Some(Strategy::LeftPlaceLeft) => {
+                "left picks, puts the object down, picks it again and places"
+            }
+            Some(Strategy::RightPlaceLeft) => {
+                "right picks and puts the object down, left picks it up and places"
+            }
+            Some(Strategy::LeftPlaceRight) => {
+                "left picks and puts the object down, right picks it up and places"
+            }
+        }
+    }
+}
+
+impl From<Strategy> for StrategyChoice {
+    fn from(s: Strategy) -> Self {
+        StrategyChoice::Only(s)
+    }
+}
+
+impl fmt::Display for StrategyChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A strategy's name that is none of [`StrategyChoice::all`]'s.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownStrategy {
+    /// The name given.
+    pub name: String,
+}
+
+impl fmt::Display for UnknownStrategy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names: Vec<&str> = StrategyChoice::all().map(StrategyChoice::name).collect();
+        write!(
+            f,
+            "strategy {:?} is not one of {}",
+            self.name,
+            names.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownStrategy {}
+
+impl std::str::FromStr for StrategyChoice {
+    type Err = UnknownStrategy;
+
+    fn from_str(name: &str) -> std::result::Result<Self, UnknownStrategy> {
+        StrategyChoice::all()
+            .find(|c| c.name() == name)
+            .ok_or_else(|| UnknownStrategy {
+                name: name.to_owned(),
+            })
+    }
+}
+
+impl TryFrom<String> for StrategyChoice {
+    type Error = UnknownStrategy;
+
+    fn try_from(name: String) -> std::result::Result<Self, UnknownStrategy> {
+        name.parse()
+    }
+}
+
+impl From<StrategyChoice> for String {
+    fn from(c: StrategyChoice) -> String {
+        c.name().to_owned()
     }
 }
 
@@ -275,10 +373,29 @@ mod tests {
     }
 
     #[test]
+    fn every_choice_is_read_back_from_its_name_and_an_unknown_name_lists_them() {
+        for c in StrategyChoice::all() {
+            assert_eq!(c.name().parse::<StrategyChoice>(), Ok(c));
+            let json = serde_json::to_string(&c).expect("serializes");
+            assert_eq!(json, format!("{:?}", c.name()));
+            assert_eq!(serde_json::from_str::<StrategyChoice>(&json).ok(), Some(c));
+        }
+        assert_eq!(StrategyChoice::all().count(), Strategy::ALL.len() + 1);
+        let e = "sideways"
+            .parse::<StrategyChoice>()
+            .expect_err("not a name");
+        assert_eq!(
+            e.to_string(),
+            "strategy \"sideways\" is not one of auto, right-right, left-left, right-left, \
+             left-right, right-place-right, left-place-left, right-place-left, left-place-right"
+        );
+    }
+
+    #[test]
     fn an_override_is_the_only_strategy() {
         let p = Point3::origin();
         assert_eq!(
-            Strategy::order(StrategyChoice::LeftRight, SHOULDERS, &p, &p),
+            Strategy::order(StrategyChoice::Only(Strategy::LeftRight), SHOULDERS, &p, &p),
             vec![Strategy::LeftRight]
         );
     }

@@ -45,7 +45,8 @@ mod workers;
 #[cfg(test)]
 mod tests;
 
-pub use error::{BatchError, error_message};
+pub use crate::error::message as error_message;
+pub use error::BatchError;
 pub use files::plan_file_names;
 pub use options::{BatchOptions, default_jobs};
 pub use summary::{SUMMARY_FILE, SUMMARY_FORMAT, SceneStatus, SceneSummary, write_summary};
@@ -86,13 +87,17 @@ impl BatchReport {
 /// # Example
 /// ```
 /// use pickplace::batch::{BatchOptions, SceneStatus, plan_many};
+/// use pickplace::planner::PlanOverrides;
 /// use std::path::Path;
 ///
 /// let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
 /// let out = std::env::temp_dir().join(format!("pickplace-batch-doc-{}", std::process::id()));
 /// let options = BatchOptions {
 ///     jobs: 2,
-///     timings: false,
+///     plan: PlanOverrides {
+///         timings: Some(false),
+///         ..PlanOverrides::default()
+///     },
 ///     cache_dir: Some(root.join("target/pickplace-cache")),
 ///     ..BatchOptions::new(&out)
 /// };

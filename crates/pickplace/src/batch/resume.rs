@@ -90,7 +90,7 @@ mod tests {
         };
         assert_eq!(other_options(&plan, &same), None);
         let forced = PlanOptions {
-            strategy: StrategyChoice::LeftLeft,
+            strategy: StrategyChoice::Only(crate::Strategy::LeftLeft),
             ..same.clone()
         };
         assert_eq!(

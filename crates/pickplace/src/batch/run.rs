@@ -33,7 +33,7 @@ pub(super) fn guarded_plan_one(
             SceneStatus::Error,
             format!("internal error: the planner panicked on this scene: {what}"),
         );
-        if options.timings {
+        if options.timings() {
             s.time = Some(t.elapsed().as_secs_f64());
         }
         s
@@ -45,7 +45,7 @@ fn plan_one(scene_path: &Path, plan_path: &Path, options: &BatchOptions) -> Scen
     let t = Instant::now();
     let mut s = SceneSummary::new(scene_path);
     plan_into(scene_path, plan_path, options, &mut s);
-    if options.timings {
+    if options.timings() {
         s.time = Some(t.elapsed().as_secs_f64());
     }
     s
@@ -69,7 +69,7 @@ fn plan_into(scene_path: &Path, plan_path: &Path, options: &BatchOptions, s: &mu
         );
         return;
     }
-    s.seed = Some(options.seed.unwrap_or(scene.planner.seed));
+    s.seed = Some(options.plan.seed.unwrap_or(scene.planner.seed));
     let setup_options = SetupOptions {
         cache_dir: options.cache_dir.clone(),
         package_dirs: options.package_dirs.clone(),

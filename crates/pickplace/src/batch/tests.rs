@@ -26,7 +26,10 @@ fn scratch(name: &str) -> PathBuf {
 fn options(out: &Path, jobs: usize) -> BatchOptions {
     BatchOptions {
         jobs,
-        timings: false,
+        plan: crate::planner::PlanOverrides {
+            timings: Some(false),
+            ..Default::default()
+        },
         cache_dir: Some(root().join("target/pickplace-test-cache")),
         ..BatchOptions::new(out)
     }
@@ -174,10 +177,8 @@ fn bad_input_is_a_line_and_resume_keeps_only_valid_plans() {
     );
     assert_eq!(read(&plan_path), planned);
 
-    let seeded = BatchOptions {
-        seed: Some(7),
-        ..resume.clone()
-    };
+    let mut seeded = resume.clone();
+    seeded.plan.seed = Some(7);
     let s = &plan_many(&scenes[1..], &seeded, &|_| {})
         .expect("runs")
         .summaries[0];

@@ -38,7 +38,7 @@ mod turns;
 mod world;
 
 pub use handover::handover_candidates;
-pub use options::PlanOptions;
+pub use options::{OutOfRange, PlanOptions, PlanOverrides};
 pub use reason::{Attempt, Collision, End, Fail, Rejection, Role, Stage, Step};
 pub use regrasp::REST_RADIUS;
 

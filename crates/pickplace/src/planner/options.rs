@@ -2,8 +2,8 @@
 //! every number before any work.
 
 use crate::error::Result;
-use crate::scene::StrategyChoice;
 use crate::setup::Setup;
+use crate::strategy::StrategyChoice;
 use pickplace_geometry::math::Real;
 
 /// Options of [`super::plan`].
@@ -72,12 +72,24 @@ impl PlanOptions {
     /// # Errors
     /// [`crate::Error::Invalid`] naming the option (and the scene).
     pub fn check(&self, setup: &Setup) -> Result<()> {
+        match self.out_of_range() {
+            None => Ok(()),
+            Some(e) => Err(crate::Error::Invalid {
+                path: setup.scene_path.clone(),
+                field: format!("plan option {}", e.option),
+                reason: e.reason,
+            }),
+        }
+    }
+
+    /// The first option out of its range, if any.
+    fn out_of_range(&self) -> Option<OutOfRange> {
         use crate::ranges::{
             PLANNER_ANGLE, PLANNER_DISTANCE, Range, SAMPLE_PERIOD, SCALING, TIME_BUDGET,
         };
         let fraction = Range::closed(0.0, 1.0, "");
         let counts = Range::closed(1.0, 100_000.0, "");
-        let checks: [(&str, Real, Range); 13] = [
+        let checks: [(&'static str, Real, Range); 13] = [
             ("time_budget", self.time_budget, TIME_BUDGET),
             ("velocity_scaling", self.velocity_scaling, SCALING),
             ("acceleration_scaling", self.acceleration_scaling, SCALING),
@@ -96,28 +108,55 @@ impl PlanOptions {
             ("handover_poses", self.handover_poses as Real, counts),
             ("handover_feasible", self.handover_feasible as Real, counts),
         ];
-        for (field, value, range) in checks {
-            range.check(value).map_err(|e| crate::Error::Invalid {
-                path: setup.scene_path.clone(),
-                field: format!("plan option {field}"),
-                reason: e.to_string(),
-            })?;
+        let bad = |option: &'static str, reason: String| Some(OutOfRange { option, reason });
+        for (option, value, range) in checks {
+            if let Err(e) = range.check(value) {
+                return bad(option, e.to_string());
+            }
         }
-        let bad = |field: &str, reason: &str| crate::Error::Invalid {
-            path: setup.scene_path.clone(),
-            field: format!("plan option {field}"),
-            reason: reason.to_owned(),
-        };
         if !(self.cartesian_step > 0.0 && PLANNER_DISTANCE.contains(self.cartesian_step)) {
-            return Err(bad("cartesian_step", "must be in (0, 10] m"));
+            return bad("cartesian_step", "must be in (0, 10] m".to_owned());
         }
         if self.regrasp_rests.0 > self.regrasp_rests.1 || self.regrasp_rests.1 > 8 {
-            return Err(bad(
+            return bad(
                 "regrasp_rests",
-                "must be (fewest, most) with fewest <= most <= 8",
-            ));
+                "must be (fewest, most) with fewest <= most <= 8".to_owned(),
+            );
         }
-        Ok(())
+        None
+    }
+
+    /// The scene's options ([`PlanOptions::for_setup`]) with a caller's `overrides` over
+    /// them: the one place where the command line's flags, a batch's options and Python's
+    /// keywords meet the scene's values.
+    pub fn with_overrides(setup: &Setup, overrides: &PlanOverrides) -> Self {
+        let mut options = Self::for_setup(setup);
+        options.apply(overrides);
+        options
+    }
+
+    fn apply(&mut self, o: &PlanOverrides) {
+        if let Some(seed) = o.seed {
+            self.seed = seed;
+        }
+        if let Some(strategy) = o.strategy {
+            self.strategy = strategy;
+        }
+        if let Some(budget) = o.time_budget {
+            self.time_budget = budget;
+        }
+        if let Some(f) = o.velocity_scaling {
+            self.velocity_scaling = f;
+        }
+        if let Some(f) = o.acceleration_scaling {
+            self.acceleration_scaling = f;
+        }
+        if let Some(p) = o.sample_period {
+            self.sample_period = p;
+        }
+        if let Some(t) = o.timings {
+            self.timings = t;
+        }
     }
 
     /// The defaults with the scene's seed, strategy and time budget.
@@ -155,5 +194,81 @@ impl Default for PlanOptions {
             acceleration_scaling: 1.0,
             regrasp_rests: (1, 2),
         }
+    }
+}
+
+/// What a caller sets over a scene's own planner values: the command line's flags
+/// (`pickplace plan`, `pickplace batch`), a batch's options and Python's keywords. Each `None`
+/// leaves the scene's value (or the default); [`PlanOptions::with_overrides`] merges them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PlanOverrides {
+    /// Seed of every random choice ([`PlanOptions::seed`]).
+    pub seed: Option<u64>,
+    /// Strategy ([`PlanOptions::strategy`]).
+    pub strategy: Option<StrategyChoice>,
+    /// Wall-clock budget (s) ([`PlanOptions::time_budget`]).
+    pub time_budget: Option<Real>,
+    /// Velocity scaling factor ([`PlanOptions::velocity_scaling`]).
+    pub velocity_scaling: Option<Real>,
+    /// Acceleration scaling factor ([`PlanOptions::acceleration_scaling`]).
+    pub acceleration_scaling: Option<Real>,
+    /// Trajectory sampling period (s) ([`PlanOptions::sample_period`]).
+    pub sample_period: Option<Real>,
+    /// Record stage timings ([`PlanOptions::timings`]).
+    pub timings: Option<bool>,
+}
+
+impl PlanOverrides {
+    /// Refuses values out of range before any scene is read, with the ranges
+    /// [`PlanOptions::check`] applies.
+    ///
+    /// # Errors
+    /// [`OutOfRange`] naming the first option out of its range.
+    pub fn check(&self) -> std::result::Result<(), OutOfRange> {
+        let mut options = PlanOptions::default();
+        options.apply(self);
+        options.out_of_range().map_or(Ok(()), Err)
+    }
+}
+
+/// An option out of its range ([`PlanOverrides::check`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{option}: {reason}")]
+pub struct OutOfRange {
+    /// The option's name (its field).
+    pub option: &'static str,
+    /// What is wrong.
+    pub reason: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overrides_replace_only_what_they_set_and_are_checked_with_the_planner_ranges() {
+        let overrides = PlanOverrides {
+            seed: Some(7),
+            sample_period: Some(0.02),
+            ..PlanOverrides::default()
+        };
+        let mut options = PlanOptions::default();
+        options.apply(&overrides);
+        assert_eq!(
+            options,
+            PlanOptions {
+                seed: 7,
+                sample_period: 0.02,
+                ..PlanOptions::default()
+            }
+        );
+        assert_eq!(overrides.check(), Ok(()));
+        let e = PlanOverrides {
+            velocity_scaling: Some(1.5),
+            ..PlanOverrides::default()
+        }
+        .check()
+        .expect_err("out of range");
+        assert_eq!(e.option, "velocity_scaling");
     }
 }

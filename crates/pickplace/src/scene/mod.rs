@@ -4,6 +4,7 @@
 //! are rejected so that a typo is an error, not a silently ignored option.
 
 use crate::ranges;
+pub use crate::strategy::StrategyChoice;
 use pickplace_geometry::math::{Isometry3, Point3, Real, Translation3, UnitQuaternion, nalgebra};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -458,31 +459,6 @@ impl TargetSpec {
     pub fn tolerance(&self) -> Real {
         self.tolerance.unwrap_or(DEFAULT_TARGET_TOLERANCE)
     }
-}
-
-/// The manipulation strategy (paper §III-B.3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum StrategyChoice {
-    /// Order the strategies as the paper does (nearest hands first) and switch on failure.
-    #[default]
-    Auto,
-    /// Grasp and place with the right hand.
-    RightRight,
-    /// Grasp and place with the left hand.
-    LeftLeft,
-    /// Grasp with the right hand, hand over, place with the left.
-    RightLeft,
-    /// Grasp with the left hand, hand over, place with the right.
-    LeftRight,
-    /// Regrasp by placing with the right hand: pick, put down, pick again, place.
-    RightPlaceRight,
-    /// Regrasp by placing with the left hand.
-    LeftPlaceLeft,
-    /// The right hand picks and puts the object down, the left picks it up and places it.
-    RightPlaceLeft,
-    /// The left hand picks and puts the object down, the right picks it up and places it.
-    LeftPlaceRight,
 }
 
 /// Planner options of a scene.

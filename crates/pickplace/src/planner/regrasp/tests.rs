@@ -77,7 +77,7 @@ fn the_right_hand_puts_the_can_down_and_picks_it_up_again() {
 fn a_regrasp_plan_passes_the_validator_and_lists_its_rest() {
     let setup = crate::testing::setup("fig9-near.toml");
     let options = super::super::PlanOptions {
-        strategy: crate::scene::StrategyChoice::LeftPlaceRight,
+        strategy: crate::Strategy::LeftPlaceRight.into(),
         timings: false,
         ..super::super::PlanOptions::for_setup(setup)
     };
@@ -114,7 +114,7 @@ fn a_regrasp_plan_passes_the_validator_and_lists_its_rest() {
 fn a_sequence_through_two_rests_passes_the_validator() {
     let setup = crate::testing::setup("fig9-near.toml");
     let options = super::super::PlanOptions {
-        strategy: crate::scene::StrategyChoice::RightPlaceRight,
+        strategy: crate::Strategy::RightPlaceRight.into(),
         timings: false,
         regrasp_rests: (2, 2),
         ..super::super::PlanOptions::for_setup(setup)
