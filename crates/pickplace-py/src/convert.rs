@@ -2,11 +2,11 @@
 //! transforms, and serde documents as Python dicts and lists.
 
 use crate::errors::input_msg;
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
 use pickplace::plan::TrajectoryPoint;
 use pickplace_geometry::math::nalgebra::Rotation3;
-use pickplace_geometry::math::{Isometry3, Matrix3, Real, Translation3, UnitQuaternion};
+use pickplace_geometry::math::{Isometry3, Matrix3, Point3, Real, Translation3, UnitQuaternion};
 use pyo3::prelude::*;
 
 /// A serde value as Python objects (dicts, lists, str, float, int, None), through JSON: the
@@ -77,7 +77,7 @@ pub fn matrix4<'py>(py: Python<'py>, pose: &Isometry3) -> Bound<'py, PyArray2<Re
 }
 
 /// Fills `out` (shape (L, 4, 4), row-major) with the homogeneous matrices of `poses`.
-pub fn fill_matrices(poses: &[Isometry3], out: &mut [Real]) {
+fn fill_matrices(poses: &[Isometry3], out: &mut [Real]) {
     for (pose, block) in poses.iter().zip(out.chunks_exact_mut(16)) {
         let h = pose.to_homogeneous();
         for r in 0..4 {
@@ -86,6 +86,35 @@ pub fn fill_matrices(poses: &[Isometry3], out: &mut [Real]) {
             }
         }
     }
+}
+
+/// The homogeneous matrices of `poses`, shape (L, 4, 4).
+pub fn matrices<'py>(py: Python<'py>, poses: &[Isometry3]) -> Bound<'py, PyArray3<Real>> {
+    let mut out = Array3::<Real>::zeros((poses.len(), 4, 4));
+    if let Some(flat) = out.as_slice_mut() {
+        fill_matrices(poses, flat);
+    }
+    out.into_pyarray(py)
+}
+
+/// A triangle mesh as numpy arrays: vertices (V, 3) float64 and faces (F, 3) int64.
+pub type MeshArrays<'py> = (Bound<'py, PyArray2<Real>>, Bound<'py, PyArray2<i64>>);
+
+/// A triangle mesh as numpy arrays ([`MeshArrays`]).
+pub fn mesh_arrays<'py>(
+    py: Python<'py>,
+    vertices: &[Point3],
+    triangles: &[[u32; 3]],
+) -> PyResult<MeshArrays<'py>> {
+    let points: Vec<[Real; 3]> = vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
+    let points: Vec<&[Real]> = points.iter().map(|v| v.as_slice()).collect();
+    let faces: Vec<i64> = triangles
+        .iter()
+        .flat_map(|t| t.iter().map(|&i| i64::from(i)))
+        .collect();
+    let faces = Array2::from_shape_vec((triangles.len(), 3), faces)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok((rows(py, &points, 3)?, faces.into_pyarray(py)))
 }
 
 /// Largest deviation tolerated from a rotation matrix (orthonormal, determinant 1) and from

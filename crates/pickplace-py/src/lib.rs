@@ -16,6 +16,7 @@ mod plan;
 mod robot;
 mod scene;
 mod tools;
+mod view;
 
 use pyo3::prelude::*;
 
@@ -40,6 +41,8 @@ fn _pickplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tools::clusters, m)?)?;
     m.add_function(wrap_pyfunction!(tools::placements, m)?)?;
     m.add_function(wrap_pyfunction!(tools::grasps, m)?)?;
+    m.add_class::<view::SceneView>()?;
+    m.add_class::<view::Playback>()?;
     m.add_class::<batch::Options>()?;
     m.add_function(wrap_pyfunction!(batch::_batch_options, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_plan_many, m)?)?;

@@ -1,10 +1,10 @@
 //! `pickplace.Robot`: a URDF (+ SRDF) model with forward kinematics, Jacobians and IK on
 //! numpy arrays (the `pickplace robot fk|ik` commands).
 
-use crate::convert::{fill_matrices, isometry, matrix4, vector};
+use crate::convert::{isometry, matrices, matrix4, vector};
 use crate::errors::{input, input_msg};
-use numpy::ndarray::{Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, ToPyArray};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, ToPyArray};
 use pickplace_geometry::math::{Isometry3, Point3, UnitVector3, Vector3};
 use pickplace_robot::model::UnreadableMesh;
 use pickplace_robot::{IkOptions, IkSolver, Jacobian, LoadOptions, RobotModel, Semantics};
@@ -173,12 +173,7 @@ impl Robot {
             return Ok(matrix4(py, &pose).into_any());
         }
         let poses = self.model.link_poses(&q).map_err(|e| input(&e))?;
-        let mut out = Array3::<f64>::zeros((poses.len(), 4, 4));
-        if let Some(flat) = out.as_slice_mut() {
-            fill_matrices(&poses, flat);
-        }
-        let array: Bound<'py, PyArray3<f64>> = out.into_pyarray(py);
-        Ok(array.into_any())
+        Ok(matrices(py, &poses).into_any())
     }
 
     /// The Jacobian of a point fixed in `link` (`point`, in the link's frame; default its

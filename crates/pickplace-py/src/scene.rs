@@ -1,9 +1,9 @@
 //! `pickplace.Scene`: a scene file read and set up for planning (robot, meshes, cluster
 //! databases, roadmaps), as `pickplace plan` does before it plans.
 
-use crate::convert::{matrix4, rows, to_python};
+use crate::convert::{matrix4, mesh_arrays, to_python};
 use crate::errors::{facade, input, input_msg};
-use numpy::{IntoPyArray, PyArray1, PyArray2, ToPyArray};
+use numpy::{PyArray1, PyArray2, ToPyArray};
 use pickplace::cache::CacheWarning;
 use pickplace::{Setup, SetupOptions};
 use pyo3::prelude::*;
@@ -265,23 +265,9 @@ impl Scene {
         for part in &self.setup.environment {
             let d = PyDict::new(py);
             d.set_item("name", &part.name)?;
-            let vertices: Vec<[f64; 3]> = part
-                .mesh
-                .vertices()
-                .iter()
-                .map(|v| [v.x, v.y, v.z])
-                .collect();
-            let v: Vec<&[f64]> = vertices.iter().map(|v| v.as_slice()).collect();
-            d.set_item("vertices", rows(py, &v, 3)?)?;
-            let faces: Vec<i64> = part
-                .mesh
-                .triangles()
-                .iter()
-                .flat_map(|t| t.iter().map(|&i| i64::from(i)))
-                .collect();
-            let faces = numpy::ndarray::Array2::from_shape_vec((faces.len() / 3, 3), faces)
-                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-            d.set_item("faces", faces.into_pyarray(py))?;
+            let (vertices, faces) = mesh_arrays(py, part.mesh.vertices(), part.mesh.triangles())?;
+            d.set_item("vertices", vertices)?;
+            d.set_item("faces", faces)?;
             d.set_item("world_from_mesh", matrix4(py, &part.world_from_mesh))?;
             let doc = pickplace_geometry::cluster::ClustersJson::new(
                 &part.clustering,

@@ -31,6 +31,8 @@ __all__ = [
     "InputError",
     "NoPlanError",
     "Scene",
+    "SceneView",
+    "Playback",
     "Plan",
     "ValidationReport",
     "Robot",
@@ -128,6 +130,54 @@ class Scene:
     @property
     def warnings(self) -> list[str]:
         """Why the cache could not be used."""
+
+@final
+class SceneView:
+    """What the browser view draws and asks of a set-up scene, computed in Rust: the links of
+    every robot of the scene posed by forward kinematics, the object's mesh, the environment
+    surface under a ray, the scene as a scene file and saving it with a plan."""
+
+    def __init__(self, scene: Scene) -> None:
+        """Triangulates the robots' link shapes (visual, else collision) once."""
+    @property
+    def link_names(self) -> list[str]:
+        """Every link of the scene's robots (prefixed with `[[robots]]`), model order."""
+    def link_meshes(self) -> list[dict[str, Any]]:
+        """The links with shapes: link, index, vertices (V, 3) and faces (F, 3) in the link
+        frame, color (r, g, b)."""
+    def link_poses(self, q: _Vector) -> npt.NDArray[np.float64]:
+        """Every link's world pose at `q` (`Scene.joint_names` order), shape (L, 4, 4)."""
+    def object_mesh(self) -> tuple[_F64_2, npt.NDArray[np.int64]]:
+        """The object's (vertices (V, 3), faces (F, 3)) in its frame."""
+    def cast_ray(self, origin: _Vector, direction: _Vector) -> dict[str, Any] | None:
+        """The nearest environment surface on the ray: part, part_index, triangle, cluster
+        (id or None), point (3,), distance (m); None when it meets nothing."""
+    def scene_toml(
+        self,
+        *,
+        target: _Vector | None = None,
+        object_start: npt.ArrayLike | None = None,
+        seed: int | None = None,
+        strategy: _Strategy | None = None,
+    ) -> str:
+        """The scene file (TOML, paths absolute) with the given changes."""
+    def save(self, folder: _Path, plan: Plan) -> list[pathlib.Path]:
+        """Writes FOLDER/plan.json and FOLDER/scene.toml atomically; their paths."""
+
+@final
+class Playback:
+    """A plan played back in its scene: configuration, link poses and object pose at any time."""
+
+    def __init__(self, scene: Scene, plan: Plan) -> None:
+        """Raises InputError when the plan's joints or links are not the scene's robots'."""
+    @property
+    def times(self) -> _F64_1:
+        """Sample times, s, shape (N,)."""
+    @property
+    def duration(self) -> float:
+        """Time of the last sample, s."""
+    def at(self, t: float) -> tuple[_F64_1, npt.NDArray[np.float64], _F64_2]:
+        """(q (J,), world_from_links (L, 4, 4), world_from_object (4, 4)) at time `t`."""
 
 @final
 class Plan:
