@@ -8,6 +8,7 @@ they fail). PICKPLACE_CHROMIUM names the browser (default: chromium on PATH)."""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -191,7 +192,7 @@ def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path, run_cli)
     page.mouse.click(x, y)
     assert answer(v, before) == "planned", v.reasons
     part, cluster_id, point = v.picked
-    assert part == "pallet" and cluster_id >= 0 and v.highlight_node is not None
+    assert part == "pallet" and cluster_id is not None and v.highlight_node is not None
     assert np.linalg.norm(point - DENT) < 0.005, point
     plan = v.plan
     assert pickplace.validate(v.plan_scene, plan).ok
@@ -200,11 +201,11 @@ def test_click_on_the_dent_plans_and_plays(view, page, shots, tmp_path, run_cli)
     page.get_by_text("Validated: ok").wait_for(timeout=10_000)
     # Playback: the object rides in the hand and ends where the plan places it.
     pb = v.playback
-    q, placed = pb.at(pb.duration)
+    _, _, placed = pb.at(pb.duration)
     expected = pickplace.pose_matrix(**plan.object["placed_pose"])
     assert np.linalg.norm(placed[:3, 3] - expected[:3, 3]) < 0.002
     middle = next(k for k in plan.key_poses if k["name"] == "pre-place")
-    _, carried = pb.at(middle["time"])
+    _, _, carried = pb.at(middle["time"])
     want = pickplace.pose_matrix(**middle["world_from_object"])
     assert np.linalg.norm(carried[:3, 3] - want[:3, 3]) < 0.003  # m
     assert np.allclose(carried[:3, :3], want[:3, :3], atol=0.01)  # about 0.6 degrees
@@ -327,9 +328,128 @@ def test_a_scene_of_primitives_is_drawn_and_picked(root, cache_dir, tmp_path):
     scene = tmp_path / "boxes.toml"
     scene.write_text(text)
     v = web.WebView(scene, cache_dir=cache_dir)
-    assert [p.name for p in v.env] == ["table", "pallet"]
-    assert len(v.env[0].world_tris) == 12
-    k, i, point = v.pick(np.array([0.3, 0.3, 1.5]), np.array([0.0, 0.0, -1.0]))
-    assert v.env[k].name == "table"
-    assert point[2] == pytest.approx(0.72)
-    assert v.env[k].cluster_of[i] >= 0
+    assert [p["name"] for p in v.env] == ["table", "pallet"]
+    assert len(v.env[0]["faces"]) == 12
+    hit = v.pick(np.array([0.3, 0.3, 1.5]), np.array([0.0, 0.0, -1.0]))
+    assert hit["part"] == "table" and hit["part_index"] == 0
+    assert hit["point"][2] == pytest.approx(0.72)
+    assert hit["cluster"] is not None
+
+
+def fk_in_world(run_cli, urdf, q: dict[str, float], world_from_root, *args) -> dict[str, np.ndarray]:
+    """`pickplace robot fk URDF` at `q`, every link's pose moved into the world."""
+    joints = ",".join(f"{name}={float(value)!r}" for name, value in q.items())
+    status, out, stderr = run_cli("robot", "fk", urdf, "--joints", joints, *args)
+    assert status == 0, stderr
+    links = json.loads(out)["links"]
+    return {name: world_from_root @ pickplace.pose_matrix(**pose) for name, pose in links.items()}
+
+
+def test_what_rust_gives_the_page(near, near_plan, cache_dir, run_cli):
+    view = pickplace.SceneView(near)
+    # The click: a ray straight down onto the table top's free corner meets it at the top's
+    # height (0.72 m); upwards it meets nothing.
+    hit = view.cast_ray([0.80, 0.38, 1.5], [0.0, 0.0, -2.0])
+    assert hit["part"] == "table" and hit["cluster"] is not None
+    assert hit["point"] == pytest.approx([0.80, 0.38, 0.72], abs=1e-6)  # an STL: float32
+    assert hit["distance"] == pytest.approx(0.78, abs=1e-6)
+    assert view.cast_ray([0.80, 0.38, 1.5], [0.0, 0.0, 1.0]) is None
+    with pytest.raises(pickplace.InputError, match="direction"):
+        view.cast_ray([0.0, 0.0, 1.0], [0.0, 0.0, 0.0])
+    # The links: the scene's base pose times `pickplace robot fk` of its URDF, at the start.
+    q = dict(zip(near.joint_names, near.start))
+    want = fk_in_world(run_cli, "robots/nx-hiro/nx-hiro.urdf", q, pickplace.pose_matrix([0.0, 0.0, 0.92]))
+    got = dict(zip(view.link_names, view.link_poses(near.start)))
+    assert want and set(want) <= set(got)
+    for name, pose in want.items():
+        assert np.allclose(got[name], pose, atol=1e-9), name
+    meshes = view.link_meshes()
+    assert {m["link"] for m in meshes} <= set(view.link_names) and len(meshes) > 10
+    assert all(m["faces"].max() < len(m["vertices"]) for m in meshes)
+    vertices, faces = view.object_mesh()
+    assert faces.shape[1] == 3 and faces.max() < len(vertices)
+    # The plan played back: the object starts at the scene's start pose, rides in the hand,
+    # and ends at the plan's placed pose; the robot starts at the start configuration.
+    pb = pickplace.Playback(near, near_plan)
+    assert pb.duration == pytest.approx(near_plan.duration) and len(pb.times) == len(near_plan.times)
+    q0, links0, object0 = pb.at(0.0)
+    assert np.allclose(object0, near.object_start, atol=1e-12)
+    assert np.allclose(q0, near.start, atol=1e-12)
+    assert np.allclose(links0, view.link_poses(q0))
+    placed = pickplace.pose_matrix(**near_plan.object["placed_pose"])
+    assert np.allclose(pb.at(pb.duration)[2], placed, atol=2e-3)
+    assert np.allclose(pb.at(pb.duration + 5.0)[2], pb.at(pb.duration)[2])
+    # The scene file: Rust's TOML, paths absolute, reads back as the scene with the changes.
+    moved = pickplace.pose_matrix([0.40, 0.0, 0.72], [0.0, 0.0, np.sin(0.25), np.cos(0.25)])
+    text = view.scene_toml(target=[0.4, -0.2, 0.745], object_start=moved, seed=7, strategy="right-right")
+    again = pickplace.Scene.from_toml(text, "/nonexistent", cache_dir=cache_dir)
+    assert again.seed == 7 and again.to_dict()["planner"]["strategy"] == "right-right"
+    assert np.allclose(again.object_start, moved, atol=1e-12)
+    assert again.target == pytest.approx([0.4, -0.2, 0.745])
+    assert again.joint_names == near.joint_names and np.array_equal(again.start, near.start)
+    with pytest.raises(pickplace.InputError, match="strategy"):
+        view.scene_toml(strategy="both-hands")
+
+
+@pytest.fixture(scope="module")
+def robot_packages() -> Path:
+    """The folder that holds example-robot-data/ (`PICKPLACE_ROBOTS_PACKAGES`, which `cargo
+    xtask test` sets for the Rust tests); the test is skipped, saying so, without it."""
+    given = os.environ.get("PICKPLACE_ROBOTS_PACKAGES")
+    if not given or not (Path(given) / "example-robot-data/robots").is_dir():
+        pytest.skip("PICKPLACE_ROBOTS_PACKAGES does not name the folder that holds example-robot-data/")
+    return Path(given)
+
+
+def test_a_scene_with_two_robots_opens_plans_and_plays(root, cache_dir, browser, robot_packages, run_cli, shots,
+                                                         tmp_path):
+    # Two Pandas side by side ([[robots]] with prefixes right_ and left_), table top at z 0.
+    v = web.WebView(root / "scenes/robots/two-pandas.toml", cache_dir=cache_dir, package_dirs=[robot_packages])
+    names = v.view.link_names
+    assert "right_panda_link7" in names and "left_panda_link7" in names
+    # Each robot's links are its base pose times `pickplace robot fk` of the one URDF.
+    urdf = robot_packages / "example-robot-data/robots/panda_description/urdf/panda.urdf"
+    got = dict(zip(names, v.view.link_poses(v.start_q)))
+    for prefix, y in (("right_", -0.35), ("left_", 0.35)):
+        q = {n.removeprefix(prefix): x for n, x in zip(v.scene.joint_names, v.start_q) if n.startswith(prefix)}
+        want = fk_in_world(run_cli, urdf, q, pickplace.pose_matrix([0.0, y, 0.0]), "--package-dir", robot_packages)
+        for name, pose in want.items():
+            assert np.allclose(got[prefix + name], pose, atol=1e-9), prefix + name
+    url = v.serve()
+    try:
+        page, camera = open_page(browser, v, url)
+        image = screenshot(page, shots / "two-robots.png")
+        v.set_robot_visible(False)
+        time.sleep(1.5)
+        without = screenshot(page, shots / "two-robots-without-robots.png")
+        v.set_robot_visible(True)
+        changed = np.abs(image - without).sum(axis=2) > 30
+        for link in ("right_panda_link4", "left_panda_link4"):  # the elbows, in view of the camera
+            x, y = (int(round(c)) for c in project(camera, got[link][:3, 3]))
+            assert changed[y - 6 : y + 7, x - 6 : x + 7].mean() > 0.5, f"no robot pixels at {link}"
+        # A click on the table at the scene's target plans with both arms and plays the plan.
+        target = v.target.copy()
+        x, y = project(camera, target)
+        before = v.answered
+        page.mouse.click(x, y)
+        assert answer(v, before) == "planned", v.reasons
+        assert v.picked[0] == "table" and np.linalg.norm(v.picked[2] - target) < 0.005
+        plan = v.plan
+        assert pickplace.validate(v.plan_scene, plan).ok
+        page.get_by_text(f"Plan: {plan.strategy}").wait_for(timeout=10_000)
+        pb = v.playback
+        assert np.allclose(pb.at(0.0)[2], v.object_start, atol=1e-9)
+        placed = pickplace.pose_matrix(**plan.object["placed_pose"])
+        assert np.linalg.norm(pb.at(pb.duration)[2][:3, 3] - placed[:3, 3]) < 0.002
+        v.set_time(pb.duration / 2)
+        time.sleep(1.5)
+        screenshot(page, shots / "two-robots-planned.png")
+        # The saved scene keeps both robots and reproduces the plan.
+        plan_path, scene_path = v.save(tmp_path / "saved")
+        assert scene_path.read_text().count("[[robots]]") == 2
+        again = pickplace.Scene.load(scene_path, cache_dir=cache_dir, package_dirs=[robot_packages])
+        assert pickplace.plan(again).to_json() == plan_path.read_text() == plan.to_json()
+        v.pause()
+        page.close()
+    finally:
+        v.stop()

@@ -1,4 +1,7 @@
-"""The page: a viser server showing a scene, planning on clicks, playing plans back."""
+"""The page: a viser server showing a scene, planning on clicks, playing plans back. What it
+draws and asks (link meshes posed by forward kinematics, the surface under a click, the scene
+file to save, the object's pose over a plan) comes from Rust: `pickplace.SceneView` and
+`pickplace.Playback`; this module only lays out the page."""
 
 from __future__ import annotations
 
@@ -8,7 +11,6 @@ import os
 import socket
 import threading
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -16,10 +18,6 @@ import numpy as np
 
 import pickplace
 
-from .meshes import matrix_of, ray_triangles, read_mesh, transform_points, wxyz_of
-from .playback import Playback
-from .robot_shapes import resolve_package_path, robot_shapes
-from .scene_file import absolute_paths, scene_toml, write_atomic
 
 #: Strategies offered in the page (the planner's names).
 STRATEGIES = (
@@ -45,12 +43,16 @@ HIGHLIGHT_COLOR = (255, 200, 0)
 TARGET_COLOR = (255, 0, 255)
 
 
-@dataclass
-class EnvPart:
-    name: str
-    world_tris: np.ndarray  # (T, 3, 3)
-    cluster_of: np.ndarray  # (T,) cluster id or -1
-    clusters: list[dict[str, Any]] = field(default_factory=list)
+def wxyz_of(m: np.ndarray) -> np.ndarray:
+    """The rotation of a 4x4 pose as viser's quaternion (w, x, y, z)."""
+    x, y, z, w = pickplace.pose_parts(m)["orientation"]
+    return np.array([w, x, y, z])
+
+
+def matrix_of(position: Any, wxyz: Any) -> np.ndarray:
+    """The 4x4 pose of a viser position and (w, x, y, z) quaternion."""
+    w, x, y, z = (float(v) for v in wxyz)
+    return pickplace.pose_matrix(position, [x, y, z, w])
 
 
 class WebView:
@@ -58,60 +60,33 @@ class WebView:
     ``plan_path`` it only plays that plan."""
 
     def __init__(self, scene_path: str | os.PathLike[str], *, plan_path: str | os.PathLike[str] | None = None,
-                 cache_dir: str | os.PathLike[str] | None = None, out_dir: str | os.PathLike[str] = "pickplace-web") -> None:
+                 cache_dir: str | os.PathLike[str] | None = None, out_dir: str | os.PathLike[str] = "pickplace-web",
+                 package_dirs: list[str | os.PathLike[str]] = ()) -> None:
         self.scene_path = Path(scene_path)
         self.cache_dir = cache_dir
+        self.package_dirs = [str(d) for d in package_dirs]
         self.out_dir = str(out_dir)
-        self.scene = pickplace.Scene.load(self.scene_path, cache_dir=cache_dir)
-        self.base = absolute_paths(self.scene.to_dict())
-        robots = self.base["robots"]
-        if len(robots) != 1:
-            raise pickplace.InputError(f"{self.scene_path}: the browser view shows one [robot] only")
-        r = robots[0]
-        package_dirs = list(r.get("package_dirs", [])) + [
-            d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d
-        ]
-
-        def local(path: str | None) -> Path | None:
-            if path is None:
-                return None
-            found = resolve_package_path(path, Path("."), package_dirs)
-            if found is None:
-                raise pickplace.InputError(f"{self.scene_path}: cannot find {path}")
-            return found
-
-        urdf = local(r["urdf"])
-        self.robot = pickplace.Robot.load(urdf, local(r.get("srdf")), package_dirs=package_dirs)
-        self.world_from_root = pickplace.pose_matrix(**r["base_pose"])
-        self.shapes = robot_shapes(urdf, package_dirs)
-        columns = {n: i for i, n in enumerate(self.scene.joint_names)}
-        self.start_q = self.scene.start[[columns[n] for n in self.robot.joint_names]]
-        obj = self.base["object"]
-        self.object_vertices, self.object_faces = read_mesh(obj["mesh"], obj.get("scale", 1.0))
+        self.scene = pickplace.Scene.load(self.scene_path, cache_dir=cache_dir, package_dirs=self.package_dirs)
+        # Every robot of the scene (two with [[robots]]), as the planner has them.
+        self.view = pickplace.SceneView(self.scene)
+        self.start_q = self.scene.start
+        self.object_vertices, self.object_faces = self.view.object_mesh()
         self.object_start = self.scene.object_start
-        self.env: list[EnvPart] = []
-        self.env_meshes: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
         # The parts as the planner has them (mesh files' triangles, primitives' tessellations,
         # the environment-contact clusters of the setup).
-        for part in self.scene.environment_parts():
-            vertices, faces, world = part["vertices"], part["faces"], part["world_from_mesh"]
-            cluster_of = np.full(len(faces), -1)
-            for c in part["clusters"]:
-                cluster_of[np.asarray(c["triangles"], dtype=int)] = c["id"]
-            self.env.append(EnvPart(part["name"], transform_points(world, vertices)[faces], cluster_of, part["clusters"]))
-            self.env_meshes.append((vertices, faces, world))
+        self.env = self.scene.environment_parts()
         self.target = np.asarray(self.scene.target, dtype=np.float64)
         self.seed = int(self.scene.seed)
-        self.strategy = self.base["planner"].get("strategy", "auto")
+        self.strategy = self.scene.to_dict()["planner"]["strategy"]
         # State the tests read.
         self.status = "idle"  # idle | planning | planned | no-plan | error
         self.plan: pickplace.Plan | None = None
         self.plan_scene: pickplace.Scene | None = None
-        self.plan_dict: dict[str, Any] | None = None
         self.reasons: list[str] = []
         self.validation: pickplace.ValidationReport | None = None
-        self.picked: tuple[str, int, np.ndarray] | None = None  # env part, cluster id, point
-        self.playback: Playback | None = None
+        self.picked: tuple[str, int | None, np.ndarray] | None = None  # env part, cluster id, point
+        self.playback: pickplace.Playback | None = None
+        self.key_poses: list[dict[str, Any]] = []  # of the plan played back
         self.saved: list[Path] = []
         self.save_error: str | None = None
         self.requests = 0  # plans asked for (clicks, "Plan again")
@@ -148,7 +123,7 @@ class WebView:
         for t in self._threads:
             t.start()
         if self.plan is not None:
-            self._show_plan(self.plan, None)
+            self._show_plan(self.plan, None, self.scene)
         return f"http://127.0.0.1:{server.get_port()}"
 
     def stop(self) -> None:
@@ -161,31 +136,30 @@ class WebView:
         scene = self.server.scene
         scene.add_grid("/grid", width=3.0, height=3.0, cell_size=0.1, position=(0.3, 0.0, 0.0))
         self.link_frames = {}
-        for name in self.robot.link_names:
+        for name in self.view.link_names:
             self.link_frames[name] = scene.add_frame(f"/robot/{name}", show_axes=False)
-        for i, s in enumerate(self.shapes):
-            if s.link not in self.link_frames:
-                continue
+        for m in self.view.link_meshes():
             scene.add_mesh_simple(
-                f"/robot/{s.link}/shape{i}", s.vertices, s.faces, color=s.color,
-                wxyz=wxyz_of(s.link_from_shape), position=s.link_from_shape[:3, 3], flat_shading=True,
+                f"/robot/{m['link']}/shape", m["vertices"], m["faces"], color=m["color"], flat_shading=True,
             )
-        for k, ((vertices, faces, world), part) in enumerate(zip(self.env_meshes, self.env)):
+        for part in self.env:
+            world = part["world_from_mesh"]
             mesh = scene.add_mesh_simple(
-                f"/env/{part.name}", vertices, faces, color=ENV_COLOR, wxyz=wxyz_of(world),
+                f"/env/{part['name']}", part["vertices"], part["faces"], color=ENV_COLOR, wxyz=wxyz_of(world),
                 position=world[:3, 3], flat_shading=True, side="double",
             )
             if not self.plan_only:
                 mesh.on_click(self._on_env_click)
         self.cluster_nodes = []
-        for (vertices, faces, world), part in zip(self.env_meshes, self.env):
+        for part in self.env:
+            world = part["world_from_mesh"]
             rng = np.random.default_rng(7)
-            for c in part.clusters:
-                tri = faces[np.asarray(c["triangles"], dtype=int)]
+            for c in part["clusters"]:
+                tri = part["faces"][np.asarray(c["triangles"], dtype=int)]
                 hue = rng.random()
                 color = tuple(int(255 * v) for v in _hsv(hue, 0.75, 0.95))
                 node = scene.add_mesh_simple(
-                    f"/clusters/{part.name}/{c['id']}", vertices, tri, color=color, wxyz=wxyz_of(world),
+                    f"/clusters/{part['name']}/{c['id']}", part["vertices"], tri, color=color, wxyz=wxyz_of(world),
                     position=world[:3, 3] + [0, 0, 0.0005], flat_shading=True, side="double", visible=False,
                 )
                 if not self.plan_only:
@@ -266,7 +240,7 @@ class WebView:
         def _(_e) -> None:
             if self.playback is None:
                 return
-            for kp in self.playback.plan.key_poses:
+            for kp in self.key_poses:
                 if self._keypose_label(kp) == self.keypose_box.value:
                     self._playing = False
                     self.set_time(float(kp["time"]))
@@ -276,9 +250,11 @@ class WebView:
     # -- drawing --
 
     def _show_robot(self, q: np.ndarray) -> None:
-        world_from_link = self.world_from_root @ self.robot.fk(q)
+        self._pose_links(self.view.link_poses(q))
+
+    def _pose_links(self, world_from_link: np.ndarray) -> None:
         with self.server.atomic():
-            for name, m in zip(self.robot.link_names, world_from_link):
+            for name, m in zip(self.view.link_names, world_from_link):
                 frame = self.link_frames[name]
                 frame.position = m[:3, 3]
                 frame.wxyz = wxyz_of(m)
@@ -307,8 +283,8 @@ class WebView:
         pb = self.playback
         if pb is None:
             return
-        q, pose = pb.at(t)
-        self._show_robot(q)
+        _, world_from_link, pose = pb.at(t)
+        self._pose_links(world_from_link)
         self._set_object(pose)
 
     def set_time(self, t: float) -> None:
@@ -377,10 +353,11 @@ class WebView:
         self.play_button.disabled = True
         self.keypose_box.disabled = True
 
-    def _show_plan(self, plan: pickplace.Plan, report: pickplace.ValidationReport | None) -> None:
+    def _show_plan(self, plan: pickplace.Plan, report: pickplace.ValidationReport | None,
+                   scene: pickplace.Scene) -> None:
         self._playing = False
-        start = pickplace.pose_matrix(**plan.object["start_pose"])
-        self.playback = pb = Playback(plan, self.robot, self.world_from_root, start)
+        self.playback = pb = pickplace.Playback(scene, plan)
+        self.key_poses = plan.key_poses
         self.time_slider.max = max(pb.duration, 0.01)
         self.time_slider.disabled = False
         self.play_button.disabled = False
@@ -404,17 +381,10 @@ class WebView:
 
     # -- clicking and planning --
 
-    def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, int, np.ndarray] | None:
-        """The environment surface under a ray: (part index, triangle index, point), nearest."""
-        best = None
-        for k, part in enumerate(self.env):
-            i, t = ray_triangles(origin, direction, part.world_tris)
-            if i >= 0 and (best is None or t < best[2]):
-                best = (k, i, t)
-        if best is None:
-            return None
-        d = np.asarray(direction, dtype=np.float64)
-        return best[0], best[1], np.asarray(origin, dtype=np.float64) + best[2] * d / np.linalg.norm(d)
+    def pick(self, origin: np.ndarray, direction: np.ndarray) -> dict[str, Any] | None:
+        """The environment surface under a ray (`SceneView.cast_ray`): part, triangle, cluster,
+        point; None when the ray meets nothing."""
+        return self.view.cast_ray(origin, direction)
 
     def _on_env_click(self, event) -> None:
         self.click(np.asarray(event.ray_origin), np.asarray(event.ray_direction))
@@ -423,21 +393,21 @@ class WebView:
         hit = self.pick(origin, direction)
         if hit is None:
             return False
-        k, tri, point = hit
-        part = self.env[k]
-        cluster_id = int(part.cluster_of[tri])
-        self.picked = (part.name, cluster_id, point)
+        point, cluster_id = hit["point"], hit["cluster"]
+        self.picked = (hit["part"], cluster_id, point)
         self.target = point
         self.target_node.position = point
         self.target_node.visible = True
         if self.highlight_node is not None:
             self.highlight_node.remove()
             self.highlight_node = None
-        if cluster_id >= 0:
-            vertices, faces, world = self.env_meshes[k]
-            tris = faces[np.asarray(part.clusters[cluster_id]["triangles"], dtype=int)]
+        if cluster_id is not None:
+            part = self.env[hit["part_index"]]
+            world = part["world_from_mesh"]
+            cluster = next(c for c in part["clusters"] if c["id"] == cluster_id)
+            tris = part["faces"][np.asarray(cluster["triangles"], dtype=int)]
             self.highlight_node = self.server.scene.add_mesh_simple(
-                "/highlight", vertices, tris, color=HIGHLIGHT_COLOR, wxyz=wxyz_of(world),
+                "/highlight", part["vertices"], tris, color=HIGHLIGHT_COLOR, wxyz=wxyz_of(world),
                 position=world[:3, 3] + [0, 0, 0.001], flat_shading=True, side="double",
             )
             self.highlight_node.on_click(self._on_env_click)  # it covers the surface: click through
@@ -454,17 +424,15 @@ class WebView:
         self._refresh_status()
         self._plan_request.set()
 
-    def scene_dict(self) -> dict[str, Any]:
-        """The scene with the page's target, object start pose, seed and strategy."""
-        d = absolute_paths(self.base)
-        d["target"]["point"] = [float(v) for v in self.target]
-        d["object"]["start_pose"] = pickplace.pose_parts(self.object_start)
+    def scene_toml(self) -> str:
+        """The scene file (from Rust, paths absolute) with the page's target, object start
+        pose, seed and strategy."""
         if not self.plan_only:
             self.seed = int(self.seed_box.value)
             self.strategy = str(self.strategy_box.value)
-        d["planner"]["seed"] = int(self.seed)
-        d["planner"]["strategy"] = self.strategy
-        return d
+        return self.view.scene_toml(
+            target=self.target, object_start=self.object_start, seed=self.seed, strategy=self.strategy,
+        )
 
     def _planner(self) -> None:
         while True:
@@ -473,9 +441,10 @@ class WebView:
                 return
             self._plan_request.clear()
             request = self.requests
-            d = self.scene_dict()
             try:
-                scene = pickplace.Scene.from_dict(d, name=str(self.scene_path), cache_dir=self.cache_dir)
+                scene = pickplace.Scene.from_toml(
+                    self.scene_toml(), name=self.scene_path, cache_dir=self.cache_dir, package_dirs=self.package_dirs,
+                )
                 plan = pickplace.plan(scene)
                 report = pickplace.validate(scene, plan)
             except pickplace.NoPlanError as e:
@@ -498,23 +467,20 @@ class WebView:
                 continue
             if self._plan_request.is_set():
                 continue  # a newer request supersedes this plan
-            self.plan, self.plan_scene, self.plan_dict, self.validation = plan, scene, d, report
+            self.plan, self.plan_scene, self.validation = plan, scene, report
             self.reasons = []
-            self._show_plan(plan, report)
+            self._show_plan(plan, report, scene)
             self.status = "planned"
             self._refresh_status()
             self.answered = request
 
     def save(self, folder: str | os.PathLike[str]) -> list[Path]:
         """Writes FOLDER/plan.json and FOLDER/scene.toml (the scene with the chosen target, seed
-        and strategy: `pickplace plan FOLDER/scene.toml --no-timings` gives plan.json)."""
-        if self.plan is None or self.plan_dict is None:
+        and strategy: `pickplace plan FOLDER/scene.toml --no-timings` gives plan.json), both
+        by Rust (`SceneView.save`)."""
+        if self.plan is None or self.plan_scene is None:
             return []
-        out = Path(folder)
-        out.mkdir(parents=True, exist_ok=True)
-        paths = [out / "plan.json", out / "scene.toml"]
-        for path, text in zip(paths, (self.plan.to_json(), scene_toml(self.plan_dict))):
-            write_atomic(path, text)
+        paths = [Path(p) for p in pickplace.SceneView(self.plan_scene).save(folder, self.plan)]
         self.saved = paths
         self.save_error = None
         self._refresh_status()
