@@ -2,6 +2,9 @@
 //!
 //! - [`math`]: the workspace's scalar and `nalgebra` aliases (`f64`, SI units), and the one
 //!   line–triangle test.
+//! - [`io`]: files read safely (regular files only, at most a limit per kind of file the
+//!   reading crate declares), written atomically, temporaries of killed runs removed; names,
+//!   paths and numbers of inputs checked and printed.
 //! - [`rng`]: the workspace's one seeded generator ([`rng::Rng`], xoshiro256++ with derivable
 //!   streams) and SplitMix64 ([`rng::SplitMix64`]), which seeds it and drives the seeded mesh
 //!   builders.
@@ -11,5 +14,6 @@
 //! needs only these (the robot crate's IK restarts and collision-matrix sampling) depends on
 //! this crate instead of the planner's.
 
+pub mod io;
 pub mod math;
 pub mod rng;

@@ -14,10 +14,10 @@ use crate::cluster::{
 };
 use crate::codec;
 use crate::error::{Error, Result};
-use crate::export::write_atomic;
 use crate::hash::ContentHasher;
 use crate::hash::mesh_hash;
 use crate::mesh::TriMesh;
+use pickplace_base::io::write_atomic;
 use std::path::{Path, PathBuf};
 
 /// File extension of cluster databases.
@@ -112,7 +112,7 @@ impl ClusterDatabase {
     /// # Errors
     /// [`Error::Io`] when the file cannot be written.
     pub fn save(&self, path: &Path) -> Result<()> {
-        write_atomic(path, &self.to_bytes())
+        Ok(write_atomic(path, &self.to_bytes())?)
     }
 
     /// Reads a database built for the mesh with hash `expected_hash` (see
@@ -125,11 +125,9 @@ impl ClusterDatabase {
     /// or is corrupt.
     pub fn load(path: &Path, expected_hash: u64, params: &ClusterParams) -> Result<Self> {
         let bytes =
-            crate::io::read_bytes(path, crate::io::FileKind::CacheEntry).map_err(|source| {
-                Error::Io {
-                    path: path.to_path_buf(),
-                    source,
-                }
+            crate::io::read_bytes(path, crate::io::CACHE_ENTRY).map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
             })?;
         codec::decode(&bytes, expected_hash, params).map_err(|kind| Error::Database {
             path: path.to_path_buf(),

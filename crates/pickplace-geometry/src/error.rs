@@ -156,6 +156,15 @@ pub enum DatabaseErrorKind {
     },
 }
 
+impl From<pickplace_base::io::WriteError> for Error {
+    fn from(e: pickplace_base::io::WriteError) -> Self {
+        Error::Io {
+            path: e.path,
+            source: e.source,
+        }
+    }
+}
+
 /// Shorthand for results of this crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

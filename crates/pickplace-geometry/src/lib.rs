@@ -39,6 +39,7 @@ pub mod obb;
 pub mod parry;
 pub mod polygon;
 pub mod shapes;
-pub mod temp;
+/// Temporaries of atomic writes ([`pickplace_base::io::temp`]), under their old path.
+pub use pickplace_base::io::temp;
 
 pub use error::{Error, Result};

@@ -9,7 +9,7 @@
 //! crate `pickplace-objects`.
 
 use crate::math::{Point3, Real, Vector3};
-use crate::mesh::{MeshOptions, TriMesh};
+use crate::mesh::{MeshOptions, TriMesh, TriangleSource};
 use std::f64::consts::{PI, TAU};
 
 /// Positions and triangles of a mesh under construction.
@@ -19,6 +19,15 @@ pub struct MeshBuilder {
     pub positions: Vec<Point3>,
     /// Index triples, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleSource for MeshBuilder {
+    fn soup_positions(&self) -> &[Point3] {
+        &self.positions
+    }
+    fn soup_triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
 }
 
 impl MeshBuilder {

@@ -18,6 +18,10 @@ use crate::error::{Error, Result};
 use pickplace_geometry::math::{Matrix3, Point3, Real, Vector3};
 use std::path::{Path, PathBuf};
 
+/// A gripper file (`gripper.toml`, or a scene's gripper overrides); default limit 1 MiB.
+pub const GRIPPER_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("a gripper file", pickplace_geometry::io::MIB);
+
 /// The palm: an axis-aligned box in the TCP frame.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -105,11 +109,10 @@ impl GripperParams {
     /// [`Error::Io`] when the file cannot be read, then as [`GripperParams::from_toml_str`].
     pub fn load(path: &Path) -> Result<Self> {
         let text =
-            pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Gripper)
-                .map_err(|source| Error::Io {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
+            pickplace_geometry::io::read_text(path, GRIPPER_FILE).map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
         Self::from_toml_str(&text, path)
     }
 

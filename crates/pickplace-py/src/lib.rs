@@ -26,6 +26,11 @@ fn _pickplace(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PLAN_FORMAT", pickplace::PLAN_FORMAT)?;
+    // The strategy names `plan`, `plan_many` and the browser page accept, `auto` first.
+    let strategies: Vec<&str> = pickplace::StrategyChoice::all()
+        .map(pickplace::StrategyChoice::name)
+        .collect();
+    m.add("STRATEGIES", pyo3::types::PyTuple::new(py, strategies)?)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("NoPlanError", py.get_type::<errors::NoPlanError>())?;
     m.add_class::<scene::Scene>()?;

@@ -31,6 +31,20 @@ def test_stubs_and_marker_are_in_the_package():
     assert (folder / "py.typed").is_file()
 
 
+def test_the_stubs_spell_the_strategies_as_rust_does():
+    import ast
+
+    stub = Path(pickplace.__file__).with_name("_pickplace.pyi")
+    literal = next(
+        node.value
+        for node in ast.parse(stub.read_text()).body
+        if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", "") == "_Strategy"
+    )
+    names = tuple(elt.value for elt in literal.slice.elts)
+    assert names == pickplace.STRATEGIES
+    assert pickplace.STRATEGIES[0] == "auto" and len(pickplace.STRATEGIES) == 9
+
+
 def test_exceptions():
     assert issubclass(pickplace.InputError, ValueError)
     assert issubclass(pickplace.NoPlanError, Exception)

@@ -14,6 +14,10 @@ use pickplace_geometry::math::{
 use pickplace_geometry::mesh::{MeshOptions, TriMesh};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+/// A URDF file; default limit 64 MiB.
+pub const URDF_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("a URDF", 64 * pickplace_geometry::io::MIB);
 use std::sync::Arc;
 
 /// How a joint moves its child link.
@@ -398,8 +402,8 @@ impl RobotModel {
     /// refused before parsing), [`Error::InvalidModel`] (cycle, missing link, inverted limits,
     /// non-finite numbers, ...) or [`Error::Mesh`].
     pub fn from_urdf_file(path: &Path, options: &LoadOptions) -> Result<Self> {
-        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Urdf)
-            .map_err(|source| Error::Io {
+        let text =
+            pickplace_geometry::io::read_text(path, URDF_FILE).map_err(|source| Error::Io {
                 path: path.to_path_buf(),
                 source,
             })?;

@@ -5,12 +5,12 @@
 #[non_exhaustive]
 pub enum Error {
     /// A file could not be written (or its temporary file renamed into place) by the one
-    /// atomic writer, [`pickplace_geometry::export::write_atomic`]; its error names the file.
+    /// atomic writer, [`pickplace_geometry::io::write_atomic`]; its error names the file.
     #[error(transparent)]
     Write {
-        /// The writer's error ([`pickplace_geometry::Error::Io`]).
+        /// The writer's error.
         #[from]
-        source: pickplace_geometry::Error,
+        source: pickplace_geometry::io::WriteError,
     },
     /// The PNG encoder refused the image.
     #[error("PNG encoding of a {width}x{height} image failed: {source}")]

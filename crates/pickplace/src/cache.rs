@@ -198,11 +198,11 @@ impl Cache {
 }
 
 /// `cannot write <file name>: <what the system said>`.
-pub(crate) fn write_reason(entry: &Path, e: &pickplace_geometry::Error) -> String {
+pub(crate) fn write_reason(entry: &Path, e: &pickplace_geometry::io::WriteError) -> String {
     let what = entry
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    format!("cannot write {what}: {}", io_reason(e))
+    format!("cannot write {what}: {}", os_reason(&e.source))
 }
 
 /// The system's words for a geometry error: its I/O cause alone when it has one, and for an

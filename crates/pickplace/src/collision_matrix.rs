@@ -8,7 +8,6 @@
 use crate::cache::Cache;
 use crate::scene::CollisionMatrixSpec;
 use pickplace_geometry::hash::ContentHasher;
-use pickplace_geometry::io::FileKind;
 use pickplace_geometry::math::Real;
 use pickplace_robot::assistant::sampled_matrix;
 use pickplace_robot::collision::{
@@ -169,7 +168,7 @@ fn entry_text(
 /// The matrix of a cache entry made for `key`; none when missing, made for another key,
 /// damaged or unreadable (then it is sampled again and written over).
 fn read_entry(path: &Path, key: u64) -> Option<AllowedCollisionMatrix> {
-    let text = pickplace_geometry::io::read_text(path, FileKind::CacheEntry).ok()?;
+    let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::CACHE_ENTRY).ok()?;
     if !text.lines().take(3).any(|l| l == key_line(key)) {
         return None;
     }

@@ -14,6 +14,10 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// A joint-limits file (MoveIt's `joint_limits.yaml`); default limit 1 MiB.
+pub const JOINT_LIMITS_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("a joint-limits file", pickplace_geometry::io::MIB);
+
 /// The file looked for beside a robot's URDF when the scene names none.
 pub const FILE_NAME: &str = "joint_limits.yaml";
 
@@ -101,7 +105,7 @@ impl JointLimitsFile {
             path: path.to_path_buf(),
             reason,
         };
-        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
+        let text = pickplace_geometry::io::read_text(path, JOINT_LIMITS_FILE)
             .map_err(|e| err(e.to_string()))?;
         let value = parse_yaml(&text).map_err(|e| err(e.to_string()))?;
         serde_json::from_value(value)

@@ -295,10 +295,7 @@ pub fn load_or_build(
     let requested = roadmap_options().node_count;
     let mut cache_warning = None;
     if let Some(entry) = cache {
-        match pickplace_geometry::io::read_bytes(
-            entry.path,
-            pickplace_geometry::io::FileKind::CacheEntry,
-        ) {
+        match pickplace_geometry::io::read_bytes(entry.path, pickplace_geometry::io::CACHE_ENTRY) {
             Ok(bytes) => {
                 if let Some(roadmap) = entry_roadmap(&bytes, entry.key)
                     .and_then(|bytes| codec::decode(bytes, space).ok())

@@ -17,6 +17,8 @@ use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
 use pickplace_grasp::GripperParams;
 use pickplace_grasp::gripper::PalmBox;
 use pickplace_robot::gripper::{Gripper, GripperOptions};
+use pickplace_robot::model::URDF_FILE;
+use pickplace_robot::srdf::SRDF_FILE;
 use pickplace_robot::srdf::{ChainSpec, GroupSpec};
 use pickplace_robot::{KinematicChain, LoadOptions, RobotModel, Semantics, Srdf};
 use std::collections::BTreeMap;
@@ -103,7 +105,7 @@ impl GripperOverrides {
             field: field.to_owned(),
             reason,
         };
-        let text = pickplace_geometry::io::read_text(path, FileKind::Gripper)
+        let text = pickplace_geometry::io::read_text(path, pickplace_grasp::gripper::GRIPPER_FILE)
             .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
         let o: Self = toml::from_str(&text).map_err(|e| {
             invalid(
@@ -397,13 +399,13 @@ impl RobotSetup {
                 .base_pose
                 .to_isometry()
                 .map_err(|r| invalid(&field(i, "base_pose"), r.into()))?;
-            key_text.push_str(&read_text(&spec.urdf, FileKind::Urdf));
+            key_text.push_str(&read_text(&spec.urdf, URDF_FILE));
             key_text.push_str(&format!(
                 "geometry {}",
                 pickplace_robot::model::GEOMETRY_VERSION
             ));
             if let Some(p) = &spec.srdf {
-                key_text.push_str(&read_text(p, FileKind::Srdf));
+                key_text.push_str(&read_text(p, SRDF_FILE));
             }
             key_text.push_str(&format!("{:?}{:?}", spec.prefix, spec.groups));
             parts.push((model, srdf, world_from_root, spec));

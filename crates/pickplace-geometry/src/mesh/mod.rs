@@ -420,15 +420,6 @@ impl TriangleSource for TriMesh {
     }
 }
 
-impl TriangleSource for crate::shapes::MeshBuilder {
-    fn soup_positions(&self) -> &[Point3] {
-        &self.positions
-    }
-    fn soup_triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
-    }
-}
-
 impl TriangleSource for Soup {
     fn soup_positions(&self) -> &[Point3] {
         &self.positions
@@ -488,11 +479,10 @@ impl MeshFormat {
 /// [`MAX_MESH_VERTICES`] vertices, or when `options.scale` is not positive.
 pub fn load(path: &Path, options: &MeshOptions) -> Result<TriMesh> {
     let format = MeshFormat::from_path(path)?;
-    let bytes =
-        crate::io::read_bytes(path, crate::io::FileKind::Mesh).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+    let bytes = crate::io::read_bytes(path, crate::io::MESH).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
     read_format(format, &bytes, path, options)
 }
 

@@ -273,7 +273,7 @@ fn encode_inner(mesh: &impl TriangleSource) -> std::result::Result<Vec<u8>, Mesh
 
 /// Writes a mesh as a binary STL file (see [`encode_stl_binary`]), atomically: the bytes go to
 /// a temporary file in the same folder, which is then renamed over `path`, so a reader never
-/// sees a half-written file ([`crate::export::write_atomic`]).
+/// sees a half-written file ([`pickplace_base::io::write_atomic`]).
 ///
 /// # Errors
 /// [`Error::Mesh`] (with `path`) for the reasons of [`encode_stl_binary`]; [`Error::Io`] when
@@ -283,7 +283,7 @@ pub fn write_stl_binary(mesh: &impl TriangleSource, path: &Path) -> Result<()> {
         path: path.to_path_buf(),
         kind,
     })?;
-    crate::export::write_atomic(path, &bytes)
+    Ok(pickplace_base::io::write_atomic(path, &bytes)?)
 }
 
 #[cfg(test)]

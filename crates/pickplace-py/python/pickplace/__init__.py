@@ -25,6 +25,7 @@ import numpy.typing as npt
 from . import batch
 from ._pickplace import (
     PLAN_FORMAT,
+    STRATEGIES,
     IkSolution,
     InputError,
     Motion,
@@ -47,6 +48,7 @@ from ._pickplace import (
 
 __all__ = [
     "PLAN_FORMAT",
+    "STRATEGIES",
     "IkSolution",
     "InputError",
     "Motion",

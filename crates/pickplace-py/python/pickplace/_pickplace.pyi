@@ -28,6 +28,7 @@ _Strategy = Literal[
 __all__ = [
     "__version__",
     "PLAN_FORMAT",
+    "STRATEGIES",
     "InputError",
     "NoPlanError",
     "Scene",
@@ -49,6 +50,10 @@ __all__ = [
 
 __version__: str
 PLAN_FORMAT: str
+STRATEGIES: tuple[str, ...]
+"""The strategy names `plan`, `plan_many` and the browser page accept, `auto` first (the
+Rust `StrategyChoice`'s; `_Strategy` spells them for type checkers, and a test keeps the two
+equal)."""
 
 class InputError(ValueError):
     """Bad input; the message is the one `pickplace` prints after `error: `."""

@@ -11,6 +11,10 @@ pub use semantics::{Group, ResolvedEndEffector, Semantics, SrdfWarning};
 use crate::error::{Error, Result, SrdfErrorKind, memory_path};
 use pickplace_geometry::math::Real;
 use quick_xml::events::{BytesStart, Event};
+
+/// An SRDF file; default limit 16 MiB.
+pub const SRDF_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("an SRDF", 16 * pickplace_geometry::io::MIB);
 use std::path::Path;
 
 /// A `<chain base_link tip_link/>` of a group.
@@ -284,8 +288,8 @@ impl Srdf {
     /// # Errors
     /// [`Error::Io`] or [`Error::Srdf`].
     pub fn from_file(path: &Path) -> Result<Self> {
-        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Srdf)
-            .map_err(|source| Error::Io {
+        let text =
+            pickplace_geometry::io::read_text(path, SRDF_FILE).map_err(|source| Error::Io {
                 path: path.to_path_buf(),
                 source,
             })?;

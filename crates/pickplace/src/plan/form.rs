@@ -263,7 +263,7 @@ impl Plan {
         Ok(())
     }
 
-    /// Reads a plan file (at most the size [`pickplace_geometry::io::FileKind::Plan`]
+    /// Reads a plan file (at most the size [`super::PLAN_FILE`]
     /// allows) and checks its form as [`Plan::from_json`] does: the one reader of plan files
     /// for the CLI and Python.
     ///
@@ -275,7 +275,7 @@ impl Plan {
             path: path.to_path_buf(),
             reason,
         };
-        let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Plan)
+        let text = pickplace_geometry::io::read_text(path, super::PLAN_FILE)
             .map_err(|e| bad(format!("cannot read the plan: {e}")))?;
         Self::from_json(&text).map_err(|e| bad(format!("not a valid plan: {e}")))
     }

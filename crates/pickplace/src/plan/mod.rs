@@ -55,6 +55,10 @@ pub(crate) fn clip(text: &str) -> String {
 /// The plan format written in [`Plan::format`].
 pub const PLAN_FORMAT: &str = "pickplace.plan/2";
 
+/// A plan file; default limit 1 GiB.
+pub const PLAN_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("a plan", 1024 * pickplace_geometry::io::MIB);
+
 /// What is wrong with a plan document: the parser's message (line and column) when the text
 /// is not a plan of this format, else the first rule of its form it breaks, named by its
 /// field (`trajectory[3] has 5 positions for 6 joints`). [`Plan::load`] adds the file.

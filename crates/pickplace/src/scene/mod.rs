@@ -13,6 +13,10 @@ use std::path::{Path, PathBuf};
 /// The current scene format version.
 pub const SCENE_FORMAT: u32 = 1;
 
+/// A scene file; default limit 1 MiB.
+pub const SCENE_FILE: pickplace_geometry::io::FileKind =
+    pickplace_geometry::io::FileKind::new("a scene", pickplace_geometry::io::MIB);
+
 /// A pose as written in files: position (m) and orientation quaternion `[x, y, z, w]`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

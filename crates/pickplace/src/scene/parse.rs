@@ -7,11 +7,12 @@ use std::path::Path;
 
 /// The text of the scene file at `path` and the folder its relative paths are relative to.
 fn read_scene_text(path: &Path) -> Result<(String, &Path), SceneError> {
-    let text = pickplace_geometry::io::read_text(path, pickplace_geometry::io::FileKind::Scene)
-        .map_err(|source| SceneError::Io {
+    let text = pickplace_geometry::io::read_text(path, super::SCENE_FILE).map_err(|source| {
+        SceneError::Io {
             path: path.to_path_buf(),
             source,
-        })?;
+        }
+    })?;
     Ok((text, path.parent().unwrap_or(Path::new("."))))
 }
 

@@ -105,8 +105,7 @@ pub(super) fn grasps(
     });
     let mut loaded = None;
     if let Some(path) = &path {
-        match pickplace_geometry::io::read_bytes(path, pickplace_geometry::io::FileKind::CacheEntry)
-        {
+        match pickplace_geometry::io::read_bytes(path, pickplace_geometry::io::CACHE_ENTRY) {
             // Another key or a damaged entry: planned again and written over.
             Ok(bytes) => loaded = pickplace_grasp::db::decode(&bytes, key).ok(),
             Err(e)
