@@ -3,7 +3,9 @@
 //! installs the wheel into a virtual environment (as `pip install` of a user would), and runs
 //! its pytest suite against the release CLI, Ray's tests on a local Ray cluster and the browser
 //! view's in headless Chromium (Debian's `chromium`; skipped with a message when it is
-//! missing, unless `PICKPLACE_REQUIRE_WEB=1`, which `.ci/run` sets) included.
+//! missing, unless `PICKPLACE_REQUIRE_WEB=1`, which `.ci/run` sets) included. The browser
+//! view's two-robot test gets `PICKPLACE_ROBOTS_PACKAGES` as the Rust robot tests do (given,
+//! else example-robot-data installed by [`crate::test::install_robots`]).
 //!
 //! The environment is `$PICKPLACE_PY_VENV`, else `target/py-venv`; it is created with
 //! `$PYTHON` (else `python3`) and the pinned tools below when it lacks them, and kept between
@@ -35,6 +37,10 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target/py-venv"));
     ensure_venv(&venv)?;
+    let robots = match std::env::var_os("PICKPLACE_ROBOTS_PACKAGES") {
+        Some(dir) => PathBuf::from(dir),
+        None => crate::test::install_robots(root)?,
+    };
     let crate_dir = root.join("crates/pickplace-py");
     let wheels = root.join("target/wheels");
     eprintln!(
@@ -116,6 +122,7 @@ pub fn run(root: &Path, args: &[String]) -> anyhow::Result<()> {
         .args(["-m", "pytest", "-q", "tests"])
         .args(args)
         .env("PICKPLACE_CLI", &cli)
+        .env("PICKPLACE_ROBOTS_PACKAGES", &robots)
         .env("PICKPLACE_REQUIRE_RAY", "1")
         .status()
         .context("cannot run pytest")?;
