@@ -29,6 +29,7 @@ pub mod cluster;
 pub mod codec;
 pub mod db;
 pub mod error;
+pub mod exact;
 pub mod export;
 pub mod hash;
 pub mod io;

@@ -45,6 +45,6 @@ pub mod planner;
 pub mod quality;
 
 pub use error::{Error, Result};
-pub use gripper::{GripperBox, GripperParams, PalmBox};
+pub use gripper::{GripperBox, GripperFile, GripperParams, PalmBox};
 pub use planner::{Grasp, GraspOptions, GraspPlanner, GraspSet, RejectionCounts};
 pub use quality::GraspQuality;

@@ -14,8 +14,8 @@ use crate::scene::{GroupSpecToml, RobotSpec, Scene, SceneOf};
 use crate::strategy::Arm;
 use pickplace_geometry::io::{FileKind, fmt_real};
 use pickplace_geometry::math::{Isometry3, Point3, Real, Vector3};
-use pickplace_grasp::GripperParams;
 use pickplace_grasp::gripper::PalmBox;
+use pickplace_grasp::{GripperFile, GripperParams};
 use pickplace_robot::gripper::{Gripper, GripperOptions};
 use pickplace_robot::model::URDF_FILE;
 use pickplace_robot::srdf::SRDF_FILE;
@@ -54,44 +54,18 @@ impl RobotArm {
     }
 }
 
-/// Gripper overrides (the scene's `robot.gripper` file; every field optional).
-#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GripperOverrides {
-    /// Squeeze (m): how much narrower than the grasp width the pads are commanded.
-    pub squeeze: Option<Real>,
-    /// Largest opening used (m).
-    pub opening_max: Option<Real>,
-    /// Smallest opening the grasp planner uses (m).
-    pub opening_min: Option<Real>,
-    /// Pad size across the finger (m).
-    pub pad_width: Option<Real>,
-    /// Pad size along the approach axis (m): the distal part of the fingers.
-    pub pad_depth: Option<Real>,
-    /// Finger length for the grasp planner's model (m).
-    pub finger_length: Option<Real>,
-    /// Finger thickness for the grasp planner's model (m).
-    pub finger_thickness: Option<Real>,
-    /// The tool point's offset in the measured tool frame (m).
-    #[serde(
-        default,
-        deserialize_with = "crate::scene::exact::optional_tool_offset"
-    )]
-    pub tool_offset: Option<[Real; 3]>,
-    /// Must be `[0, 0, 1]` when given: the tool frame's z is the approach direction.
-    #[serde(
-        default,
-        deserialize_with = "crate::scene::exact::optional_approach_axis"
-    )]
-    pub approach_axis: Option<[Real; 3]>,
-    /// Must be `[0, 1, 0]` when given: the tool frame's y is the closing direction.
-    #[serde(
-        default,
-        deserialize_with = "crate::scene::exact::optional_closing_axis"
-    )]
-    pub closing_axis: Option<[Real; 3]>,
-    /// The palm box for the grasp planner, in the tool frame.
-    pub palm: Option<PalmBox>,
+/// A scene's gripper overrides: the robot's gripper file (`robot.gripper`), read by the one
+/// reader of gripper files ([`GripperFile`]) and checked against what the façade measures on
+/// the URDF ([`GripperOverrides::load`]). Every field optional; `Default` overrides nothing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GripperOverrides(pub GripperFile);
+
+impl std::ops::Deref for GripperOverrides {
+    type Target = GripperFile;
+
+    fn deref(&self) -> &GripperFile {
+        &self.0
+    }
 }
 
 impl GripperOverrides {
@@ -105,14 +79,14 @@ impl GripperOverrides {
             field: field.to_owned(),
             reason,
         };
-        let text = pickplace_geometry::io::read_text(path, pickplace_grasp::gripper::GRIPPER_FILE)
-            .map_err(|e| invalid("(file)", format!("cannot read: {e}")))?;
-        let o: Self = toml::from_str(&text).map_err(|e| {
-            invalid(
-                "(syntax)",
-                pickplace_geometry::io::parse_error(&text, e.span().map(|s| s.start), e.message()),
-            )
+        let (file, text) = GripperFile::read(path).map_err(|e| match e {
+            pickplace_grasp::Error::Io { source, .. } => {
+                invalid("(file)", format!("cannot read: {source}"))
+            }
+            pickplace_grasp::Error::GripperSyntax { message, .. } => invalid("(syntax)", message),
+            other => invalid("(file)", other.to_string()),
         })?;
+        let o = Self(file);
         // Scaled by the largest component before normalising, so a huge axis keeps its
         // direction; a zero or non-finite axis gives NaN, which is along nothing.
         let along = |a: [Real; 3], want: [Real; 3]| {

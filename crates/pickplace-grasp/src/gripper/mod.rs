@@ -14,6 +14,10 @@
 //! - at opening `w` the inner faces are at `±w/2` along the closing axis;
 //! - the palm is the box `[palm.min, palm.max]` in TCP coordinates.
 
+mod file;
+
+pub use file::GripperFile;
+
 use crate::error::{Error, Result};
 use pickplace_geometry::math::{Matrix3, Point3, Real, Vector3};
 use std::path::{Path, PathBuf};
@@ -49,9 +53,8 @@ fn nalgebra_center(a: &Point3, b: &Point3) -> Point3 {
 }
 
 /// A parallel two-finger gripper (the paper's NX-HIRO hand, §III-B.1), in the format of the
-/// robot's `gripper.toml`. All lengths in metres.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
+/// robot's `gripper.toml` ([`GripperFile`] reads it). All lengths in metres.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct GripperParams {
     /// Smallest distance between the pads (m).
     pub opening_min: Real,
@@ -85,35 +88,22 @@ pub struct GripperBox {
 }
 
 impl GripperParams {
-    /// Parses a gripper configuration; `path` only names the source in errors.
+    /// Parses a full gripper file ([`GripperFile`], the one reader of gripper files);
+    /// `path` only names the source in errors.
     ///
     /// # Errors
-    /// [`Error::GripperSyntax`] for malformed TOML, missing or unknown keys;
-    /// [`Error::InvalidGripper`] for values out of range (see [`GripperParams::validate`]).
+    /// [`Error::GripperSyntax`] for malformed TOML or unknown keys; [`Error::InvalidGripper`]
+    /// for a value missing or out of range (see [`GripperParams::validate`]).
     pub fn from_toml_str(text: &str, path: &Path) -> Result<Self> {
-        let params: Self = toml::from_str(text).map_err(|e| Error::GripperSyntax {
-            path: path.to_path_buf(),
-            message: pickplace_geometry::io::parse_error(
-                text,
-                e.span().map(|s| s.start),
-                e.message(),
-            ),
-        })?;
-        params.validate_for(path)?;
-        Ok(params)
+        GripperFile::parse(text, path)?.params(path)
     }
 
-    /// Reads and checks a gripper configuration file.
+    /// Reads and checks a full gripper file.
     ///
     /// # Errors
     /// [`Error::Io`] when the file cannot be read, then as [`GripperParams::from_toml_str`].
     pub fn load(path: &Path) -> Result<Self> {
-        let text =
-            pickplace_geometry::io::read_text(path, GRIPPER_FILE).map_err(|source| Error::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        Self::from_toml_str(&text, path)
+        GripperFile::read(path)?.0.params(path)
     }
 
     /// Checks every value: finite numbers, `0 ≤ opening_min < opening_max`, positive pad and
@@ -249,7 +239,7 @@ impl GripperParams {
 mod tests {
     use super::*;
 
-    const NX_HIRO: &str = include_str!("../tests/data/gripper.toml");
+    const NX_HIRO: &str = include_str!("../../tests/data/gripper.toml");
 
     #[test]
     fn parses_the_robot_file() {
