@@ -19,18 +19,8 @@ import numpy as np
 import pickplace
 
 
-#: Strategies offered in the page (the planner's names).
-STRATEGIES = (
-    "auto",
-    "right-right",
-    "left-left",
-    "right-left",
-    "left-right",
-    "right-place-right",
-    "left-place-left",
-    "right-place-left",
-    "left-place-right",
-)
+#: Strategies offered in the page: the planner's names, as Rust spells them (`auto` first).
+STRATEGIES = pickplace.STRATEGIES
 
 #: The camera the page opens with (world frame, m): front-right of the robot, above the table.
 CAMERA_POSITION = (1.95, -1.55, 1.85)
