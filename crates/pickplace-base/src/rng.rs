@@ -9,6 +9,8 @@
 //! - [`SplitMix64`] itself, for the seeded mesh builders (the test objects of `pickplace_objects`).
 //! - [`Rng::derive`] gives the generator of item `index` of a named `stream` under `seed`, so
 //!   that parallel work draws the same numbers whatever the order it runs in.
+//! - [`salted`] gives the seed of one use of a run's seed (an IK solve, a motion query)
+//!   for the APIs that take a seed rather than a generator; its [`Stream`] names the use.
 //!
 //! # Example
 //! ```
@@ -35,6 +37,39 @@ fn splitmix64(state: &mut u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+/// What a [`salted`] seed is for: an odd 64-bit multiplier per use, so that two uses of one
+/// run's seed with the same salt draw different numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Stream {
+    /// An IK solve's restarts (and each chunk of a reachability map's samples).
+    Ik,
+    /// The extra IK solutions drawn after the first.
+    IkSolutions,
+    /// A motion query on a roadmap.
+    Motion,
+    /// The salt of a key pose at an intermediate rest (a 32-bit multiplier).
+    Rest,
+}
+
+impl Stream {
+    const fn multiplier(self) -> u64 {
+        match self {
+            Stream::Ik => GOLDEN,
+            Stream::IkSolutions => 0xA076_1D64_78BD_642F,
+            Stream::Motion => 0xD1B5_4A32_D192_ED03,
+            Stream::Rest => 0x9E37_79B9,
+        }
+    }
+}
+
+/// The seed of one use of `seed`: `seed ^ salt × stream` (wrapping). Cheaper than
+/// [`Rng::derive`], for the APIs that take a seed (`IkOptions::seed`, a motion query's seed)
+/// rather than a generator; the workspace's one spelling of such a mix.
+pub const fn salted(seed: u64, stream: Stream, salt: u64) -> u64 {
+    seed ^ salt.wrapping_mul(stream.multiplier())
 }
 
 /// SplitMix64 (Steele, Lea and Flood, 2014) as a generator: tiny and deterministic, the

@@ -11,6 +11,7 @@
 //! tried before those that do not; every candidate is still tried, so the search stays
 //! complete and only its order changes.
 
+use pickplace_base::rng::{Stream, salted};
 use pickplace_geometry::math::{Isometry3, Real, Vector3};
 use pickplace_robot::kinematics::KinematicChain;
 
@@ -54,9 +55,7 @@ impl ReachMap {
         let hits: Vec<(Vector3, u32)> = (0..SAMPLES / CHUNK)
             .into_par_iter()
             .flat_map_iter(|k| {
-                let mut rng = pickplace_prm::rng::Rng::new(
-                    seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15),
-                );
+                let mut rng = pickplace_prm::rng::Rng::new(salted(seed, Stream::Ik, k as u64));
                 let mut q = template.to_vec();
                 (0..CHUNK)
                     .map(|_| {

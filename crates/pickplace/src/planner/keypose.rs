@@ -8,6 +8,7 @@ use super::Ctx;
 use super::reason::{Attempt, Rejection, Step, split};
 use crate::contact::supports;
 use crate::strategy::Arm;
+use pickplace_base::rng::{Stream, salted};
 use pickplace_geometry::math::{Isometry3, Real, Translation3, Vector3};
 use pickplace_robot::IkOptions;
 use pickplace_robot::collision::CollisionWorld;
@@ -39,7 +40,7 @@ impl Ctx<'_> {
     fn ik_options(&self, salt: u64) -> IkOptions {
         IkOptions {
             max_restarts: 6,
-            seed: self.run.options.seed ^ salt.wrapping_mul(0x9e37_79b9_7f4a_7c15),
+            seed: salted(self.run.options.seed, Stream::Ik, salt),
             ..IkOptions::default()
         }
     }
@@ -100,9 +101,8 @@ impl Ctx<'_> {
         };
         let mut reason = reason;
         let a = self.run.setup.arm(arm);
-        let mut rng = pickplace_prm::rng::Rng::new(
-            self.run.options.seed ^ salt.wrapping_mul(0xa076_1d64_78bd_642f),
-        );
+        let mut rng =
+            pickplace_prm::rng::Rng::new(salted(self.run.options.seed, Stream::IkSolutions, salt));
         let mut seed = seed.to_vec();
         for k in 1..IK_SOLUTIONS {
             for (c, &v) in a.variables.iter().enumerate() {
@@ -307,7 +307,7 @@ impl Ctx<'_> {
         {
             return Err(r.into());
         }
-        let salt = ((gi as u64) << 8 | arm.index() as u64) ^ rest.wrapping_mul(0x9e37_79b9);
+        let salt = salted((gi as u64) << 8 | arm.index() as u64, Stream::Rest, rest);
         let open = self.opened(arm, start);
         // IK first: most picks that fail have none, and need no world built.
         let first = self

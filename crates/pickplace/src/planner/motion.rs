@@ -12,6 +12,7 @@ use super::reason::{Attempt, End, Rejection, Step};
 use crate::checker::ArmChecker;
 use crate::plan::EventKind;
 use crate::strategy::{Arm, Strategy};
+use pickplace_base::rng::{Stream, salted};
 use pickplace_geometry::math::Real;
 use pickplace_prm::{PrmPlanner, QueryOptions, RrtOptions, ShortcutOptions, rrt_connect, shortcut};
 use pickplace_robot::collision::CollisionWorld;
@@ -69,7 +70,7 @@ impl Ctx<'_> {
             }
         }
         let internal = crate::error::internal("motion planning");
-        let seed = self.run.options.seed ^ salt.wrapping_mul(0xd1b5_4a32_d192_ed03);
+        let seed = salted(self.run.options.seed, Stream::Motion, salt);
         let mut planner = PrmPlanner::new(
             &a.roadmap,
             &checker,
