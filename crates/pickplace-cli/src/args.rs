@@ -412,3 +412,29 @@ impl TimingArgs {
         }
     }
 }
+
+/// The cache and package folders of the commands that set up a scene (`plan`, `validate`,
+/// `motion`, `batch`; `#[command(flatten)]`).
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SceneFolders {
+    /// Folder of the cache: cluster databases, grasp sets, roadmaps and sampled collision
+    /// matrices, each read when present and written when built (default: $PICKPLACE_CACHE,
+    /// else $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace). `validate` reads only the
+    /// object's clusters there.
+    #[arg(long, value_name = "DIR")]
+    pub cache: Option<PathBuf>,
+    /// Use no cache: what it would hold is built in memory (same results, slower).
+    #[arg(long, conflicts_with = "cache")]
+    pub no_cache: bool,
+    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
+    /// `package_dirs`, before ROS_PACKAGE_PATH).
+    #[arg(long = "package-dir", value_name = "DIR")]
+    pub package_dirs: Vec<PathBuf>,
+}
+
+impl SceneFolders {
+    /// The cache these flags choose.
+    pub fn cache_choice(&self) -> crate::plan::CacheChoice {
+        crate::plan::CacheChoice::from_args(self.cache.as_deref(), self.no_cache)
+    }
+}

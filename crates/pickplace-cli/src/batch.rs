@@ -53,17 +53,8 @@ pub struct BatchArgs {
     /// No progress bar, no table, no warnings: the files and the exit status tell.
     #[arg(long)]
     pub quiet: bool,
-    /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
-    /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
-    #[arg(long, value_name = "DIR")]
-    pub cache: Option<PathBuf>,
-    /// Use no cache: every scene builds its cluster databases and roadmaps in memory.
-    #[arg(long, conflicts_with = "cache")]
-    pub no_cache: bool,
-    /// A folder searched for `package://` mesh paths (repeatable; after each scene's
-    /// `package_dirs`, before ROS_PACKAGE_PATH).
-    #[arg(long = "package-dir", value_name = "DIR")]
-    pub package_dirs: Vec<PathBuf>,
+    #[command(flatten)]
+    pub folders: crate::args::SceneFolders,
 }
 
 /// A time budget in [`pickplace::ranges::TIME_BUDGET`].
@@ -141,7 +132,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<ExitCode> {
     crate::args::check_output_dir(&args.out, "--out", &inputs)?;
     // Before anything is printed: two scenes with one file name are bad usage.
     pickplace::batch::plan_file_names(&args.scenes)?;
-    let cache_dir = match CacheChoice::from_args(args.cache.as_deref(), args.no_cache) {
+    let cache_dir = match args.folders.cache_choice() {
         CacheChoice::Folder(dir) => Some(dir),
         CacheChoice::Off => None,
         CacheChoice::Default => match pickplace::cache::default_dir() {
@@ -167,7 +158,7 @@ pub fn run(args: &BatchArgs) -> anyhow::Result<ExitCode> {
         },
         resume: args.resume,
         cache_dir,
-        package_dirs: args.package_dirs.clone(),
+        package_dirs: args.folders.package_dirs.clone(),
         ..BatchOptions::new(&args.out)
     };
     let total = args.scenes.len();

@@ -112,9 +112,7 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<ExitCode> {
             strategy: None,
             no_timings: false,
             timing: crate::args::TimingArgs::default(),
-            cache: None,
-            no_cache: false,
-            package_dirs: Vec::new(),
+            folders: crate::args::SceneFolders::default(),
         };
         let plan = match plan_setup(&setup, &plan_args)? {
             Outcome::Planned(plan) => plan,

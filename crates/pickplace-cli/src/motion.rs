@@ -2,7 +2,7 @@
 //! among the scene's obstacles ([`pickplace::motion`], issue 35).
 
 use crate::output::note;
-use crate::plan::{CacheChoice, setup_options};
+use crate::plan::setup_options;
 use anyhow::Context;
 use pickplace::motion::{MotionOptions, MotionOutcome, MotionRequest, MotionWorld, StateSpec};
 use std::collections::BTreeMap;
@@ -45,16 +45,8 @@ pub struct MotionArgs {
     pub no_timings: bool,
     #[command(flatten)]
     pub timing: crate::args::TimingArgs,
-    /// Folder of the sampled collision matrix of a robot without one (default: as `plan`).
-    #[arg(long, value_name = "DIR")]
-    pub cache: Option<PathBuf>,
-    /// Use no cache.
-    #[arg(long, conflicts_with = "cache")]
-    pub no_cache: bool,
-    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
-    /// `package_dirs`, before ROS_PACKAGE_PATH).
-    #[arg(long = "package-dir", value_name = "DIR")]
-    pub package_dirs: Vec<PathBuf>,
+    #[command(flatten)]
+    pub folders: crate::args::SceneFolders,
 }
 
 /// A search time limit in [`pickplace::ranges::TIME_BUDGET`].
@@ -116,8 +108,8 @@ pub fn run(args: &MotionArgs) -> anyhow::Result<ExitCode> {
         crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
     }
     let t = Instant::now();
-    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let options = setup_options(cache, &args.package_dirs);
+    let cache = args.folders.cache_choice();
+    let options = setup_options(cache, &args.folders.package_dirs);
     let world = MotionWorld::from_scene(&scene, &args.scene, &options)?;
     for w in world.warnings() {
         note!("warning: {w}");

@@ -37,17 +37,8 @@ pub struct PlanArgs {
     pub no_timings: bool,
     #[command(flatten)]
     pub timing: crate::args::TimingArgs,
-    /// Folder of cluster databases and roadmaps (default: $PICKPLACE_CACHE, else
-    /// $XDG_CACHE_HOME/pickplace, else ~/.cache/pickplace).
-    #[arg(long, value_name = "DIR")]
-    pub cache: Option<PathBuf>,
-    /// Use no cache: cluster databases and roadmaps are built in memory (same plan, slower).
-    #[arg(long, conflicts_with = "cache")]
-    pub no_cache: bool,
-    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
-    /// `package_dirs`, before ROS_PACKAGE_PATH).
-    #[arg(long = "package-dir", value_name = "DIR")]
-    pub package_dirs: Vec<PathBuf>,
+    #[command(flatten)]
+    pub folders: crate::args::SceneFolders,
 }
 
 /// A scaling factor in [`pickplace::ranges::SCALING`].
@@ -197,8 +188,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         let inputs = crate::args::scene_inputs(&args.scene, &scene);
         crate::args::check_output_file(out, "--out", &crate::args::as_inputs(&inputs))?;
     }
-    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let setup = setup_with(&args.scene, cache, &args.package_dirs, |options| {
+    let cache = args.folders.cache_choice();
+    let setup = setup_with(&args.scene, cache, &args.folders.package_dirs, |options| {
         Setup::new(scene, &args.scene, options)
     })?;
     match plan_setup(&setup, args)? {
@@ -217,21 +208,11 @@ pub struct ValidateArgs {
     pub scene: PathBuf,
     /// Plan file.
     pub plan: PathBuf,
-    /// Folder of the cache (default: $PICKPLACE_CACHE, else $XDG_CACHE_HOME/pickplace, else
-    /// ~/.cache/pickplace); validating reads only the object's clusters there, it clusters no
-    /// environment mesh and builds no roadmap.
-    #[arg(long, value_name = "DIR")]
-    pub cache: Option<PathBuf>,
-    /// Use no cache: the object's clusters are built in memory.
-    #[arg(long, conflicts_with = "cache")]
-    pub no_cache: bool,
-    /// A folder searched for `package://` mesh paths (repeatable; after the scene's
-    /// `package_dirs`, before ROS_PACKAGE_PATH).
-    #[arg(long = "package-dir", value_name = "DIR")]
-    pub package_dirs: Vec<PathBuf>,
     /// Print the report as JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub folders: crate::args::SceneFolders,
 }
 
 /// Runs `pickplace validate`: exit 0 when the plan passes, 1 when it does not.
@@ -242,8 +223,8 @@ pub fn run_validate(args: &ValidateArgs) -> anyhow::Result<ExitCode> {
         args.plan.display()
     );
     let plan = Plan::load(&args.plan)?;
-    let cache = CacheChoice::from_args(args.cache.as_deref(), args.no_cache);
-    let setup = setup_with(&args.scene, cache, &args.package_dirs, |options| {
+    let cache = args.folders.cache_choice();
+    let setup = setup_with(&args.scene, cache, &args.folders.package_dirs, |options| {
         Setup::load_for_validation(&args.scene, options)
     })?;
     let t = Instant::now();

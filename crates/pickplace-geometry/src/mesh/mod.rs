@@ -48,6 +48,36 @@ pub const MAX_MESH_TRIANGLES: usize = 2_000_000;
 /// unwelded soup).
 pub const MAX_MESH_VERTICES: usize = 3 * MAX_MESH_TRIANGLES;
 
+/// The three coordinates after a text format's vertex keyword (`v` in OBJ, `vertex` in ASCII
+/// STL) on line `line_no`, pushed onto `positions` within [`MAX_MESH_VERTICES`]; its index.
+///
+/// # Errors
+/// [`MeshErrorKind::Malformed`] of `format` naming the line: a coordinate missing or not a
+/// number, or one vertex too many.
+pub(crate) fn push_text_vertex<'a>(
+    words: &mut impl Iterator<Item = &'a str>,
+    (format, keyword, line_no): (&'static str, &str, usize),
+    positions: &mut Vec<Point3>,
+) -> std::result::Result<u32, MeshErrorKind> {
+    let malformed = |detail: String| MeshErrorKind::Malformed {
+        format,
+        detail: format!("line {line_no}: {detail}"),
+    };
+    let mut xyz = [0.0; 3];
+    for c in &mut xyz {
+        let word = words
+            .next()
+            .ok_or_else(|| malformed(format!("`{keyword}` needs three coordinates")))?;
+        *c = word
+            .parse::<Real>()
+            .map_err(|_| malformed(format!("`{word}` is not a number")))?;
+    }
+    check_limit("vertices", positions.len() as u64 + 1, MAX_MESH_VERTICES)
+        .map_err(|e| malformed(e.to_string()))?;
+    positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
+    Ok((positions.len() - 1) as u32)
+}
+
 /// Refuses `count` of `what` when over `limit`.
 pub(crate) fn check_limit(
     what: &'static str,

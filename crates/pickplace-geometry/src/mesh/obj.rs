@@ -9,9 +9,8 @@
 //! corners is fan-triangulated (`a b c`, `a c d`, …), so "the file's triangle order" is the
 //! order of faces with each polygon replaced by its fan.
 
-use super::{MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, check_limit, fan_triangulate};
+use super::{MAX_MESH_TRIANGLES, Soup, check_limit, fan_triangulate, push_text_vertex};
 use crate::error::MeshErrorKind;
-use crate::math::{Point3, Real};
 
 fn malformed(detail: String) -> MeshErrorKind {
     MeshErrorKind::Malformed {
@@ -42,22 +41,7 @@ pub(crate) fn parse(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
         let mut words = line.split_ascii_whitespace();
         match words.next() {
             Some("v") => {
-                let mut xyz = [0.0; 3];
-                for c in &mut xyz {
-                    let word = words.next().ok_or_else(|| {
-                        malformed(format!("line {line_no}: `v` needs three coordinates"))
-                    })?;
-                    *c = word.parse::<Real>().map_err(|_| {
-                        malformed(format!("line {line_no}: `{word}` is not a number"))
-                    })?;
-                }
-                check_limit(
-                    "vertices",
-                    soup.positions.len() as u64 + 1,
-                    MAX_MESH_VERTICES,
-                )
-                .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
-                soup.positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
+                push_text_vertex(&mut words, ("OBJ", "v", line_no), &mut soup.positions)?;
             }
             Some("f") => {
                 let start = corners.len();

@@ -12,7 +12,7 @@
 //! outside.
 
 use super::{
-    MAX_MESH_TRIANGLES, MAX_MESH_VERTICES, Soup, TriangleSource, check_limit, fan_triangulate,
+    MAX_MESH_TRIANGLES, Soup, TriangleSource, check_limit, fan_triangulate, push_text_vertex,
 };
 use crate::error::{Error, MeshErrorKind, Result};
 use crate::math::{Point3, Real};
@@ -152,23 +152,11 @@ fn parse_ascii(bytes: &[u8]) -> std::result::Result<Soup, MeshErrorKind> {
                         "line {line_no}: `vertex` outside `outer loop`"
                     )));
                 }
-                let mut xyz = [0.0; 3];
-                for c in &mut xyz {
-                    let word = words.next().ok_or_else(|| {
-                        malformed(format!("line {line_no}: `vertex` needs three coordinates"))
-                    })?;
-                    *c = word.parse::<Real>().map_err(|_| {
-                        malformed(format!("line {line_no}: `{word}` is not a number"))
-                    })?;
-                }
-                check_limit(
-                    "vertices",
-                    soup.positions.len() as u64 + 1,
-                    MAX_MESH_VERTICES,
-                )
-                .map_err(|e| malformed(format!("line {line_no}: {e}")))?;
-                loop_vertices.push(soup.positions.len() as u32);
-                soup.positions.push(Point3::new(xyz[0], xyz[1], xyz[2]));
+                loop_vertices.push(push_text_vertex(
+                    &mut words,
+                    ("STL", "vertex", line_no),
+                    &mut soup.positions,
+                )?);
             }
             "endloop" => {
                 if !in_loop {
