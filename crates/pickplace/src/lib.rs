@@ -40,33 +40,28 @@
 #![warn(missing_docs)]
 
 pub mod batch;
-pub mod cache;
-pub mod checker;
-mod collision_matrix;
 pub mod contact;
 pub mod error;
-pub mod export;
-mod hand_fit;
-pub mod joint_limits;
-pub mod mesh_warning;
 pub mod motion;
-pub mod obstacle;
 pub mod plan;
 pub mod planner;
-pub mod precompute;
 pub mod ranges;
-pub mod reach;
-pub mod roadmaps;
-pub mod robot_setup;
 pub mod rules;
 pub mod scene;
 pub mod self_check;
 pub mod setup;
-mod start;
 pub mod strategy;
-mod timing;
-pub mod tool_frame;
 pub mod validate;
+
+// The modules of the stages, under the paths they had before the façade was arranged by
+// stage (issue 34).
+pub use plan::export;
+pub(crate) use planner::{start, timing};
+pub use setup::{
+    cache, checker, joint_limits, mesh_warning, obstacle, precompute, reach, roadmaps, robot_setup,
+    tool_frame,
+};
+pub(crate) use setup::{collision_matrix, hand_fit};
 
 #[cfg(test)]
 mod testing;

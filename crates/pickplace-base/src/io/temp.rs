@@ -1,4 +1,4 @@
-//! Temporary files of atomic writes ([`crate::export::write_atomic`]), and the removal of
+//! Temporary files of atomic writes ([`super::write_atomic`]), and the removal of
 //! those a killed run left behind.
 //!
 //! An output or cache file is written to a temporary file in its destination's folder, then

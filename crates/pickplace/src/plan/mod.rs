@@ -14,6 +14,7 @@ use pickplace_geometry::math::{Isometry3, Real};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+pub mod export;
 mod form;
 mod playback;
 #[cfg(test)]

@@ -33,7 +33,9 @@ mod motion;
 mod options;
 mod reason;
 mod regrasp;
+pub(crate) mod start;
 mod state;
+pub(crate) mod timing;
 mod turns;
 mod world;
 

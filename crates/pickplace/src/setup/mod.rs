@@ -9,13 +9,10 @@
 //! memory. Long work (clustering a mesh, building a roadmap) is reported to
 //! [`SetupOptions::progress`].
 
-use crate::cache::{Cache, CacheWarning};
 use crate::error::{Error, Result};
-use crate::reach::ReachMap;
-use crate::roadmaps::{self, RoadmapEntry, RoadmapReport};
-use crate::robot_setup::{RobotArm, RobotSetup, robot_err};
 use crate::scene::Scene;
 use crate::strategy::Arm;
+use cache::{Cache, CacheWarning};
 use pickplace_geometry::cluster::{ClusterParams, Clustering};
 use pickplace_geometry::db::{CacheStatus, ClusterDatabase, cache_path};
 use pickplace_geometry::hash::mesh_hash;
@@ -29,16 +26,31 @@ use pickplace_prm::{JointSpace, Roadmap};
 use pickplace_robot::collision::{CollisionShape, CollisionWorld};
 use pickplace_robot::gripper::Gripper;
 use pickplace_robot::{IkSolver, RobotModel, Semantics};
+use reach::ReachMap;
+use roadmaps::{RoadmapEntry, RoadmapReport};
+use robot_setup::{RobotArm, RobotSetup, robot_err};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+pub mod cache;
+pub mod checker;
+pub(crate) mod collision_matrix;
+pub(crate) mod hand_fit;
+pub mod joint_limits;
+pub mod mesh_warning;
+pub mod obstacle;
+pub mod precompute;
 mod purpose;
+pub mod reach;
+pub mod roadmaps;
+pub mod robot_setup;
 pub(crate) mod robot_state;
 mod stages;
 #[cfg(test)]
 mod tests;
+pub mod tool_frame;
 
 pub use purpose::SetupPurpose;
 use purpose::{no_clusters, no_grasps};
