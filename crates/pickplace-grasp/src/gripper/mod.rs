@@ -183,22 +183,26 @@ impl GripperParams {
     }
 
     /// Unit approach axis in the TCP frame.
+    #[inline]
     pub fn approach(&self) -> Vector3 {
         self.approach_axis.normalize()
     }
 
     /// Unit closing axis in the TCP frame (made exactly orthogonal to the approach axis).
+    #[inline]
     pub fn closing(&self) -> Vector3 {
         let a = self.approach();
         (self.closing_axis - a * a.dot(&self.closing_axis)).normalize()
     }
 
     /// Unit lateral axis in the TCP frame: closing × approach.
+    #[inline]
     pub fn lateral(&self) -> Vector3 {
         self.closing().cross(&self.approach())
     }
 
     /// Rotation from the canonical frame (lateral, closing, approach) to the TCP frame.
+    #[inline]
     pub fn tcp_from_canonical(&self) -> Matrix3 {
         Matrix3::from_columns(&[self.lateral(), self.closing(), self.approach()])
     }
@@ -209,6 +213,7 @@ impl GripperParams {
     }
 
     /// The two finger boxes at opening `opening` (m), the first on the `+closing` side.
+    #[inline]
     pub fn fingers(&self, opening: Real) -> [GripperBox; 2] {
         let r = self.tcp_from_canonical();
         let half = Vector3::new(
@@ -226,6 +231,7 @@ impl GripperParams {
     }
 
     /// The palm box.
+    #[inline]
     pub fn palm_box(&self) -> GripperBox {
         GripperBox {
             center: self.palm.center(),
